@@ -1,0 +1,2 @@
+/* adjacency.c: to be written. */
+#include "internal.h"

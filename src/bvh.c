@@ -1,0 +1,2 @@
+/* bvh.c: to be written. */
+#include "internal.h"

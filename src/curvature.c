@@ -1,0 +1,2 @@
+/* curvature.c: to be written. */
+#include "internal.h"

@@ -1,0 +1,2 @@
+/* glide.c: to be written. */
+#include "internal.h"

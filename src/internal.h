@@ -1,0 +1,185 @@
+/* Internal interfaces shared between resurf's source files. Not installed, not exported.
+ * Names: resurfi_ for functions and types shared between files; single-file helpers are static. */
+#ifndef RESURF_INTERNAL_H
+#define RESURF_INTERNAL_H
+
+#include <stdarg.h>
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "resurf/resurf.h"
+#include "vec3.h"
+
+#if defined(__GNUC__)
+#define RESURFI_PRINTF(f, a) __attribute__((format(printf, f, a)))
+#else
+#define RESURFI_PRINTF(f, a)
+#endif
+
+/* ---- errors (error.c) ---------------------------------------------------------------------------------------- */
+
+/* Fills *error (if not NULL) and returns status. path may be NULL; line 0 and offset -1 mean "unknown". */
+resurf_status resurfi_fail(resurf_error *error, resurf_status status, const char *path, long long line,
+                           long long offset, const char *fmt, ...) RESURFI_PRINTF(6, 7);
+/* The common case without a location. */
+resurf_status resurfi_error(resurf_error *error, resurf_status status, const char *fmt, ...) RESURFI_PRINTF(3, 4);
+/* Sets *error to RESURF_OK with empty fields. */
+void resurfi_clear_error(resurf_error *error);
+
+/* Returns nonzero when the caller asked to cancel. */
+int resurfi_progress(const resurf_progress *progress, const char *stage, double fraction);
+
+/* An options pointer that is not NULL must carry the struct_size its _default() set. */
+#define RESURFI_CHECK_OPTIONS(opts, type, error)                                                                \
+    do {                                                                                                        \
+        if ((opts) && (opts)->struct_size != sizeof(type))                                                      \
+            return resurfi_error((error), RESURF_ERR_INVALID_OPTIONS,                                           \
+                                 #type " was not initialised by its _default() function");                     \
+    } while (0)
+
+/* ---- memory (mesh.c) ----------------------------------------------------------------------------------------- */
+
+/* malloc of count*size with overflow check; NULL on overflow or failure (count 0 returns a valid 1-byte block). */
+void *resurfi_alloc_array(size_t count, size_t size);
+void *resurfi_calloc_array(size_t count, size_t size);
+void *resurfi_realloc_array(void *p, size_t count, size_t size);
+
+/* ---- mesh helpers (mesh.c, weld.c) --------------------------------------------------------------------------- */
+
+static inline vec3 resurfi_position(const resurf_mesh *m, uint32_t v) { return v3_load(m->positions + 3 * (size_t)v); }
+
+/* Exact position weld: remap[v] = position id, positions numbered by first appearance. (weld.c) */
+resurf_status resurfi_weld_exact(const double *positions, size_t vertex_count, uint32_t *remap, size_t *out_count);
+
+/* ---- adjacency (adjacency.c) --------------------------------------------------------------------------------- */
+
+/* Adjacency of a triangle list over vertex ids 0..vertex_count-1 (usually welded position ids).
+ * Triangles with an out-of-range or repeated index are ignored (they have no edges). */
+typedef struct resurfi_adjacency {
+    size_t vertex_count, triangle_count;
+    uint32_t *vertex_face_offset; /* vertex_count + 1: faces of v are vertex_faces[offset[v] .. offset[v+1]) */
+    uint32_t *vertex_faces;
+    size_t edge_count;
+    uint32_t *edge_vertices;      /* 2 * edge_count, (a, b) with a < b, sorted */
+    uint32_t *edge_face_offset;   /* edge_count + 1 */
+    uint32_t *edge_faces;         /* faces of each edge */
+    uint32_t *face_edges;         /* 3 * triangle_count: edge id of the side (t[i], t[(i+1)%3]); UINT32_MAX if none */
+    uint8_t *vertex_flags;        /* RESURFI_VERTEX_* */
+} resurfi_adjacency;
+
+enum {
+    RESURFI_VERTEX_BOUNDARY = 1,     /* on an edge with one face */
+    RESURFI_VERTEX_NONMANIFOLD = 2,  /* on an edge with >2 faces, or several fans */
+    RESURFI_VERTEX_UNREFERENCED = 4,
+};
+
+resurf_status resurfi_adjacency_build(const uint32_t *indices, size_t triangle_count, size_t vertex_count,
+                                      resurfi_adjacency *out);
+void resurfi_adjacency_free(resurfi_adjacency *adj);
+/* Edge id of (a, b) in either order, or UINT32_MAX. O(log degree). */
+uint32_t resurfi_adjacency_find_edge(const resurfi_adjacency *adj, uint32_t a, uint32_t b);
+static inline uint32_t resurfi_edge_face_count(const resurfi_adjacency *adj, uint32_t e)
+{
+    return adj->edge_face_offset[e + 1] - adj->edge_face_offset[e];
+}
+/* Connected components of triangles (via shared vertices); component[t] for each triangle (may be NULL).
+ * Returns the number of components; ignored triangles get UINT32_MAX. */
+size_t resurfi_adjacency_components(const resurfi_adjacency *adj, const uint32_t *indices, uint32_t *component);
+/* Number of closed boundary loops (boundary edges chained at their vertices). */
+size_t resurfi_adjacency_boundary_loops(const resurfi_adjacency *adj);
+
+/* ---- threads (parallel.c) ------------------------------------------------------------------------------------ */
+
+/* Number of worker threads for a `threads` option (0 = all online cores), at least 1. */
+unsigned resurfi_thread_count(unsigned requested);
+/* Calls fn(ctx, begin, end, worker) over [0, count) split in contiguous blocks of block_size, on `threads` threads
+ * (the calling thread included). Blocks are independent; fn must write only its own results, so the outcome does
+ * not depend on the thread count. Returns nonzero if any call returned nonzero (the rest are then skipped). */
+int resurfi_parallel_for(size_t count, size_t block_size, unsigned threads,
+                         int (*fn)(void *ctx, size_t begin, size_t end, unsigned worker), void *ctx);
+
+/* ---- BVH over triangles (bvh.c) ------------------------------------------------------------------------------ */
+
+typedef struct resurfi_bvh resurfi_bvh;
+
+/* Builds an AABB tree over the triangles (O(n log n)). positions/indices are borrowed and must outlive the tree.
+ * Triangles with out-of-range indices are skipped. */
+resurf_status resurfi_bvh_build(const double *positions, size_t vertex_count, const uint32_t *indices,
+                                size_t triangle_count, resurfi_bvh **out);
+void resurfi_bvh_free(resurfi_bvh *bvh);
+
+/* The exact closest point on any triangle to p, searching within sqrt(max_dist2) (INFINITY = everywhere).
+ * Returns the triangle index or UINT32_MAX when none lies within reach. out_point, out_bary (barycentric
+ * coordinates of the closest point, summing to 1) and out_dist2 may be NULL. Thread-safe (read-only). */
+uint32_t resurfi_bvh_closest(const resurfi_bvh *bvh, vec3 p, double max_dist2, vec3 *out_point, double out_bary[3],
+                             double *out_dist2);
+
+/* Closest point on triangle (a, b, c) to p, with barycentrics (Ericson's region test, exact for degenerate ones). */
+vec3 resurfi_closest_on_triangle(vec3 p, vec3 a, vec3 b, vec3 c, double out_bary[3]);
+
+/* ---- vertex normals (normals.c) ------------------------------------------------------------------------------ */
+
+/* Unit vertex normals (3 * vertex_count) from face normals with the given weighting. Vertices of no face get 0. */
+resurf_status resurfi_vertex_normals(const double *positions, size_t vertex_count, const uint32_t *indices,
+                                     size_t triangle_count, resurf_normal_scheme scheme, double *out_normals);
+
+/* ---- curvature (curvature.c) --------------------------------------------------------------------------------- */
+
+/* Per-vertex principal curvatures (k1 >= k2) and directions, Rusinkiewicz 2004, against given unit normals.
+ * Signs: a convex closed surface with outward normals has k > 0. out_dir1/out_dir2 may be NULL. */
+resurf_status resurfi_principal_curvatures(const double *positions, size_t vertex_count, const uint32_t *indices,
+                                           size_t triangle_count, const double *normals, double *out_k1,
+                                           double *out_k2, double *out_dir1, double *out_dir2);
+
+/* ---- optimal direction (optdir.c) ---------------------------------------------------------------------------- */
+
+/* Solves p = Σ b_j (p_j + t N_j) for barycentric b and scalar t (notes §3): the line through p along the
+ * interpolated normal. Returns the number of real roots found (0..3) in roots[], sorted by how far they lie inside
+ * the triangle (most inside first, ties by |t|). scale is the triangle's edge length used to scale t. */
+typedef struct resurfi_optdir_root {
+    double t;
+    double bary[3];
+    double outside; /* 0 when inside the triangle, else −min(b_j) */
+} resurfi_optdir_root;
+int resurfi_optdir_solve(vec3 p, const vec3 pj[3], const vec3 nj[3], resurfi_optdir_root roots[3]);
+
+/* ---- gliding-normal displacement (glide.c) ------------------------------------------------------------------- */
+
+/* δ_j of formula (2), signed (notes §4): p' moves by δ along n_opt. side = +1 max-algorithm, −1 min-algorithm
+ * (ignored by the normal-section variant, whose sign comes from the geometry). */
+double resurfi_glide_paper(vec3 p, vec3 pj, vec3 nj, vec3 n_opt, int side);
+double resurfi_glide_normal_section(vec3 p, vec3 pj, vec3 nj, vec3 n_opt);
+
+/* ---- the restorer: M's geometry services, shared by restore.c and simplify.c (restore.c) --------------------- */
+
+typedef struct resurfi_restorer resurfi_restorer;
+
+/* What happened to one point. */
+typedef enum resurfi_restore_outcome {
+    RESURFI_RESTORED = 0,
+    RESURFI_RESTORED_LEAST_OUTSIDE,
+    RESURFI_RESTORED_BOUNDARY,
+    RESURFI_RESTORED_CREASE,
+    RESURFI_LEFT_FAR,
+    RESURFI_LEFT_OUTSIDE,
+    RESURFI_LEFT_NONFINITE,
+} resurfi_restore_outcome;
+
+/* Builds M's services (welded topology, BVH, normals, curvatures, creases, boundaries) once. `original` is
+ * borrowed and must outlive the restorer. Thread-safe to query from several threads. */
+resurf_status resurfi_restorer_create(const resurf_mesh *original, const resurf_restore_options *options,
+                                      resurfi_restorer **out, resurf_error *error);
+void resurfi_restorer_free(resurfi_restorer *r);
+
+/* Restores one point onto S. out_point receives the restored position (p itself when left alone); out_triangle
+ * (may be NULL) the triangle of M it was restored against and out_bary (may be NULL) the barycentrics of its foot. */
+resurfi_restore_outcome resurfi_restorer_point(const resurfi_restorer *r, vec3 p, vec3 *out_point,
+                                               uint32_t *out_triangle, double out_bary[3]);
+
+/* The interpolated smooth unit normal of M at barycentrics bary of triangle t (crease-aware). */
+vec3 resurfi_restorer_normal(const resurfi_restorer *r, uint32_t t, const double bary[3]);
+/* The BVH over M (for closest-point queries by callers that already hold a restorer). */
+const resurfi_bvh *resurfi_restorer_bvh(const resurfi_restorer *r);
+
+#endif

@@ -1,0 +1,2 @@
+/* io.c: to be written. */
+#include "internal.h"

@@ -1,0 +1,2 @@
+/* io_obj.c: to be written. */
+#include "internal.h"

@@ -1,0 +1,2 @@
+/* io_off.c: to be written. */
+#include "internal.h"

@@ -1,0 +1,2 @@
+/* io_ply.c: to be written. */
+#include "internal.h"

@@ -1,0 +1,2 @@
+/* io_stl.c: to be written. */
+#include "internal.h"

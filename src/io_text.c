@@ -1,0 +1,2 @@
+/* io_text.c: to be written. */
+#include "internal.h"

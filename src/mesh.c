@@ -1,0 +1,207 @@
+/* Mesh storage: creation, copies, extra attributes, bounds, and the checked allocation helpers. */
+#include <stdlib.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "internal.h"
+
+void *resurfi_alloc_array(size_t count, size_t size)
+{
+    if (size && count > SIZE_MAX / size)
+        return NULL;
+    size_t bytes = count * size;
+    return malloc(bytes ? bytes : 1);
+}
+
+void *resurfi_calloc_array(size_t count, size_t size)
+{
+    if (size && count > SIZE_MAX / size)
+        return NULL;
+    return calloc(count ? count : 1, size ? size : 1);
+}
+
+void *resurfi_realloc_array(void *p, size_t count, size_t size)
+{
+    if (size && count > SIZE_MAX / size)
+        return NULL;
+    size_t bytes = count * size;
+    return realloc(p, bytes ? bytes : 1);
+}
+
+void resurf_mesh_free(resurf_mesh *mesh)
+{
+    if (!mesh)
+        return;
+    free(mesh->positions);
+    free(mesh->indices);
+    free(mesh->normals);
+    for (unsigned k = 0; k < RESURF_MAX_TEXCOORD_SETS; ++k)
+        free(mesh->texcoords[k]);
+    free(mesh->colors);
+    for (size_t i = 0; i < mesh->extra_count; ++i)
+        free(mesh->extras[i].data);
+    free(mesh->extras);
+    free(mesh->triangle_groups);
+    for (size_t i = 0; i < mesh->group_count; ++i)
+        free(mesh->group_names[i]);
+    free(mesh->group_names);
+    free(mesh);
+}
+
+resurf_status resurf_mesh_create(size_t vertex_count, size_t triangle_count, unsigned attributes,
+                                 resurf_mesh **out_mesh, resurf_error *error)
+{
+    if (!out_mesh)
+        return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "out_mesh is NULL");
+    *out_mesh = NULL;
+    if (vertex_count > UINT32_MAX || triangle_count > UINT32_MAX)
+        return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "more than 2^32 vertices or triangles");
+    resurf_mesh *m = calloc(1, sizeof *m);
+    if (!m)
+        goto oom;
+    m->vertex_count = vertex_count;
+    m->triangle_count = triangle_count;
+    m->positions = resurfi_calloc_array(vertex_count, 3 * sizeof(double));
+    m->indices = resurfi_calloc_array(triangle_count, 3 * sizeof(uint32_t));
+    if (!m->positions || !m->indices)
+        goto oom;
+    if (attributes & RESURF_ATTR_NORMALS) {
+        if (!(m->normals = resurfi_calloc_array(vertex_count, 3 * sizeof(double))))
+            goto oom;
+    }
+    if (attributes & RESURF_ATTR_COLORS) {
+        if (!(m->colors = resurfi_calloc_array(vertex_count, 4 * sizeof(double))))
+            goto oom;
+        m->color_components = 4;
+    }
+    for (unsigned k = 0; k < RESURF_MAX_TEXCOORD_SETS; ++k) {
+        if (!(attributes & (RESURF_ATTR_TEXCOORD0 << k)))
+            continue;
+        if (!(m->texcoords[k] = resurfi_calloc_array(vertex_count, 2 * sizeof(double))))
+            goto oom;
+        m->texcoord_count = k + 1;
+    }
+    *out_mesh = m;
+    return RESURF_OK;
+oom:
+    resurf_mesh_free(m);
+    return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory creating a mesh of %zu vertices",
+                         vertex_count);
+}
+
+static void *dup_array(const void *src, size_t count, size_t size, int *failed)
+{
+    if (!src)
+        return NULL;
+    void *dst = resurfi_alloc_array(count, size);
+    if (!dst)
+        *failed = 1;
+    else if (count)
+        memcpy(dst, src, count * size);
+    return dst;
+}
+
+resurf_status resurf_mesh_clone(const resurf_mesh *mesh, resurf_mesh **out_mesh, resurf_error *error)
+{
+    if (!mesh || !out_mesh)
+        return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "mesh or out_mesh is NULL");
+    *out_mesh = NULL;
+    resurf_mesh *m = calloc(1, sizeof *m);
+    if (!m)
+        return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory copying a mesh");
+    int failed = 0;
+    size_t nv = mesh->vertex_count;
+    *m = *mesh;
+    m->positions = dup_array(mesh->positions, nv, 3 * sizeof(double), &failed);
+    m->indices = dup_array(mesh->indices, mesh->triangle_count, 3 * sizeof(uint32_t), &failed);
+    m->normals = dup_array(mesh->normals, nv, 3 * sizeof(double), &failed);
+    for (unsigned k = 0; k < RESURF_MAX_TEXCOORD_SETS; ++k)
+        m->texcoords[k] = dup_array(mesh->texcoords[k], nv, 2 * sizeof(double), &failed);
+    m->colors = dup_array(mesh->colors, nv, 4 * sizeof(double), &failed);
+    m->triangle_groups = dup_array(mesh->triangle_groups, mesh->triangle_count, sizeof(uint32_t), &failed);
+    m->extras = NULL;
+    m->extra_count = 0;
+    m->group_names = NULL;
+    m->group_count = 0;
+    if (!failed && mesh->extra_count) {
+        m->extras = dup_array(mesh->extras, mesh->extra_count, sizeof(resurf_attribute), &failed);
+        if (m->extras) {
+            for (size_t i = 0; i < mesh->extra_count; ++i)
+                m->extras[i].data = NULL;
+            m->extra_count = mesh->extra_count;
+            for (size_t i = 0; i < mesh->extra_count; ++i)
+                m->extras[i].data = dup_array(mesh->extras[i].data, nv,
+                                              mesh->extras[i].components * sizeof(float), &failed);
+        }
+    }
+    if (!failed && mesh->group_count) {
+        m->group_names = resurfi_calloc_array(mesh->group_count, sizeof(char *));
+        if (!m->group_names)
+            failed = 1;
+        else {
+            m->group_count = mesh->group_count;
+            for (size_t i = 0; i < mesh->group_count; ++i)
+                m->group_names[i] = dup_array(mesh->group_names[i], strlen(mesh->group_names[i]) + 1, 1, &failed);
+        }
+    }
+    if (failed) {
+        resurf_mesh_free(m);
+        return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory copying a mesh");
+    }
+    *out_mesh = m;
+    return RESURF_OK;
+}
+
+resurf_status resurf_mesh_add_extra(resurf_mesh *mesh, const char *name, unsigned components,
+                                    resurf_attribute **out, resurf_error *error)
+{
+    if (!mesh || !name || components < 1 || components > 16)
+        return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "bad extra attribute (name or 1..16 components)");
+    resurf_attribute *list = resurfi_realloc_array(mesh->extras, mesh->extra_count + 1, sizeof *list);
+    if (!list)
+        return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory adding attribute %s", name);
+    mesh->extras = list;
+    resurf_attribute *a = &list[mesh->extra_count];
+    memset(a, 0, sizeof *a);
+    snprintf(a->name, sizeof a->name, "%s", name);
+    a->components = components;
+    a->data = resurfi_calloc_array(mesh->vertex_count, components * sizeof(float));
+    if (!a->data)
+        return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory adding attribute %s", name);
+    mesh->extra_count++;
+    if (out)
+        *out = a;
+    return RESURF_OK;
+}
+
+double resurf_mesh_bounds(const resurf_mesh *mesh, double out_min[3], double out_max[3])
+{
+    vec3 lo = v3(INFINITY, INFINITY, INFINITY), hi = v3(-INFINITY, -INFINITY, -INFINITY);
+    size_t n = 0;
+    if (mesh) {
+        for (size_t t = 0; t < 3 * mesh->triangle_count; ++t) {
+            uint32_t v = mesh->indices[t];
+            if (v >= mesh->vertex_count)
+                continue;
+            vec3 p = resurfi_position(mesh, v);
+            lo = v3_min(lo, p);
+            hi = v3_max(hi, p);
+            ++n;
+        }
+        if (n == 0) {
+            for (size_t v = 0; v < mesh->vertex_count; ++v) {
+                vec3 p = resurfi_position(mesh, (uint32_t)v);
+                lo = v3_min(lo, p);
+                hi = v3_max(hi, p);
+                ++n;
+            }
+        }
+    }
+    if (n == 0)
+        lo = hi = v3(0, 0, 0);
+    if (out_min)
+        v3_store(out_min, lo);
+    if (out_max)
+        v3_store(out_max, hi);
+    return v3_dist(lo, hi);
+}

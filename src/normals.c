@@ -1,0 +1,2 @@
+/* normals.c: to be written. */
+#include "internal.h"

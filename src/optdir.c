@@ -1,0 +1,2 @@
+/* optdir.c: to be written. */
+#include "internal.h"

@@ -1,0 +1,2 @@
+/* repair.c: to be written. */
+#include "internal.h"

@@ -1,0 +1,2 @@
+/* restore.c: to be written. */
+#include "internal.h"

@@ -1,0 +1,2 @@
+/* smooth.c: to be written. */
+#include "internal.h"

@@ -1,0 +1,44 @@
+/* Small inline vector math on doubles: the one vector header of resurf. */
+#ifndef RESURF_VEC3_H
+#define RESURF_VEC3_H
+
+#include <math.h>
+
+typedef struct vec3 {
+    double x, y, z;
+} vec3;
+
+static inline vec3 v3(double x, double y, double z) { return (vec3){x, y, z}; }
+static inline vec3 v3_load(const double *p) { return (vec3){p[0], p[1], p[2]}; }
+static inline void v3_store(double *p, vec3 a) { p[0] = a.x; p[1] = a.y; p[2] = a.z; }
+static inline vec3 v3_add(vec3 a, vec3 b) { return (vec3){a.x + b.x, a.y + b.y, a.z + b.z}; }
+static inline vec3 v3_sub(vec3 a, vec3 b) { return (vec3){a.x - b.x, a.y - b.y, a.z - b.z}; }
+static inline vec3 v3_scale(vec3 a, double s) { return (vec3){a.x * s, a.y * s, a.z * s}; }
+static inline vec3 v3_madd(vec3 a, vec3 b, double s) { return (vec3){a.x + b.x * s, a.y + b.y * s, a.z + b.z * s}; }
+static inline vec3 v3_neg(vec3 a) { return (vec3){-a.x, -a.y, -a.z}; }
+static inline double v3_dot(vec3 a, vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+static inline vec3 v3_cross(vec3 a, vec3 b)
+{
+    return (vec3){a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+static inline double v3_len2(vec3 a) { return v3_dot(a, a); }
+static inline double v3_len(vec3 a) { return sqrt(v3_dot(a, a)); }
+static inline double v3_dist(vec3 a, vec3 b) { return v3_len(v3_sub(a, b)); }
+static inline double v3_dist2(vec3 a, vec3 b) { return v3_len2(v3_sub(a, b)); }
+static inline vec3 v3_min(vec3 a, vec3 b) { return (vec3){fmin(a.x, b.x), fmin(a.y, b.y), fmin(a.z, b.z)}; }
+static inline vec3 v3_max(vec3 a, vec3 b) { return (vec3){fmax(a.x, b.x), fmax(a.y, b.y), fmax(a.z, b.z)}; }
+static inline vec3 v3_lerp(vec3 a, vec3 b, double t) { return v3_madd(a, v3_sub(b, a), t); }
+static inline double v3_comp(vec3 a, int axis) { return axis == 0 ? a.x : axis == 1 ? a.y : a.z; }
+static inline int v3_finite(vec3 a) { return isfinite(a.x) && isfinite(a.y) && isfinite(a.z); }
+
+/* a / |a|, or the zero vector when |a| is 0 (callers test for that rather than divide by zero). */
+static inline vec3 v3_normalize(vec3 a)
+{
+    double l = v3_len(a);
+    return l > 0 ? v3_scale(a, 1.0 / l) : (vec3){0, 0, 0};
+}
+
+/* Twice the triangle's vector area: (b − a) × (c − a). */
+static inline vec3 v3_tri_cross(vec3 a, vec3 b, vec3 c) { return v3_cross(v3_sub(b, a), v3_sub(c, a)); }
+
+#endif

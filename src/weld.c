@@ -1,0 +1,2 @@
+/* weld.c: to be written. */
+#include "internal.h"

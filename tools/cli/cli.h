@@ -1,0 +1,60 @@
+/* The resurf command-line tool: shared helpers for the commands. The CLI only parses arguments and calls the
+ * public API (resurf.h); it never reaches into the library's internals.
+ * Exit status: 0 success, 1 the work failed (bad input, I/O), 2 usage error. Errors: one line on stderr,
+ * "resurf: FILE: what is wrong". */
+#ifndef RESURF_CLI_H
+#define RESURF_CLI_H
+
+#include <getopt.h>
+#include <stdio.h>
+
+#include "resurf/resurf.h"
+
+enum { CLI_OK = 0, CLI_FAILED = 1, CLI_USAGE = 2 };
+
+typedef struct cli_command {
+    const char *name;
+    const char *summary;
+    int (*run)(int argc, char **argv); /* argv[0] is the command name */
+} cli_command;
+
+int cmd_info(int argc, char **argv);
+int cmd_convert(int argc, char **argv);
+int cmd_restore(int argc, char **argv);
+int cmd_smooth(int argc, char **argv);
+int cmd_compare(int argc, char **argv);
+
+/* Prints "resurf: <message>" on stderr and returns CLI_FAILED. */
+int cli_fail(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+/* Prints "resurf: <formatted error>" on stderr and returns CLI_FAILED. */
+int cli_fail_error(const resurf_error *error);
+/* Prints "resurf COMMAND: <message>" and a hint to --help on stderr, returns CLI_USAGE. */
+int cli_usage(const char *command, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+
+/* Runs getopt_long over argv with our own messages; returns the option, -1 at the end, or '?' after printing a
+ * usage error (the caller returns CLI_USAGE). Call cli_getopt_reset() before the first call of a command. */
+void cli_getopt_reset(void);
+int cli_getopt(const char *command, int argc, char **argv, const char *shortopts, const struct option *longopts);
+
+/* Parse a number option; on failure print a usage error and return CLI_USAGE, else 0. */
+int cli_parse_double(const char *command, const char *option, const char *text, double *out);
+int cli_parse_unsigned(const char *command, const char *option, const char *text, unsigned long *out);
+
+/* Refuses (prints, returns CLI_FAILED) when output names the same file as one of the inputs; else 0. */
+int cli_check_output(const char *output, const char *const *inputs, int input_count);
+
+/* A progress reporter that draws a bar on stderr when it is a terminal (and does nothing otherwise).
+ * cli_progress_done() ends the line. */
+resurf_progress cli_progress(void);
+void cli_progress_done(void);
+
+/* Loads a mesh or prints the error; returns 0 or CLI_FAILED. */
+int cli_load(const char *path, resurf_format format, resurf_mesh **out);
+/* Saves a mesh or prints the error; returns 0 or CLI_FAILED. */
+int cli_save(const resurf_mesh *mesh, const char *path, const resurf_save_options *options);
+
+/* JSON helpers: a string with escapes, and a number that stays valid JSON for non-finite values (null). */
+void cli_json_string(FILE *f, const char *s);
+void cli_json_number(FILE *f, double v);
+
+#endif

@@ -1,0 +1,189 @@
+/* Helpers shared by the resurf commands: errors, option parsing, output safety, progress bar, JSON. */
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "cli.h"
+
+int cli_fail(const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    fputs("resurf: ", stderr);
+    vfprintf(stderr, fmt, ap);
+    fputc('\n', stderr);
+    va_end(ap);
+    return CLI_FAILED;
+}
+
+int cli_fail_error(const resurf_error *error)
+{
+    char text[1024];
+    resurf_format_error(text, sizeof text, error);
+    return cli_fail("%s", text);
+}
+
+int cli_usage(const char *command, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    fprintf(stderr, "resurf %s: ", command);
+    vfprintf(stderr, fmt, ap);
+    fprintf(stderr, " (see 'resurf %s --help')\n", command);
+    va_end(ap);
+    return CLI_USAGE;
+}
+
+void cli_getopt_reset(void)
+{
+    optind = 0; /* 0 makes GNU getopt start over, argument permutation included */
+    opterr = 0;
+}
+
+int cli_getopt(const char *command, int argc, char **argv, const char *shortopts, const struct option *longopts)
+{
+    int c = getopt_long(argc, argv, shortopts, longopts, NULL);
+    if (c == '?') {
+        const char *arg = argv[optind - 1];
+        if (optopt)
+            cli_usage(command, "option '-%c' is unknown or needs a value", optopt);
+        else
+            cli_usage(command, "option '%s' is unknown or needs a value", arg);
+    } else if (c == ':') {
+        cli_usage(command, "option '%s' needs a value", argv[optind - 1]);
+        c = '?';
+    }
+    return c;
+}
+
+int cli_parse_double(const char *command, const char *option, const char *text, double *out)
+{
+    char *end = NULL;
+    errno = 0;
+    double v = strtod(text, &end);
+    if (end == text || *end || errno || !isfinite(v))
+        return cli_usage(command, "--%s needs a number, not '%s'", option, text);
+    *out = v;
+    return 0;
+}
+
+int cli_parse_unsigned(const char *command, const char *option, const char *text, unsigned long *out)
+{
+    char *end = NULL;
+    errno = 0;
+    unsigned long v = strtoul(text, &end, 10);
+    if (end == text || *end || errno || text[0] == '-')
+        return cli_usage(command, "--%s needs a whole number, not '%s'", option, text);
+    *out = v;
+    return 0;
+}
+
+/* Same file: same device and inode (follows links and catches different spellings of one path). */
+static int same_file(const char *a, const char *b)
+{
+    struct stat sa, sb;
+    if (stat(a, &sa) != 0 || stat(b, &sb) != 0)
+        return 0;
+    return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+}
+
+int cli_check_output(const char *output, const char *const *inputs, int input_count)
+{
+    for (int i = 0; i < input_count; ++i)
+        if (inputs[i] && (strcmp(output, inputs[i]) == 0 || same_file(output, inputs[i])))
+            return cli_fail("%s: refusing to overwrite an input file", output);
+    return 0;
+}
+
+/* ---- progress bar -------------------------------------------------------------------------------------------- */
+
+typedef struct bar_state {
+    int active;
+    int last_permille;
+    const char *last_stage;
+} bar_state;
+
+static bar_state bar; /* the CLI is single-threaded; the library itself keeps no such state */
+
+static int draw_bar(void *user, const char *stage, double fraction)
+{
+    (void)user;
+    int permille = (int)(fraction * 1000);
+    if (bar.active && stage == bar.last_stage && permille / 5 == bar.last_permille / 5 && permille < 1000)
+        return 0;
+    bar.active = 1;
+    bar.last_stage = stage;
+    bar.last_permille = permille;
+    int filled = (int)(fraction * 30);
+    char cells[31];
+    for (int i = 0; i < 30; ++i)
+        cells[i] = i < filled ? '#' : '.';
+    cells[30] = 0;
+    fprintf(stderr, "\r%-10s [%s] %5.1f%%", stage, cells, fraction * 100);
+    fflush(stderr);
+    return 0;
+}
+
+resurf_progress cli_progress(void)
+{
+    resurf_progress p = {NULL, NULL};
+    if (isatty(fileno(stderr)))
+        p.fn = draw_bar;
+    return p;
+}
+
+void cli_progress_done(void)
+{
+    if (bar.active)
+        fputc('\n', stderr);
+    bar.active = 0;
+}
+
+/* ---- load / save --------------------------------------------------------------------------------------------- */
+
+int cli_load(const char *path, resurf_format format, resurf_mesh **out)
+{
+    resurf_load_options options = resurf_load_options_default();
+    options.format = format;
+    options.progress = cli_progress();
+    resurf_error error;
+    resurf_status s = resurf_mesh_load(path, &options, out, &error);
+    cli_progress_done();
+    return s == RESURF_OK ? 0 : cli_fail_error(&error);
+}
+
+int cli_save(const resurf_mesh *mesh, const char *path, const resurf_save_options *options)
+{
+    resurf_error error;
+    resurf_status s = resurf_mesh_save(mesh, path, options, &error);
+    return s == RESURF_OK ? 0 : cli_fail_error(&error);
+}
+
+/* ---- JSON ---------------------------------------------------------------------------------------------------- */
+
+void cli_json_string(FILE *f, const char *s)
+{
+    fputc('"', f);
+    for (; *s; ++s) {
+        unsigned char c = (unsigned char)*s;
+        if (c == '"' || c == '\\')
+            fprintf(f, "\\%c", c);
+        else if (c < 0x20)
+            fprintf(f, "\\u%04x", c);
+        else
+            fputc(c, f);
+    }
+    fputc('"', f);
+}
+
+void cli_json_number(FILE *f, double v)
+{
+    if (isfinite(v))
+        fprintf(f, "%.17g", v);
+    else
+        fputs("null", f);
+}

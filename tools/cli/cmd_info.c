@@ -1,0 +1,128 @@
+/* resurf info FILE: counts, topology, bounds and attributes. */
+#include <string.h>
+
+#include "cli.h"
+
+static const char usage[] =
+    "usage: resurf info FILE [--json] [--format obj|ply|off|stl]\n\n"
+    "Prints vertices, triangles, distinct positions, connected components, boundary loops and edges,\n"
+    "non-manifold edges and vertices, degenerate and zero-area triangles, inconsistently oriented edges,\n"
+    "unreferenced vertices, the bounding box and the attributes of a mesh.\n"
+    "Topology is counted over welded positions, so attribute seams are not boundaries.\n\n"
+    "  --json           machine-readable output on stdout\n"
+    "  --format FMT     read as FMT whatever the file name says\n";
+
+static void print_text(const char *path, const resurf_mesh *m, const resurf_validation *v, const double lo[3],
+                       const double hi[3], double diagonal)
+{
+    printf("file                 %s\n", path);
+    printf("vertices             %zu\n", v->vertex_count);
+    printf("positions            %zu\n", v->position_count);
+    printf("triangles            %zu\n", v->triangle_count);
+    printf("components           %zu\n", v->components);
+    printf("boundary loops       %zu\n", v->boundary_loops);
+    printf("boundary edges       %zu\n", v->boundary_edges);
+    printf("non-manifold edges   %zu\n", v->nonmanifold_edges);
+    printf("non-manifold verts   %zu\n", v->nonmanifold_vertices);
+    printf("degenerate faces     %zu\n", v->degenerate_triangles);
+    printf("zero-area faces      %zu\n", v->zero_area_triangles);
+    printf("flipped edges        %zu\n", v->inconsistent_edges);
+    printf("unreferenced verts   %zu\n", v->unreferenced_vertices);
+    printf("bounding box         [%.9g %.9g %.9g] .. [%.9g %.9g %.9g]\n", lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
+    printf("diagonal             %.9g\n", diagonal);
+    printf("attributes           position");
+    if (m->normals)
+        printf(", normal");
+    for (unsigned k = 0; k < m->texcoord_count; ++k)
+        if (m->texcoords[k])
+            printf(", texcoord%u", k);
+    if (m->colors)
+        printf(", color (%u components)", m->color_components);
+    for (size_t i = 0; i < m->extra_count; ++i)
+        printf(", %s (%u)", m->extras[i].name, m->extras[i].components);
+    printf("\n");
+    if (m->group_count)
+        printf("groups               %zu\n", m->group_count);
+}
+
+static void print_json(const char *path, const resurf_mesh *m, const resurf_validation *v, const double lo[3],
+                       const double hi[3], double diagonal)
+{
+    printf("{\"file\": ");
+    cli_json_string(stdout, path);
+    printf(", \"vertices\": %zu, \"positions\": %zu, \"triangles\": %zu, \"components\": %zu, "
+           "\"boundary_loops\": %zu, \"boundary_edges\": %zu, \"nonmanifold_edges\": %zu, "
+           "\"nonmanifold_vertices\": %zu, \"degenerate_triangles\": %zu, \"zero_area_triangles\": %zu, "
+           "\"inconsistent_edges\": %zu, \"unreferenced_vertices\": %zu",
+           v->vertex_count, v->position_count, v->triangle_count, v->components, v->boundary_loops,
+           v->boundary_edges, v->nonmanifold_edges, v->nonmanifold_vertices, v->degenerate_triangles,
+           v->zero_area_triangles, v->inconsistent_edges, v->unreferenced_vertices);
+    printf(", \"bounds\": {\"min\": [");
+    for (int i = 0; i < 3; ++i) {
+        cli_json_number(stdout, lo[i]);
+        printf(i < 2 ? ", " : "], \"max\": [");
+    }
+    for (int i = 0; i < 3; ++i) {
+        cli_json_number(stdout, hi[i]);
+        printf(i < 2 ? ", " : "], \"diagonal\": ");
+    }
+    cli_json_number(stdout, diagonal);
+    printf("}, \"attributes\": {\"normals\": %s, \"texcoord_sets\": %u, \"color_components\": %u, \"extras\": [",
+           m->normals ? "true" : "false", m->texcoord_count, m->colors ? m->color_components : 0);
+    for (size_t i = 0; i < m->extra_count; ++i) {
+        printf(i ? ", {\"name\": " : "{\"name\": ");
+        cli_json_string(stdout, m->extras[i].name);
+        printf(", \"components\": %u}", m->extras[i].components);
+    }
+    printf("]}, \"groups\": %zu}\n", m->group_count);
+}
+
+int cmd_info(int argc, char **argv)
+{
+    static const struct option options[] = {
+        {"json", no_argument, NULL, 'j'},
+        {"format", required_argument, NULL, 'f'},
+        {"help", no_argument, NULL, 'h'},
+        {NULL, 0, NULL, 0},
+    };
+    int json = 0;
+    resurf_format format = RESURF_FORMAT_AUTO;
+    cli_getopt_reset();
+    for (int c; (c = cli_getopt("info", argc, argv, "+h", options)) != -1;) {
+        switch (c) {
+        case 'j':
+            json = 1;
+            break;
+        case 'f':
+            if ((format = resurf_format_from_name(optarg)) == RESURF_FORMAT_AUTO)
+                return cli_usage("info", "unknown format '%s'", optarg);
+            break;
+        case 'h':
+            fputs(usage, stdout);
+            return CLI_OK;
+        default:
+            return CLI_USAGE;
+        }
+    }
+    if (argc - optind != 1)
+        return cli_usage("info", "expected one FILE");
+    const char *path = argv[optind];
+
+    resurf_mesh *mesh = NULL;
+    if (cli_load(path, format, &mesh))
+        return CLI_FAILED;
+    resurf_validation v;
+    resurf_error error;
+    if (resurf_mesh_validate(mesh, &v, &error) != RESURF_OK) {
+        resurf_mesh_free(mesh);
+        return cli_fail_error(&error);
+    }
+    double lo[3], hi[3];
+    double diagonal = resurf_mesh_bounds(mesh, lo, hi);
+    if (json)
+        print_json(path, mesh, &v, lo, hi, diagonal);
+    else
+        print_text(path, mesh, &v, lo, hi, diagonal);
+    resurf_mesh_free(mesh);
+    return CLI_OK;
+}

@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# Everything a fresh Debian 12 machine needs, idempotent and quiet when nothing is missing:
+# Debian packages, the scanned meshes (npm), then configure and build with meson into build/.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+packages=(gcc g++ meson ninja-build pkg-config check libtinygltf-dev nlohmann-json3-dev libdraco-dev draco
+          libmeshoptimizer-dev valgrind clang libclang-rt-14-dev xz-utils)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")
+done
+# A machine may carry Node.js from elsewhere (nodesource bundles npm; Debian's npm would conflict with it).
+command -v node >/dev/null || missing+=(nodejs)
+command -v npm >/dev/null || missing+=(npm)
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "setup: installing ${missing[*]}" >&2
+  export DEBIAN_FRONTEND=noninteractive
+  apt-get update -qq >/dev/null
+  apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+bash tools/fetch-data.sh
+
+if [ ! -f build/build.ninja ]; then
+  meson setup build --buildtype=release -Dwerror=true >/dev/null
+fi
+ninja -C build >/dev/null

@@ -1,0 +1,433 @@
+/* Analytic test shapes (see shapes.h). Irregularity comes from jittering a parameter grid; every vertex is then
+ * mapped exactly onto the surface, so the only error left in a vertex is double rounding. Jitter is a pure
+ * function of (seed, lattice point): duplicated lattice points (cube-sphere edges) land on identical positions and
+ * are welded exactly. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "internal.h"
+#include "shapes.h"
+
+static const double torus_R = 1.0, torus_r = 0.4;
+
+static const char *const names[SHAPE_COUNT] = {"sphere", "torus", "cubic", "cylinder", "saddle", "plane"};
+
+const char *shape_name(shape_kind kind) { return (unsigned)kind < SHAPE_COUNT ? names[kind] : "unknown"; }
+
+shape_kind shape_from_name(const char *name)
+{
+    for (int k = 0; k < SHAPE_COUNT; ++k)
+        if (name && strcmp(name, names[k]) == 0)
+            return (shape_kind)k;
+    return SHAPE_COUNT;
+}
+
+uint64_t shape_rand_u64(uint64_t *state)
+{
+    uint64_t z = (*state += 0x9e3779b97f4a7c15ull);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return z ^ (z >> 31);
+}
+
+double shape_rand_unit(uint64_t *state) { return (double)(shape_rand_u64(state) >> 11) * 0x1.0p-53; }
+
+/* A jitter in [−1, 1) that depends only on the seed, the lattice point and which coordinate it moves. */
+static double lattice_jitter(uint64_t seed, long i, long j, long k, int which)
+{
+    uint64_t s = seed ^ ((uint64_t)i * 0x9e3779b97f4a7c15ull) ^ ((uint64_t)j * 0xc2b2ae3d27d4eb4full) ^
+                 ((uint64_t)k * 0x165667b19e3779f9ull) ^ ((uint64_t)which * 0x27d4eb2f165667c5ull);
+    return 2.0 * shape_rand_unit(&s) - 1.0;
+}
+
+/* ---- surfaces ------------------------------------------------------------------------------------------------ */
+
+static double graph_f(shape_kind kind, double x, double y, double *fx, double *fy, double *fxx, double *fxy,
+                      double *fyy)
+{
+    switch (kind) {
+    case SHAPE_CUBIC: /* z = 0.5 (x³ − 3xy²) */
+        *fx = 1.5 * (x * x - y * y);
+        *fy = -3.0 * x * y;
+        *fxx = 3.0 * x;
+        *fxy = -3.0 * y;
+        *fyy = -3.0 * x;
+        return 0.5 * (x * x * x - 3.0 * x * y * y);
+    case SHAPE_SADDLE: /* z = x² − y² */
+        *fx = 2.0 * x;
+        *fy = -2.0 * y;
+        *fxx = 2.0;
+        *fxy = 0.0;
+        *fyy = -2.0;
+        return x * x - y * y;
+    default: /* plane z = 0 */
+        *fx = *fy = *fxx = *fxy = *fyy = 0.0;
+        return 0.0;
+    }
+}
+
+static int is_graph(shape_kind kind) { return kind == SHAPE_CUBIC || kind == SHAPE_SADDLE || kind == SHAPE_PLANE; }
+
+static double clamp1(double v) { return v < -1 ? -1 : v > 1 ? 1 : v; }
+
+/* Closest point on the graph over [−1,1]²: projected Newton on g(x,y) = |(x, y, f) − p|², from the point below p.
+ * Near the surface g is convex and this converges quadratically; a gradient step guards indefinite Hessians. */
+static void graph_closest(shape_kind kind, const double p[3], double out[3])
+{
+    double x = clamp1(p[0]), y = clamp1(p[1]);
+    double fx, fy, fxx, fxy, fyy;
+    for (int it = 0; it < 60; ++it) {
+        double f = graph_f(kind, x, y, &fx, &fy, &fxx, &fxy, &fyy);
+        double r = f - p[2];
+        double gx = (x - p[0]) + r * fx, gy = (y - p[1]) + r * fy;
+        double hxx = 1 + fx * fx + r * fxx, hxy = fx * fy + r * fxy, hyy = 1 + fy * fy + r * fyy;
+        double det = hxx * hyy - hxy * hxy;
+        double dx, dy;
+        if (hxx > 0 && det > 1e-12 * (hxx * hyy + 1)) {
+            dx = -(hyy * gx - hxy * gy) / det;
+            dy = -(hxx * gy - hxy * gx) / det;
+        } else {
+            dx = -0.25 * gx;
+            dy = -0.25 * gy;
+        }
+        double nx = clamp1(x + dx), ny = clamp1(y + dy);
+        double moved = fabs(nx - x) + fabs(ny - y);
+        x = nx;
+        y = ny;
+        if (moved < 1e-17)
+            break;
+    }
+    out[0] = x;
+    out[1] = y;
+    out[2] = graph_f(kind, x, y, &fx, &fy, &fxx, &fxy, &fyy);
+}
+
+void shape_closest(shape_kind kind, const double p[3], double out[3])
+{
+    switch (kind) {
+    case SHAPE_SPHERE: {
+        double l = sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+        if (l == 0) {
+            out[0] = 0, out[1] = 0, out[2] = 1;
+            return;
+        }
+        for (int i = 0; i < 3; ++i)
+            out[i] = p[i] / l;
+        return;
+    }
+    case SHAPE_TORUS: {
+        double rho = hypot(p[0], p[1]);
+        double cx = rho > 0 ? p[0] / rho : 1, cy = rho > 0 ? p[1] / rho : 0;
+        double q = rho - torus_R, z = p[2];
+        double l = hypot(q, z);
+        double sq = l > 0 ? q / l : 1, sz = l > 0 ? z / l : 0;
+        double ring = torus_R + torus_r * sq;
+        out[0] = ring * cx, out[1] = ring * cy, out[2] = torus_r * sz;
+        return;
+    }
+    case SHAPE_CYLINDER: {
+        double rho = hypot(p[0], p[1]);
+        double cx = rho > 0 ? p[0] / rho : 1, cy = rho > 0 ? p[1] / rho : 0;
+        out[0] = cx, out[1] = cy, out[2] = clamp1(p[2]);
+        return;
+    }
+    default:
+        graph_closest(kind, p, out);
+        return;
+    }
+}
+
+double shape_distance(shape_kind kind, const double p[3])
+{
+    switch (kind) {
+    case SHAPE_SPHERE:
+        return fabs(sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]) - 1.0);
+    case SHAPE_TORUS: {
+        double q = hypot(p[0], p[1]) - torus_R;
+        return fabs(hypot(q, p[2]) - torus_r);
+    }
+    default: {
+        double c[3];
+        shape_closest(kind, p, c);
+        return sqrt((p[0] - c[0]) * (p[0] - c[0]) + (p[1] - c[1]) * (p[1] - c[1]) + (p[2] - c[2]) * (p[2] - c[2]));
+    }
+    }
+}
+
+void shape_normal(shape_kind kind, const double p[3], double n[3])
+{
+    double c[3];
+    shape_closest(kind, p, c);
+    switch (kind) {
+    case SHAPE_SPHERE:
+        n[0] = c[0], n[1] = c[1], n[2] = c[2];
+        return;
+    case SHAPE_TORUS: {
+        double rho = hypot(c[0], c[1]);
+        double ax = c[0] / rho * torus_R, ay = c[1] / rho * torus_R;
+        n[0] = (c[0] - ax) / torus_r, n[1] = (c[1] - ay) / torus_r, n[2] = c[2] / torus_r;
+        return;
+    }
+    case SHAPE_CYLINDER:
+        n[0] = c[0], n[1] = c[1], n[2] = 0;
+        return;
+    default: {
+        double fx, fy, fxx, fxy, fyy;
+        graph_f(kind, c[0], c[1], &fx, &fy, &fxx, &fxy, &fyy);
+        double l = sqrt(fx * fx + fy * fy + 1);
+        n[0] = -fx / l, n[1] = -fy / l, n[2] = 1 / l;
+        return;
+    }
+    }
+}
+
+/* ---- meshing ------------------------------------------------------------------------------------------------- */
+
+typedef struct builder {
+    double *positions;
+    size_t vertex_count, vertex_capacity;
+    uint32_t *indices;
+    size_t triangle_count, triangle_capacity;
+    int failed;
+} builder;
+
+static uint32_t add_vertex(builder *b, double x, double y, double z)
+{
+    if (b->vertex_count == b->vertex_capacity) {
+        size_t cap = b->vertex_capacity ? 2 * b->vertex_capacity : 1024;
+        double *p = realloc(b->positions, cap * 3 * sizeof(double));
+        if (!p) {
+            b->failed = 1;
+            return 0;
+        }
+        b->positions = p, b->vertex_capacity = cap;
+    }
+    double *p = b->positions + 3 * b->vertex_count;
+    p[0] = x, p[1] = y, p[2] = z;
+    return (uint32_t)b->vertex_count++;
+}
+
+static void add_triangle(builder *b, uint32_t a, uint32_t c, uint32_t d)
+{
+    if (b->triangle_count == b->triangle_capacity) {
+        size_t cap = b->triangle_capacity ? 2 * b->triangle_capacity : 1024;
+        uint32_t *p = realloc(b->indices, cap * 3 * sizeof(uint32_t));
+        if (!p) {
+            b->failed = 1;
+            return;
+        }
+        b->indices = p, b->triangle_capacity = cap;
+    }
+    uint32_t *t = b->indices + 3 * b->triangle_count++;
+    t[0] = a, t[1] = c, t[2] = d;
+}
+
+/* Two triangles for the quad (a, b, c, d) counter-clockwise; the diagonal is picked by a hash so that the
+ * connectivity is irregular too. */
+static void add_quad(builder *b, uint32_t a, uint32_t c, uint32_t d, uint32_t e, uint64_t seed, long key)
+{
+    if (lattice_jitter(seed, key, 7, 11, 3) < 0) {
+        add_triangle(b, a, c, d);
+        add_triangle(b, a, d, e);
+    } else {
+        add_triangle(b, a, c, e);
+        add_triangle(b, c, d, e);
+    }
+}
+
+/* Jittered grid coordinate: index i of 0..n, interior ones moved by up to jitter × spacing. */
+static double grid_coord(long i, long n, double jitter, double j)
+{
+    double u = (double)i;
+    if (i > 0 && i < n)
+        u += jitter * j;
+    return -1.0 + 2.0 * u / (double)n;
+}
+
+static void mesh_sphere(builder *b, size_t triangles, double jitter, uint64_t seed)
+{
+    long n = (long)fmax(2, round(sqrt((double)triangles / 12.0)));
+    /* Each face of the cube [−1,1]³: axis a, sign s; parameters along axes u, v with e_u × e_v = s e_a. */
+    for (int a = 0; a < 3; ++a) {
+        for (int s = -1; s <= 1; s += 2) {
+            int u = (a + 1) % 3, v = (a + 2) % 3;
+            if (s < 0) {
+                int t = u;
+                u = v;
+                v = t;
+            }
+            uint32_t *ids = malloc((size_t)(n + 1) * (size_t)(n + 1) * sizeof(uint32_t));
+            if (!ids) {
+                b->failed = 1;
+                return;
+            }
+            for (long j = 0; j <= n; ++j) {
+                for (long i = 0; i <= n; ++i) {
+                    long lat[3];
+                    lat[a] = s > 0 ? n : 0;
+                    lat[u] = i;
+                    lat[v] = j;
+                    double c[3];
+                    for (int k = 0; k < 3; ++k)
+                        c[k] = grid_coord(lat[k], n, jitter, lattice_jitter(seed, lat[0], lat[1], lat[2], k));
+                    double l = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+                    ids[j * (n + 1) + i] = add_vertex(b, c[0] / l, c[1] / l, c[2] / l);
+                }
+            }
+            for (long j = 0; j < n; ++j)
+                for (long i = 0; i < n; ++i)
+                    add_quad(b, ids[j * (n + 1) + i], ids[j * (n + 1) + i + 1], ids[(j + 1) * (n + 1) + i + 1],
+                             ids[(j + 1) * (n + 1) + i], seed, ((a * 2 + (s > 0)) * (n + 1) + j) * (n + 1) + i);
+            free(ids);
+        }
+    }
+}
+
+static void mesh_torus(builder *b, size_t triangles, double jitter, uint64_t seed)
+{
+    /* Cells roughly square: nu / nv ≈ R / r. */
+    double ratio = torus_R / torus_r;
+    long nv = (long)fmax(3, round(sqrt((double)triangles / (2.0 * ratio))));
+    long nu = (long)fmax(3, round((double)triangles / (2.0 * (double)nv)));
+    for (long j = 0; j < nv; ++j) {
+        for (long i = 0; i < nu; ++i) {
+            double su = 2 * M_PI * (i + jitter * lattice_jitter(seed, i, j, 0, 0)) / (double)nu;
+            double sv = 2 * M_PI * (j + jitter * lattice_jitter(seed, i, j, 0, 1)) / (double)nv;
+            double ring = torus_R + torus_r * cos(sv);
+            add_vertex(b, ring * cos(su), ring * sin(su), torus_r * sin(sv));
+        }
+    }
+    for (long j = 0; j < nv; ++j)
+        for (long i = 0; i < nu; ++i) {
+            uint32_t a = (uint32_t)(j * nu + i), c = (uint32_t)(j * nu + (i + 1) % nu);
+            uint32_t d = (uint32_t)(((j + 1) % nv) * nu + (i + 1) % nu), e = (uint32_t)(((j + 1) % nv) * nu + i);
+            add_quad(b, a, c, d, e, seed, j * nu + i);
+        }
+}
+
+static void mesh_cylinder(builder *b, size_t triangles, double jitter, uint64_t seed)
+{
+    /* Circumference 2π, height 2: cells roughly square. */
+    long nz = (long)fmax(2, round(sqrt((double)triangles / (2.0 * M_PI))));
+    long nu = (long)fmax(3, round((double)triangles / (2.0 * (double)nz)));
+    for (long j = 0; j <= nz; ++j)
+        for (long i = 0; i < nu; ++i) {
+            double su = 2 * M_PI * (i + jitter * lattice_jitter(seed, i, j, 1, 0)) / (double)nu;
+            double z = grid_coord(j, nz, jitter, lattice_jitter(seed, i, j, 1, 1));
+            add_vertex(b, cos(su), sin(su), z);
+        }
+    for (long j = 0; j < nz; ++j)
+        for (long i = 0; i < nu; ++i) {
+            uint32_t a = (uint32_t)(j * nu + i), c = (uint32_t)(j * nu + (i + 1) % nu);
+            uint32_t d = (uint32_t)((j + 1) * nu + (i + 1) % nu), e = (uint32_t)((j + 1) * nu + i);
+            add_quad(b, a, c, d, e, seed, j * nu + i);
+        }
+}
+
+static void mesh_graph(builder *b, shape_kind kind, size_t triangles, double jitter, uint64_t seed)
+{
+    long n = (long)fmax(2, round(sqrt((double)triangles / 2.0)));
+    for (long j = 0; j <= n; ++j)
+        for (long i = 0; i <= n; ++i) {
+            double x = grid_coord(i, n, jitter, lattice_jitter(seed, i, j, 2, 0));
+            double y = grid_coord(j, n, jitter, lattice_jitter(seed, i, j, 2, 1));
+            double fx, fy, fxx, fxy, fyy;
+            add_vertex(b, x, y, graph_f(kind, x, y, &fx, &fy, &fxx, &fxy, &fyy));
+        }
+    for (long j = 0; j < n; ++j)
+        for (long i = 0; i < n; ++i)
+            add_quad(b, (uint32_t)(j * (n + 1) + i), (uint32_t)(j * (n + 1) + i + 1),
+                     (uint32_t)((j + 1) * (n + 1) + i + 1), (uint32_t)((j + 1) * (n + 1) + i), seed, j * n + i);
+}
+
+/* Exact weld by sorting: the generator's duplicates are bit-identical, so equal coordinates suffice. */
+typedef struct sort_key {
+    double p[3];
+    uint32_t index;
+} sort_key;
+
+static int compare_key(const void *a, const void *b)
+{
+    const sort_key *p = a, *q = b;
+    for (int k = 0; k < 3; ++k)
+        if (p->p[k] != q->p[k])
+            return p->p[k] < q->p[k] ? -1 : 1;
+    return p->index < q->index ? -1 : 1;
+}
+
+static int weld_sorted(const double *positions, size_t n, uint32_t *remap, size_t *out_count)
+{
+    sort_key *keys = malloc((n ? n : 1) * sizeof *keys);
+    uint32_t *first = malloc((n ? n : 1) * sizeof *first);
+    if (!keys || !first) {
+        free(keys);
+        free(first);
+        return -1;
+    }
+    for (size_t i = 0; i < n; ++i) {
+        memcpy(keys[i].p, positions + 3 * i, sizeof keys[i].p);
+        keys[i].index = (uint32_t)i;
+    }
+    qsort(keys, n, sizeof *keys, compare_key);
+    for (size_t i = 0, j; i < n; i = j) {
+        for (j = i; j < n && memcmp(keys[j].p, keys[i].p, sizeof keys[i].p) == 0; ++j)
+            first[keys[j].index] = keys[i].index; /* keys[i] holds the lowest index of the run */
+    }
+    /* Number positions in order of first appearance, so the result does not depend on the sort. */
+    size_t count = 0;
+    for (size_t v = 0; v < n; ++v)
+        remap[v] = first[v] == v ? (uint32_t)count++ : remap[first[v]];
+    *out_count = count;
+    free(first);
+    free(keys);
+    return 0;
+}
+
+resurf_mesh *shape_mesh(shape_kind kind, size_t triangles, double jitter, uint64_t seed, int with_normals)
+{
+    builder b = {0};
+    if (jitter < 0)
+        jitter = 0;
+    if (jitter > 0.45)
+        jitter = 0.45;
+    switch (kind) {
+    case SHAPE_SPHERE:
+        mesh_sphere(&b, triangles, jitter, seed);
+        break;
+    case SHAPE_TORUS:
+        mesh_torus(&b, triangles, jitter, seed);
+        break;
+    case SHAPE_CYLINDER:
+        mesh_cylinder(&b, triangles, jitter, seed);
+        break;
+    default:
+        if (!is_graph(kind))
+            return NULL;
+        mesh_graph(&b, kind, triangles, jitter, seed);
+        break;
+    }
+    resurf_mesh *m = NULL;
+    uint32_t *remap = NULL;
+    if (b.failed)
+        goto done;
+    /* Weld duplicated lattice points (only the sphere has them; elsewhere this is the identity). */
+    remap = malloc((b.vertex_count ? b.vertex_count : 1) * sizeof(uint32_t));
+    size_t unique = 0;
+    if (!remap || weld_sorted(b.positions, b.vertex_count, remap, &unique) != 0)
+        goto done;
+    if (resurf_mesh_create(unique, b.triangle_count, with_normals ? RESURF_ATTR_NORMALS : 0, &m, NULL) != RESURF_OK)
+        goto done;
+    for (size_t v = 0; v < b.vertex_count; ++v)
+        memcpy(m->positions + 3 * (size_t)remap[v], b.positions + 3 * v, 3 * sizeof(double));
+    for (size_t i = 0; i < 3 * b.triangle_count; ++i)
+        m->indices[i] = remap[b.indices[i]];
+    if (with_normals)
+        for (size_t v = 0; v < unique; ++v)
+            shape_normal(kind, m->positions + 3 * v, m->normals + 3 * v);
+done:
+    free(remap);
+    free(b.positions);
+    free(b.indices);
+    return m;
+}
