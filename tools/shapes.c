@@ -71,11 +71,10 @@ static int is_graph(shape_kind kind) { return kind == SHAPE_CUBIC || kind == SHA
 
 static double clamp1(double v) { return v < -1 ? -1 : v > 1 ? 1 : v; }
 
-/* Closest point on the graph over [−1,1]²: projected Newton on g(x,y) = |(x, y, f) − p|², from the point below p.
- * Near the surface g is convex and this converges quadratically; a gradient step guards indefinite Hessians. */
-static void graph_closest(shape_kind kind, const double p[3], double out[3])
+/* Projected Newton on g(x,y) = |(x, y, f(x,y)) − p|² / 2 over [−1,1]² from (x, y). Near the surface g is convex
+ * and this converges quadratically; a gradient step guards indefinite Hessians. Returns g at the end point. */
+static double graph_descend(shape_kind kind, const double p[3], double x, double y, double out[3])
 {
-    double x = clamp1(p[0]), y = clamp1(p[1]);
     double fx, fy, fxx, fxy, fyy;
     for (int it = 0; it < 60; ++it) {
         double f = graph_f(kind, x, y, &fx, &fy, &fxx, &fxy, &fyy);
@@ -101,6 +100,29 @@ static void graph_closest(shape_kind kind, const double p[3], double out[3])
     out[0] = x;
     out[1] = y;
     out[2] = graph_f(kind, x, y, &fx, &fy, &fxx, &fxy, &fyy);
+    return (x - p[0]) * (x - p[0]) + (y - p[1]) * (y - p[1]) + (out[2] - p[2]) * (out[2] - p[2]);
+}
+
+/* Closest point on the graph: the best of descents from the point below p and from four points around it, as far
+ * out as p is from the graph, so that a start on a stationary point of g (a saddle above its centre) cannot trap
+ * the search. */
+static void graph_closest(shape_kind kind, const double p[3], double out[3])
+{
+    double fx, fy, fxx, fxy, fyy;
+    double x0 = clamp1(p[0]), y0 = clamp1(p[1]);
+    double r = fabs(p[2] - graph_f(kind, x0, y0, &fx, &fy, &fxx, &fxy, &fyy));
+    static const double dir[5][2] = {{0, 0}, {1, 0}, {-1, 0}, {0, 1}, {0, -1}};
+    double best = INFINITY;
+    for (int i = 0; i < 5; ++i) {
+        double c[3];
+        double g = graph_descend(kind, p, clamp1(x0 + r * dir[i][0]), clamp1(y0 + r * dir[i][1]), c);
+        if (g < best) {
+            best = g;
+            out[0] = c[0], out[1] = c[1], out[2] = c[2];
+        }
+        if (r == 0)
+            break;
+    }
 }
 
 void shape_closest(shape_kind kind, const double p[3], double out[3])
@@ -187,25 +209,45 @@ void shape_normal(shape_kind kind, const double p[3], double n[3])
 typedef struct builder {
     double *positions;
     size_t vertex_count, vertex_capacity;
+    double *params;       /* 2 per vertex: the (jittered) grid parameters, to orient quads */
+    double period;        /* of the first parameter (2π on the torus and cylinder), 0 if none */
     uint32_t *indices;
     size_t triangle_count, triangle_capacity;
     int failed;
 } builder;
 
-static uint32_t add_vertex(builder *b, double x, double y, double z)
+static uint32_t add_vertex(builder *b, double x, double y, double z, double u, double v)
 {
     if (b->vertex_count == b->vertex_capacity) {
         size_t cap = b->vertex_capacity ? 2 * b->vertex_capacity : 1024;
         double *p = realloc(b->positions, cap * 3 * sizeof(double));
-        if (!p) {
+        if (p)
+            b->positions = p;
+        double *q = realloc(b->params, cap * 2 * sizeof(double));
+        if (q)
+            b->params = q;
+        if (!p || !q) {
             b->failed = 1;
             return 0;
         }
-        b->positions = p, b->vertex_capacity = cap;
+        b->vertex_capacity = cap;
     }
     double *p = b->positions + 3 * b->vertex_count;
     p[0] = x, p[1] = y, p[2] = z;
+    b->params[2 * b->vertex_count] = u;
+    b->params[2 * b->vertex_count + 1] = v;
     return (uint32_t)b->vertex_count++;
+}
+
+/* Is (a, c, d) counter-clockwise in parameter space? (The first parameter may wrap around.) */
+static int param_ccw(const builder *b, uint32_t a, uint32_t c, uint32_t d)
+{
+    const double *pa = b->params + 2 * (size_t)a, *pc = b->params + 2 * (size_t)c, *pd = b->params + 2 * (size_t)d;
+    double e[4] = {pc[0] - pa[0], pc[1] - pa[1], pd[0] - pa[0], pd[1] - pa[1]};
+    if (b->period > 0)
+        for (int i = 0; i < 4; i += 2)
+            e[i] -= b->period * round(e[i] / b->period);
+    return e[0] * e[3] - e[1] * e[2] > 0;
 }
 
 static void add_triangle(builder *b, uint32_t a, uint32_t c, uint32_t d)
@@ -223,11 +265,15 @@ static void add_triangle(builder *b, uint32_t a, uint32_t c, uint32_t d)
     t[0] = a, t[1] = c, t[2] = d;
 }
 
-/* Two triangles for the quad (a, b, c, d) counter-clockwise; the diagonal is picked by a hash so that the
- * connectivity is irregular too. */
+/* Two triangles for the quad (a, c, d, e) counter-clockwise; the diagonal is picked by a hash so that the
+ * connectivity is irregular too, unless the jitter made the quad non-convex: then only the diagonal through the
+ * reflex corner keeps both triangles the right way round. */
 static void add_quad(builder *b, uint32_t a, uint32_t c, uint32_t d, uint32_t e, uint64_t seed, long key)
 {
-    if (lattice_jitter(seed, key, 7, 11, 3) < 0) {
+    int first = lattice_jitter(seed, key, 7, 11, 3) < 0;
+    int first_ok = param_ccw(b, a, c, d) && param_ccw(b, a, d, e);
+    int second_ok = param_ccw(b, a, c, e) && param_ccw(b, c, d, e);
+    if (first ? (first_ok || !second_ok) : (first_ok && !second_ok)) {
         add_triangle(b, a, c, d);
         add_triangle(b, a, d, e);
     } else {
@@ -272,7 +318,7 @@ static void mesh_sphere(builder *b, size_t triangles, double jitter, uint64_t se
                     for (int k = 0; k < 3; ++k)
                         c[k] = grid_coord(lat[k], n, jitter, lattice_jitter(seed, lat[0], lat[1], lat[2], k));
                     double l = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
-                    ids[j * (n + 1) + i] = add_vertex(b, c[0] / l, c[1] / l, c[2] / l);
+                    ids[j * (n + 1) + i] = add_vertex(b, c[0] / l, c[1] / l, c[2] / l, c[u], c[v]);
                 }
             }
             for (long j = 0; j < n; ++j)
@@ -295,7 +341,7 @@ static void mesh_torus(builder *b, size_t triangles, double jitter, uint64_t see
             double su = 2 * M_PI * (i + jitter * lattice_jitter(seed, i, j, 0, 0)) / (double)nu;
             double sv = 2 * M_PI * (j + jitter * lattice_jitter(seed, i, j, 0, 1)) / (double)nv;
             double ring = torus_R + torus_r * cos(sv);
-            add_vertex(b, ring * cos(su), ring * sin(su), torus_r * sin(sv));
+            add_vertex(b, ring * cos(su), ring * sin(su), torus_r * sin(sv), su, sv);
         }
     }
     for (long j = 0; j < nv; ++j)
@@ -315,7 +361,7 @@ static void mesh_cylinder(builder *b, size_t triangles, double jitter, uint64_t 
         for (long i = 0; i < nu; ++i) {
             double su = 2 * M_PI * (i + jitter * lattice_jitter(seed, i, j, 1, 0)) / (double)nu;
             double z = grid_coord(j, nz, jitter, lattice_jitter(seed, i, j, 1, 1));
-            add_vertex(b, cos(su), sin(su), z);
+            add_vertex(b, cos(su), sin(su), z, su, z);
         }
     for (long j = 0; j < nz; ++j)
         for (long i = 0; i < nu; ++i) {
@@ -333,7 +379,7 @@ static void mesh_graph(builder *b, shape_kind kind, size_t triangles, double jit
             double x = grid_coord(i, n, jitter, lattice_jitter(seed, i, j, 2, 0));
             double y = grid_coord(j, n, jitter, lattice_jitter(seed, i, j, 2, 1));
             double fx, fy, fxx, fxy, fyy;
-            add_vertex(b, x, y, graph_f(kind, x, y, &fx, &fy, &fxx, &fxy, &fyy));
+            add_vertex(b, x, y, graph_f(kind, x, y, &fx, &fy, &fxx, &fxy, &fyy), x, y);
         }
     for (long j = 0; j < n; ++j)
         for (long i = 0; i < n; ++i)
@@ -396,9 +442,11 @@ resurf_mesh *shape_mesh(shape_kind kind, size_t triangles, double jitter, uint64
         mesh_sphere(&b, triangles, jitter, seed);
         break;
     case SHAPE_TORUS:
+        b.period = 2 * M_PI;
         mesh_torus(&b, triangles, jitter, seed);
         break;
     case SHAPE_CYLINDER:
+        b.period = 2 * M_PI;
         mesh_cylinder(&b, triangles, jitter, seed);
         break;
     default:
@@ -428,6 +476,7 @@ resurf_mesh *shape_mesh(shape_kind kind, size_t triangles, double jitter, uint64
 done:
     free(remap);
     free(b.positions);
+    free(b.params);
     free(b.indices);
     return m;
 }
