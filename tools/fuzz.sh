@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# Runs every libFuzzer harness for SECONDS each (default 60) on its committed seed corpus (tests/fuzz/corpus/NAME)
+# plus a scratch corpus under build-fuzz/. Crashes are written to build-fuzz/crashes/; the script fails on any.
+#   bash tools/fuzz.sh [SECONDS] [NAME ...]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+seconds=${1:-60}
+shift || true
+if [ ! -f build-fuzz/build.ninja ]; then
+  CC=clang CXX=clang++ meson setup build-fuzz -Dbuildtype=debugoptimized -Dfuzz=true -Dtests=false \
+    -Dbenchmarks=false -Db_sanitize=address,undefined -Db_lundef=false >/dev/null
+fi
+ninja -C build-fuzz >/dev/null
+names=("$@")
+[ ${#names[@]} -gt 0 ] || names=($(cd build-fuzz/tests/fuzz && ls fuzz_* | grep -v '\.p$' | sed 's/^fuzz_//'))
+mkdir -p build-fuzz/crashes
+status=0
+printf '%-8s %12s %8s %s\n' harness executions crashes corpus
+for name in "${names[@]}"; do
+  scratch=build-fuzz/corpus/$name
+  mkdir -p "$scratch"
+  log=build-fuzz/fuzz_$name.log
+  if UBSAN_OPTIONS=halt_on_error=1 build-fuzz/tests/fuzz/fuzz_$name "$scratch" "tests/fuzz/corpus/$name" \
+      -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=10 -max_len=65536 \
+      -artifact_prefix=build-fuzz/crashes/"$name"- >"$log" 2>&1; then
+    crashes=0
+  else
+    crashes=1
+    status=1
+  fi
+  execs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || true)
+  [ -n "$execs" ] || execs=$(grep -oE '#[0-9]+' "$log" | tail -1 | tr -d '#')
+  printf '%-8s %12s %8s %s\n' "$name" "${execs:-?}" "$crashes" "$(ls "$scratch" | wc -l) files"
+  [ $crashes -eq 0 ] || tail -30 "$log"
+done
+exit $status
