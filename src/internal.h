@@ -49,8 +49,13 @@ void *resurfi_realloc_array(void *p, size_t count, size_t size);
 
 static inline vec3 resurfi_position(const resurf_mesh *m, uint32_t v) { return v3_load(m->positions + 3 * (size_t)v); }
 
-/* Exact position weld: remap[v] = position id, positions numbered by first appearance. (weld.c) */
+/* Exact position weld: remap[v] = position id, positions numbered by first appearance. (weld.c)
+ * Positions are equal when their coordinate bits are, with −0.0 taken as +0.0 (a NaN welds only with the same
+ * NaN bits). Expected O(n) (hash table). Fails only with INVALID_ARGUMENT (over UINT32_MAX) or OUT_OF_MEMORY. */
 resurf_status resurfi_weld_exact(const double *positions, size_t vertex_count, uint32_t *remap, size_t *out_count);
+/* Bounding-box diagonal of the finite positions of the vertices that triangles reference (all vertices when none
+ * is referenced); 0 when there are none. The reference length for *_rel tolerances. (weld.c) */
+double resurfi_finite_diagonal(const resurf_mesh *mesh);
 
 /* ---- adjacency (adjacency.c) --------------------------------------------------------------------------------- */
 
@@ -60,12 +65,14 @@ typedef struct resurfi_adjacency {
     size_t vertex_count, triangle_count;
     uint32_t *vertex_face_offset; /* vertex_count + 1: faces of v are vertex_faces[offset[v] .. offset[v+1]) */
     uint32_t *vertex_faces;
+    uint32_t *vertex_edge_offset; /* vertex_count + 1: edges whose lower vertex is v are [offset[v], offset[v+1]) */
     size_t edge_count;
     uint32_t *edge_vertices;      /* 2 * edge_count, (a, b) with a < b, sorted */
     uint32_t *edge_face_offset;   /* edge_count + 1 */
     uint32_t *edge_faces;         /* faces of each edge */
     uint32_t *face_edges;         /* 3 * triangle_count: edge id of the side (t[i], t[(i+1)%3]); UINT32_MAX if none */
     uint8_t *vertex_flags;        /* RESURFI_VERTEX_* */
+    size_t boundary_loop_count;   /* see resurfi_adjacency_boundary_loops */
 } resurfi_adjacency;
 
 enum {
@@ -74,6 +81,9 @@ enum {
     RESURFI_VERTEX_UNREFERENCED = 4,
 };
 
+/* Faces of a vertex and of an edge are listed in increasing triangle order. A fan is a set of faces around a
+ * vertex connected across manifold edges ending there. Fails with OUT_OF_MEMORY, or LIMIT when 3 × triangle_count
+ * does not fit 32 bits; *out is then empty (freeing it is allowed). */
 resurf_status resurfi_adjacency_build(const uint32_t *indices, size_t triangle_count, size_t vertex_count,
                                       resurfi_adjacency *out);
 void resurfi_adjacency_free(resurfi_adjacency *adj);
@@ -84,9 +94,13 @@ static inline uint32_t resurfi_edge_face_count(const resurfi_adjacency *adj, uin
     return adj->edge_face_offset[e + 1] - adj->edge_face_offset[e];
 }
 /* Connected components of triangles (via shared vertices); component[t] for each triangle (may be NULL).
- * Returns the number of components; ignored triangles get UINT32_MAX. */
+ * Returns the number of components, numbered in order of their lowest triangle; ignored triangles get UINT32_MAX.
+ * indices must be the ones the adjacency was built from. Returns SIZE_MAX only when component is NULL and the
+ * temporary array cannot be allocated. */
 size_t resurfi_adjacency_components(const resurfi_adjacency *adj, const uint32_t *indices, uint32_t *component);
-/* Number of closed boundary loops (boundary edges chained at their vertices). */
+/* Number of closed boundary loops (boundary edges chained at their vertices), counted on the surface obtained by
+ * splitting each vertex into one copy per fan: the two triangles of a bow-tie have two loops, and on a manifold
+ * mesh this is the plain number of boundary curves. Computed by the build. */
 size_t resurfi_adjacency_boundary_loops(const resurfi_adjacency *adj);
 
 /* ---- threads (parallel.c) ------------------------------------------------------------------------------------ */
@@ -103,45 +117,77 @@ int resurfi_parallel_for(size_t count, size_t block_size, unsigned threads,
 
 typedef struct resurfi_bvh resurfi_bvh;
 
-/* Builds an AABB tree over the triangles (O(n log n)). positions/indices are borrowed and must outlive the tree.
- * Triangles with out-of-range indices are skipped. */
+/* Builds an AABB tree over the triangles (binned SAH, O(n log n), leaves of <= 4 triangles) on all cores. The tree
+ * copies the corners it needs: positions/indices may be freed afterwards. Triangles with out-of-range indices or
+ * non-finite corners are skipped (never returned by queries). The tree is the same whatever the thread count.
+ * RESURF_ERR_INVALID_ARGUMENT for NULL arrays with a nonzero count; RESURF_ERR_LIMIT above 2^31 triangles;
+ * RESURF_ERR_OUT_OF_MEMORY. */
 resurf_status resurfi_bvh_build(const double *positions, size_t vertex_count, const uint32_t *indices,
                                 size_t triangle_count, resurfi_bvh **out);
-void resurfi_bvh_free(resurfi_bvh *bvh);
+/* The same on `threads` threads (0 = all cores; see resurfi_thread_count). */
+resurf_status resurfi_bvh_build_threads(const double *positions, size_t vertex_count, const uint32_t *indices,
+                                        size_t triangle_count, unsigned threads, resurfi_bvh **out);
+void resurfi_bvh_free(resurfi_bvh *bvh); /* NULL is fine */
+/* Number of triangles the tree holds (the valid ones). */
+size_t resurfi_bvh_triangle_count(const resurfi_bvh *bvh);
 
-/* The exact closest point on any triangle to p, searching within sqrt(max_dist2) (INFINITY = everywhere).
- * Returns the triangle index or UINT32_MAX when none lies within reach. out_point, out_bary (barycentric
+/* The exact closest point on any triangle to p, searching within sqrt(max_dist2) (INFINITY = everywhere; a
+ * triangle at exactly that distance counts). Returns the triangle index or UINT32_MAX when none lies within reach
+ * (also for a non-finite p). Among triangles at exactly the same distance the lowest index wins, so the answer
+ * equals a brute-force scan over all triangles with resurfi_closest_on_triangle. out_point, out_bary (barycentric
  * coordinates of the closest point, summing to 1) and out_dist2 may be NULL. Thread-safe (read-only). */
 uint32_t resurfi_bvh_closest(const resurfi_bvh *bvh, vec3 p, double max_dist2, vec3 *out_point, double out_bary[3],
                              double *out_dist2);
 
-/* Closest point on triangle (a, b, c) to p, with barycentrics (Ericson's region test, exact for degenerate ones). */
+/* Calls fn once for every triangle whose closest point to p is within sqrt(max_dist2), with that point, its
+ * barycentrics and squared distance, in a deterministic (tree) order, not sorted by distance. fn returning nonzero
+ * stops the walk; the return value is then 1, else 0. Thread-safe (read-only). For the restorer's searches of
+ * every triangle near a point (ties at vertices and edges, the far test). */
+int resurfi_bvh_within(const resurfi_bvh *bvh, vec3 p, double max_dist2,
+                       int (*fn)(void *ctx, uint32_t triangle, vec3 point, const double bary[3], double dist2),
+                       void *ctx);
+
+/* Closest point on triangle (a, b, c) to p, with barycentrics (Ericson's region test; zero-area, collinear and
+ * point-like triangles are handled as their edges; out_bary may be NULL, else it sums to 1 up to rounding). */
 vec3 resurfi_closest_on_triangle(vec3 p, vec3 a, vec3 b, vec3 c, double out_bary[3]);
 
 /* ---- vertex normals (normals.c) ------------------------------------------------------------------------------ */
 
-/* Unit vertex normals (3 * vertex_count) from face normals with the given weighting. Vertices of no face get 0. */
+/* Unit vertex normals (3 * vertex_count) with the given scheme (see normals.c), on the index array as given (pass
+ * welded indices to join seams). Faces with an out-of-range or repeated index, and faces of (nearly) zero area
+ * (twice the area <= 1e-12 × longest edge²), contribute nothing; vertices of no such face get the zero vector.
+ * RESURF_NORMALS_JET fits a weighted quadratic to the 2-ring (>= 6 neighbours, else or when ill-conditioned the
+ * angle-weighted normal) on all cores; the result does not depend on the thread count.
+ * RESURF_ERR_INVALID_ARGUMENT (NULL arrays with nonzero counts, unknown scheme), RESURF_ERR_OUT_OF_MEMORY. */
 resurf_status resurfi_vertex_normals(const double *positions, size_t vertex_count, const uint32_t *indices,
                                      size_t triangle_count, resurf_normal_scheme scheme, double *out_normals);
 
 /* ---- curvature (curvature.c) --------------------------------------------------------------------------------- */
 
-/* Per-vertex principal curvatures (k1 >= k2) and directions, Rusinkiewicz 2004, against given unit normals.
- * Signs: a convex closed surface with outward normals has k > 0. out_dir1/out_dir2 may be NULL. */
+/* Per-vertex principal curvatures (k1 >= k2) and directions, Rusinkiewicz 2004, against the given unit normals
+ * (3 * vertex_count; exact normals give exact curvatures on spheres). Signs follow the normals: a convex closed
+ * surface with outward normals has k > 0; negated normals negate k; the triangles' winding does not matter.
+ * out_dir1/out_dir2 (3 * vertex_count, may be NULL) receive unit tangent directions with dir1 × dir2 = normal.
+ * Vertices without a usable face (valid indices, nonzero area, nonzero normals) get k = 0 and zero directions.
+ * RESURF_ERR_INVALID_ARGUMENT for NULL required arrays; RESURF_ERR_OUT_OF_MEMORY. */
 resurf_status resurfi_principal_curvatures(const double *positions, size_t vertex_count, const uint32_t *indices,
                                            size_t triangle_count, const double *normals, double *out_k1,
                                            double *out_k2, double *out_dir1, double *out_dir2);
 
 /* ---- optimal direction (optdir.c) ---------------------------------------------------------------------------- */
 
-/* Solves p = Σ b_j (p_j + t N_j) for barycentric b and scalar t (notes §3): the line through p along the
- * interpolated normal. Returns the number of real roots found (0..3) in roots[], sorted by how far they lie inside
- * the triangle (most inside first, ties by |t|). scale is the triangle's edge length used to scale t. */
+/* Solves p = Σ b_j (p_j + t N_j) for barycentric b (Σ b_j = 1) and scalar t (notes §3): the line through the foot
+ * p0 = Σ b_j p_j along the interpolated normal Σ b_j N_j passes through p. The cubic in t is solved in closed form
+ * in units of the longest edge and polished by Newton steps. Returns the number of distinct real roots (0..3) in
+ * roots[], ranked: roots inside the triangle (outside <= RESURFI_OPTDIR_INSIDE_TOL) first by |t|, then the others
+ * by how far outside, ties by |t|. 0 roots for a triangle whose equation vanishes identically (zero area and equal
+ * normals) or has no real solution. nj need not be unit vectors; t is not the distance to the triangle. */
 typedef struct resurfi_optdir_root {
     double t;
     double bary[3];
-    double outside; /* 0 when inside the triangle, else −min(b_j) */
+    double outside; /* max(0, −min b_j): 0 inside the triangle */
 } resurfi_optdir_root;
+#define RESURFI_OPTDIR_INSIDE_TOL 1e-9
 int resurfi_optdir_solve(vec3 p, const vec3 pj[3], const vec3 nj[3], resurfi_optdir_root roots[3]);
 
 /* ---- gliding-normal displacement (glide.c) ------------------------------------------------------------------- */

@@ -149,9 +149,15 @@ RESURF_API resurf_status resurf_mesh_add_extra(resurf_mesh *mesh, const char *na
  * Writes zeros for an empty mesh. Returns the diagonal length. */
 RESURF_API double resurf_mesh_bounds(const resurf_mesh *mesh, double out_min[3], double out_max[3]);
 
-/* The welded position topology. Vertex v and w share a position id iff their positions are equal (tolerance 0) or
- * closer than tolerance_rel × bounding-box diagonal. out_position_of_vertex receives vertex_count ids, numbered
- * 0..*out_position_count-1 in order of first appearance. An attribute seam is a position id with several vertices. */
+/* The welded position topology. With tolerance_rel = 0, vertices share a position id iff their positions are
+ * equal (−0.0 equals +0.0; a NaN only the same NaN). With tolerance_rel > 0, the distinct positions are taken in
+ * order of first appearance and each joins the lowest-numbered earlier cluster whose first position lies closer
+ * than tol = tolerance_rel × bounding-box diagonal (finite positions, see resurf_mesh_bounds), else starts a new
+ * cluster: members lie within tol of their cluster's first position (no chaining), equal positions always share
+ * an id, non-finite positions never join others. Expected O(n).
+ * out_position_of_vertex receives vertex_count ids, numbered 0..*out_position_count-1 in order of first
+ * appearance (out_position_count may be NULL). An attribute seam is a position id with several vertices.
+ * Fails with RESURF_ERR_INVALID_ARGUMENT for a negative or non-finite tolerance_rel. */
 RESURF_API resurf_status resurf_mesh_weld_map(const resurf_mesh *mesh, double tolerance_rel,
                                               uint32_t *out_position_of_vertex, size_t *out_position_count,
                                               resurf_error *error);
@@ -161,35 +167,44 @@ RESURF_API resurf_status resurf_mesh_weld_map(const resurf_mesh *mesh, double to
 /* ------------------------------------------------------------------------------------------------------------- */
 
 /* What resurf_mesh_validate() found. Topology counts are over welded positions (exact weld), so attribute seams
- * do not show up as boundaries. The first_* fields give an example index, or -1. */
+ * do not show up as boundaries. Triangles with an out-of-range index or a repeated position take no part in the
+ * topology. The first_* fields give the lowest index of an example, or -1 when there is none. */
 typedef struct resurf_validation {
     size_t vertex_count, triangle_count, position_count; /* position_count: distinct positions */
     size_t nonfinite_vertices;        /* NaN or infinite coordinate (or attribute) */
-    size_t out_of_range_indices;      /* index >= vertex_count */
-    size_t degenerate_triangles;      /* a repeated index (after welding) */
-    size_t zero_area_triangles;       /* three distinct positions on a line (area <= 1e-14 × diagonal²) */
+    size_t nonfinite_positions;       /* NaN or infinite coordinate (a subset of nonfinite_vertices) */
+    size_t out_of_range_indices;      /* indices (not triangles) >= vertex_count */
+    size_t degenerate_triangles;      /* in range, with a repeated index or a repeated position */
+    size_t zero_area_triangles;       /* three distinct finite positions with |(b−a)×(c−a)| <= 1e-14 × diagonal²
+                                         (diagonal: resurf_mesh_bounds over finite positions) */
     size_t boundary_edges;            /* edges with one triangle */
-    size_t boundary_loops;
+    size_t boundary_loops;            /* closed chains of boundary edges, with each non-manifold vertex split into
+                                         its fans first (so the two triangles of a bow-tie have two loops) */
     size_t nonmanifold_edges;         /* edges with three or more triangles */
-    size_t nonmanifold_vertices;      /* vertices whose triangles form more than one fan */
+    size_t nonmanifold_vertices;      /* positions on a non-manifold edge, or whose triangles form more than one fan
+                                         (sets of triangles connected across manifold edges around it) */
     size_t inconsistent_edges;        /* manifold edges used twice in the same direction (orientation flips) */
-    size_t unreferenced_vertices;
+    size_t unreferenced_vertices;     /* vertices no index refers to */
     size_t components;                /* connected components of triangles (through shared positions) */
     long long first_nonfinite_vertex, first_out_of_range_triangle, first_degenerate_triangle,
-        first_zero_area_triangle, first_nonmanifold_edge_vertex, first_inconsistent_triangle;
+        first_zero_area_triangle;
+    long long first_nonmanifold_edge_vertex; /* a vertex at a non-manifold position */
+    long long first_inconsistent_triangle;   /* a triangle on an inconsistent edge */
 } resurf_validation;
 
 /* Counts the problems of mesh. Never fails on a bad mesh (that is what it reports); fails only on NULL
  * arguments or out of memory. Out-of-range triangles are skipped by the topology counts. */
 RESURF_API resurf_status resurf_mesh_validate(const resurf_mesh *mesh, resurf_validation *out, resurf_error *error);
 
-/* True (1) when the mesh can be processed: finite positions and every index in range. */
+/* True (1) when the mesh can be processed: finite positions and every index in range (non-finite attributes,
+ * degenerate triangles and topology problems are reported but do not stop processing). 0 for NULL. */
 RESURF_API int resurf_validation_ok(const resurf_validation *v);
 
 enum {
     RESURF_REPAIR_DROP_INVALID = 1u << 0,      /* drop triangles with out-of-range indices or non-finite corners */
-    RESURF_REPAIR_DROP_DEGENERATE = 1u << 1,   /* drop triangles with a repeated index or a repeated position */
-    RESURF_REPAIR_DROP_ZERO_AREA = 1u << 2,    /* drop triangles of zero area */
+    RESURF_REPAIR_DROP_DEGENERATE = 1u << 1,   /* drop triangles with a repeated index or a repeated position
+                                                  (after the weld, if any) */
+    RESURF_REPAIR_DROP_ZERO_AREA = 1u << 2,    /* drop what resurf_validation counts as zero_area_triangles */
     RESURF_REPAIR_WELD = 1u << 3,              /* merge vertices with equal positions and equal attributes */
     RESURF_REPAIR_REMOVE_UNREFERENCED = 1u << 4,
     RESURF_REPAIR_ALL = 0x1f,
@@ -197,9 +212,13 @@ enum {
 
 typedef struct resurf_repair_options {
     size_t struct_size;
-    unsigned flags;          /* RESURF_REPAIR_*; default RESURF_REPAIR_ALL */
-    double weld_tolerance_rel; /* with RESURF_REPAIR_WELD: 0 welds exact duplicates only; default 0 */
-    int weld_ignore_attributes; /* 1: weld by position alone (attributes of the first vertex win); default 0 */
+    unsigned flags;          /* RESURF_REPAIR_*; default RESURF_REPAIR_ALL; unknown bits: RESURF_ERR_INVALID_OPTIONS */
+    double weld_tolerance_rel; /* with RESURF_REPAIR_WELD: 0 welds exact duplicates only; > 0 clusters positions as
+                                  resurf_mesh_weld_map() does and moves every vertex (seams too) onto its cluster's
+                                  first position; finite, >= 0; default 0 */
+    int weld_ignore_attributes; /* 1: weld by position alone (attributes of the first vertex win); default 0: only
+                                   vertices whose attributes (normals, texcoords, colors, extras) are equal merge,
+                                   so attribute seams stay */
 } resurf_repair_options;
 
 RESURF_API resurf_repair_options resurf_repair_options_default(void);
@@ -208,7 +227,12 @@ typedef struct resurf_repair_report {
     size_t dropped_invalid, dropped_degenerate, dropped_zero_area, welded_vertices, removed_unreferenced;
 } resurf_repair_report;
 
-/* Repairs mesh in place as options say. out_report may be NULL. */
+/* Repairs mesh in place as options say, in this order: drop invalid, weld, drop degenerate, drop zero-area, remove
+ * unreferenced. Surviving triangles and vertices keep their relative order; every per-vertex array (normals,
+ * texcoords, colors, extras) and triangle_groups follow. A welded vertex merges into the lowest-numbered vertex of
+ * its group and is removed (counted in welded_vertices, whatever REMOVE_UNREFERENCED says). An out-of-range index
+ * in a kept triangle (DROP_INVALID off) is lowered by the number of vertices removed, so it stays out of range.
+ * out_report may be NULL. On failure (NULL mesh, bad options, out of memory) the mesh is unchanged. */
 RESURF_API resurf_status resurf_mesh_repair(resurf_mesh *mesh, const resurf_repair_options *options,
                                             resurf_repair_report *out_report, resurf_error *error);
 
@@ -400,6 +424,158 @@ typedef struct resurf_metrics {
 RESURF_API resurf_status resurf_compare(const resurf_mesh *ref, const resurf_mesh *test,
                                         const resurf_compare_options *options, resurf_metrics *out_metrics,
                                         double *out_vertex_distance, resurf_error *error);
+
+/* ------------------------------------------------------------------------------------------------------------- */
+/* Scenes (glTF)                                                                                                 */
+/* ------------------------------------------------------------------------------------------------------------- */
+
+/* A resurf_scene is a whole glTF 2.0 document (.gltf, .glb), a raw Draco mesh (.drc) or a mesh file (OBJ, PLY, OFF,
+ * STL: a scene of one mesh). Its triangle primitives are decoded into resurf_meshes that the caller reads,
+ * simplifies and hands back as levels of detail; everything else (node hierarchy, transforms, materials, textures,
+ * images, samplers, skins, animations, morph targets, cameras, extras, extensions) is kept and written again.
+ * A mesh instanced by several nodes is one set of primitives: it is decoded, simplified and written once.
+ * A scene is used by one thread at a time; different scenes are independent.
+ *
+ * Attributes: POSITION → positions, NORMAL → normals, TEXCOORD_0..3 → texcoords, COLOR_0 → colors; every other
+ * attribute (TANGENT, JOINTS_n, WEIGHTS_n, COLOR_n with n > 0, TEXCOORD_n with n > 3, _CUSTOM) becomes an extra
+ * named exactly like the glTF attribute, carried untouched and written back in its original component type, so
+ * joints stay integers. Integer and normalized component types are decoded as glTF defines them (a normalized
+ * ubyte 255 is 1.0), sparse accessors are applied, triangle strips and fans become lists (the joining triangles
+ * that repeat an index are dropped), KHR_draco_mesh_compression and KHR_mesh_quantization inputs are decoded.
+ * Every index, accessor, buffer range, node graph and Draco reference is checked before it is used: a malformed
+ * or hostile file fails with RESURF_ERR_PARSE and a one-line message naming the glTF object ("accessors[3]: ...").
+ *
+ * External image files (a relative `uri`) are referenced, not copied: write the output next to the input, or copy
+ * the images. Embedded images (data: URIs, bufferViews) are carried into the output. */
+
+typedef struct resurf_scene resurf_scene;
+
+/* Loads a scene: .gltf, .glb and .drc by extension (or, failing that, content); anything else goes through
+ * resurf_mesh_load() into a one-mesh scene. options: max_triangles counts the triangles of all primitives; format
+ * forces a mesh format (AUTO = by name); NULL = defaults. External .bin files are read relative to the .gltf file.
+ * On success *out_scene owns everything; free it with resurf_scene_free(). */
+RESURF_API resurf_status resurf_scene_load(const char *path, const resurf_load_options *options,
+                                           resurf_scene **out_scene, resurf_error *error);
+
+/* A one-mesh scene holding a copy of mesh (one node, one mesh, one triangle primitive, no material). */
+RESURF_API resurf_status resurf_scene_from_mesh(const resurf_mesh *mesh, resurf_scene **out_scene,
+                                                resurf_error *error);
+
+/* Frees a scene and everything it owns (its meshes, levels and document). NULL is allowed. */
+RESURF_API void resurf_scene_free(resurf_scene *scene);
+
+typedef enum resurf_primitive_kind {
+    RESURF_PRIMITIVE_TRIANGLES = 0, /* triangle list, strip or fan: has a mesh and can take levels of detail */
+    RESURF_PRIMITIVE_MORPHED,       /* triangles with morph targets: has a mesh, always written untouched at full
+                                       detail (resurf_scene_set_lods refuses it) */
+    RESURF_PRIMITIVE_OTHER,         /* points or lines: no mesh, written untouched */
+} resurf_primitive_kind;
+
+/* What resurf_scene_primitive_info() tells about one primitive. */
+typedef struct resurf_scene_primitive {
+    size_t mesh;              /* the glTF mesh index (0 in a mesh-file scene) */
+    size_t primitive;         /* the primitive's index in that mesh */
+    char name[64];            /* "meshes[2].primitives[0]", for messages and tables */
+    char mesh_name[64];       /* the glTF mesh's name (shortened to fit), or "" */
+    int mode;                 /* glTF mode as in the file: 0 points, 1 lines, 2 loop, 3 strip, 4 triangles, 5 strip, 6 fan */
+    resurf_primitive_kind kind;
+    int draco;                /* 1 when the input was Draco-compressed */
+    size_t instances;         /* nodes that show its mesh (several: the mesh is still handled once) */
+    size_t lod_count;         /* levels of detail set with resurf_scene_set_lods() */
+} resurf_scene_primitive;
+
+/* Number of glTF meshes (1 for a mesh-file scene) and of primitives over all meshes, in file order. */
+RESURF_API size_t resurf_scene_mesh_count(const resurf_scene *scene);
+RESURF_API size_t resurf_scene_primitive_count(const resurf_scene *scene);
+
+/* Describes primitive `index` (0 .. resurf_scene_primitive_count() - 1). */
+RESURF_API resurf_status resurf_scene_primitive_info(const resurf_scene *scene, size_t index,
+                                                     resurf_scene_primitive *out, resurf_error *error);
+
+/* The decoded mesh of primitive `index` (attributes as described above), or NULL for a RESURF_PRIMITIVE_OTHER
+ * primitive or an index out of range. Borrowed: valid until the scene is freed; do not modify it. */
+RESURF_API const resurf_mesh *resurf_scene_primitive_mesh(const resurf_scene *scene, size_t index);
+
+/* Sets the levels of detail of primitive `index`: lods[0] is level 1 (the first reduced level), lods[k-1] level k.
+ * The meshes are copied (the caller keeps its own). Each must have finite positions and indices in range, and
+ * carry the attributes the primitive's mesh has, by name (extras the source lacks are written as float custom
+ * attributes "_NAME"). lod_count 0 removes the levels; at most RESURF_SCENE_MAX_LEVELS - 1.
+ * Fails with RESURF_ERR_UNSUPPORTED for a morphed or point/line primitive (they stay at full detail),
+ * RESURF_ERR_INVALID_MESH for a bad level (the message says which). On failure the previous levels stay. */
+#define RESURF_SCENE_MAX_LEVELS 16
+RESURF_API resurf_status resurf_scene_set_lods(resurf_scene *scene, size_t index, const resurf_mesh *const *lods,
+                                               size_t lod_count, resurf_error *error);
+
+/* MSFT_lod screen coverage of glTF mesh `mesh`: coverage[k] is the smallest share of the screen at which level k
+ * is shown, so count must be (1 + the most levels of any of its primitives) + 1 when the scene is saved (the last
+ * value is where the coarsest level stops being drawn). Values in [0, 1], non-increasing. Unset: 0.5, 0.25, ...
+ * halving per level, and 0 at the end (never culled). */
+RESURF_API resurf_status resurf_scene_set_screen_coverage(resurf_scene *scene, size_t mesh, const double *coverage,
+                                                          size_t count, resurf_error *error);
+
+/* How resurf_scene_save() writes the levels of detail (when any primitive has some). */
+typedef enum resurf_lod_layout {
+    RESURF_LOD_MSFT_LOD = 0,  /* one file: each node showing a mesh with levels gets the MSFT_lod extension, whose
+                                 `ids` name new level nodes that are in no scene's node list, and
+                                 extras.MSFT_screencoverage (one more value than ids). A node that has children or
+                                 an animated transform gets a new child node that carries its mesh instead */
+    RESURF_LOD_FILES,         /* one complete file per level, named by resurf_scene_level_path() */
+    RESURF_LOD_SIDE_BY_SIDE,  /* one file: every level as visible copies of each scene's nodes, level k moved by
+                                 k × (scene width × (1 + spacing_rel)) along +x; for looking at in any viewer */
+    RESURF_LOD_LAYOUT_COUNT
+} resurf_lod_layout;
+
+typedef struct resurf_scene_save_options {
+    size_t struct_size;
+    int draco;                 /* 1: KHR_draco_mesh_compression on every triangle primitive (not morphed ones, which
+                                  stay untouched); default 0. A .drc file is always Draco */
+    int position_bits, normal_bits, texcoord_bits, color_bits; /* Draco quantization bits, 1..30; defaults 14, 10,
+                                                                   12, 8 */
+    int generic_bits;          /* other float attributes (TANGENT, WEIGHTS_n, custom): default 12; integer attributes
+                                  (JOINTS_n) are stored exactly */
+    int compression_level;     /* Draco: 0 fastest .. 10 smallest; default 7 */
+    int embed_buffers;         /* .gltf: 1 puts the binary data in a data: URI; default 0 writes NAME.bin beside it */
+    resurf_lod_layout layout;  /* default RESURF_LOD_MSFT_LOD */
+    double spacing_rel;        /* RESURF_LOD_SIDE_BY_SIDE: the gap between levels as a fraction of the scene's width
+                                  along x; >= 0; default 0.25 */
+    int level;                 /* -1 (default): all levels as `layout` says; k >= 0: level k alone as a plain scene
+                                  (0 = full detail; a primitive with fewer levels uses its last one) */
+    resurf_progress progress;
+} resurf_scene_save_options;
+
+RESURF_API resurf_scene_save_options resurf_scene_save_options_default(void);
+
+/* What resurf_scene_save() wrote. Levels are counted over all primitives (each mesh once, whatever its instances). */
+typedef struct resurf_scene_save_report {
+    size_t levels;                                   /* 1 + the most levels of detail any primitive has */
+    size_t level_triangles[RESURF_SCENE_MAX_LEVELS]; /* triangles of each level (point/line primitives excluded) */
+    size_t level_bytes[RESURF_SCENE_MAX_LEVELS];     /* geometry bytes of each level: the Draco payloads, or the
+                                                        index and vertex data of its triangle primitives */
+    size_t files;                                    /* files written, .bin files included */
+    size_t total_bytes;                              /* their total size */
+} resurf_scene_save_report;
+
+/* Writes the scene by path's extension: .gltf (JSON; NAME.bin beside it unless embed_buffers), .glb (binary) or
+ * .drc (raw Draco of the one triangle primitive the scene must have; with levels, use level or the FILES layout).
+ * Triangle primitives are written from their meshes (float positions, normals, texcoords and colors; extras in
+ * their original types), everything else from the loaded document. Every Draco payload is decoded again and
+ * checked against what was meant (counts, attributes, positions within the quantization step) before it is
+ * written; its accessors carry the decoded count and POSITION min/max. Each file goes to a temporary file in its
+ * folder and is renamed into place only when every file of the call is complete: a failure leaves no new file and
+ * no partial file. out_report may be NULL. */
+RESURF_API resurf_status resurf_scene_save(const resurf_scene *scene, const char *path,
+                                           const resurf_scene_save_options *options,
+                                           resurf_scene_save_report *out_report, resurf_error *error);
+
+/* The file name RESURF_LOD_FILES gives to `level` of `path`: "dir/name.glb" → "dir/name_lod0.glb",
+ * "dir/name_lod1.glb", ... (level 0 is full detail). Writes into dst (always NUL-terminated when dst_size > 0) and
+ * returns the length the full name needs, like snprintf. */
+RESURF_API size_t resurf_scene_level_path(char *dst, size_t dst_size, const char *path, unsigned level);
+
+/* Problems that did not stop the load (an external image that is referenced, not copied; a tinygltf warning), one
+ * line each. resurf_scene_warning returns NULL for an index out of range; the strings live as long as the scene. */
+RESURF_API size_t resurf_scene_warning_count(const resurf_scene *scene);
+RESURF_API const char *resurf_scene_warning(const resurf_scene *scene, size_t index);
 
 #ifdef __cplusplus
 }
