@@ -266,11 +266,22 @@ RESURF_API resurf_load_options resurf_load_options_default(void);
 
 /* Loads a mesh. Polygons are triangulated (fan); STL is welded on load (exact positions). Indices are checked:
  * a file whose faces point outside its vertices fails with RESURF_ERR_PARSE and the face's line or offset.
- * Non-finite coordinates are refused. No allocation exceeds what the file's size can justify. */
+ * Non-finite coordinates are refused. No allocation exceeds what the file's size can justify.
+ * The format comes from options->format, else the extension, else the content. Per format:
+ * - OBJ: one vertex per distinct v/vt/vn triple used by faces (with positions only, vertex i is "v" line i);
+ *   faces may refer only to elements defined above them (negative indices count back); o/g/usemtl become
+ *   triangle groups ("default" before the first); "v x y z r g b [a]" gives colours.
+ * - PLY (ascii, binary either endian): x y z, nx ny nz, u v / s t / texture_u texture_v, red green blue [alpha]
+ *   (integers scaled to [0,1] by their type's maximum); other scalar vertex properties become 1-component extras.
+ * - OFF ([ST][C][N]OFF): integer colours are 0..255, colours with a decimal point 0..1; face colours are ignored.
+ * - STL: binary when the size is 84 + 50 n (even if the header starts with "solid"), else ASCII if it starts
+ *   with "solid"; facet normals are ignored.
+ * Messages count vertices and faces as the file does (OBJ from 1, the others from 0). */
 RESURF_API resurf_status resurf_mesh_load(const char *path, const resurf_load_options *options,
                                           resurf_mesh **out_mesh, resurf_error *error);
 
-/* Loads from memory; `name` is used in error messages only (may be NULL). */
+/* Loads from memory. format AUTO means options->format, else the extension of `name`, else the content. `name`
+ * (may be NULL) is also what error messages name. */
 RESURF_API resurf_status resurf_mesh_load_memory(const void *data, size_t size, resurf_format format,
                                                  const char *name, const resurf_load_options *options,
                                                  resurf_mesh **out_mesh, resurf_error *error);
@@ -287,7 +298,11 @@ RESURF_API resurf_save_options resurf_save_options_default(void);
 
 /* Saves a mesh. Text formats print 17 significant digits, so doubles round-trip exactly. The file is written to a
  * temporary file in the same folder and renamed into place: a failure leaves no partial file and an existing file
- * is replaced only as a whole. */
+ * is replaced only as a whole (keeping its permissions). A mesh with an index out of range or a non-finite position
+ * fails with RESURF_ERR_INVALID_MESH. What each format keeps: OBJ positions, normals, texcoord set 0, RGB colours
+ * and groups; PLY positions, normals and texcoord set 0 as double (bit-exact in binary), colours as uchar RGB or
+ * RGBA (per color_components), extras as float ("name", or "name_0", "name_1"... per component); OFF positions,
+ * normals, texcoord set 0 and colours as 0..255; STL positions only (float32 in binary). */
 RESURF_API resurf_status resurf_mesh_save(const resurf_mesh *mesh, const char *path,
                                           const resurf_save_options *options, resurf_error *error);
 
@@ -371,59 +386,101 @@ RESURF_API resurf_status resurf_restore(const resurf_mesh *original, resurf_mesh
 /* Smoothing                                                                                                     */
 /* ------------------------------------------------------------------------------------------------------------- */
 
+/* Smoothing filters: each moves a vertex towards a weighted average of its neighbours (the "umbrella" operator
+ * L(p) = Σ w_j (p_j − p) / Σ w_j over the one-ring), the M' of the paper's Table 1. */
 typedef enum resurf_smooth_method {
-    RESURF_SMOOTH_LAPLACIAN = 0, /* umbrella operator, uniform weights, step lambda */
-    RESURF_SMOOTH_TAUBIN,        /* λ|μ with uniform weights */
-    RESURF_SMOOTH_TAUBIN_COT,    /* λ|μ with cotangent weights */
-    RESURF_SMOOTH_BILAPLACIAN,   /* umbrella of the umbrella */
+    RESURF_SMOOTH_LAPLACIAN = 0, /* p ← p + λ L(p), uniform weights; shrinks curved surfaces */
+    RESURF_SMOOTH_TAUBIN,        /* Taubin 1995: p ← p + λ L(p), then p ← p + μ L(p) (μ < −λ), uniform weights;
+                                    a low-pass filter that hardly shrinks */
+    RESURF_SMOOTH_TAUBIN_COT,    /* the same λ|μ pair with cotangent weights w = (cot α + cot β) / 2 (Desbrun 1999),
+                                    recomputed every step; an edge whose two opposite angles sum to more than 180°
+                                    (non-Delaunay, from obtuse triangles) would get a negative weight and is clamped
+                                    to 0, so the average stays convex; a vertex whose weights all vanish falls back
+                                    to uniform weights */
+    RESURF_SMOOTH_BILAPLACIAN,   /* bilaplacian flow (Kobbelt 1998, Desbrun 1999): p ← p − (λ/ν) L²(p) with the
+                                    umbrella of the umbrella L²(p) = avg_j L(p_j) − L(p) and ν = 1 + avg_j 1/n_j its
+                                    diagonal (n_j: valences); stable for λ <= 0.5 */
     RESURF_SMOOTH_COUNT
 } resurf_smooth_method;
 
 typedef struct resurf_smooth_options {
     size_t struct_size;
-    resurf_smooth_method method;
-    unsigned iterations;  /* default 10 */
-    double lambda;        /* default 0.5 (Laplacian), 0.33 (Taubin) */
-    double mu;            /* Taubin's negative step; default -0.34 */
-    resurf_progress progress;
+    resurf_smooth_method method; /* default RESURF_SMOOTH_LAPLACIAN */
+    unsigned iterations;  /* default 10; a Taubin iteration is one λ step and one μ step; 0 leaves the mesh as is */
+    double lambda;        /* step, in (0, 1]; 0 (default) = the method's own: 0.5 Laplacian, 0.33 Taubin and
+                             Taubin-cot, 0.5 bilaplacian (at most 0.5 there: larger steps diverge) */
+    double mu;            /* Taubin's negative step, in [−1, 0); 0 (default) = −0.34; ignored by the other methods */
+    resurf_progress progress; /* stage "smooth", once per iteration; a cancel leaves the mesh unchanged */
 } resurf_smooth_options;
 
 RESURF_API resurf_smooth_options resurf_smooth_options_default(void);
+/* "laplacian", "taubin", "taubin-cot", "bilaplacian"; "unknown" for anything else. Never NULL. */
 RESURF_API const char *resurf_smooth_method_name(resurf_smooth_method method);
 
-/* Smooths positions in place; boundary vertices (over welded positions) stay fixed, seams move together. */
+/* Smooths positions in place. The filter runs on the exactly welded positions (resurf_mesh_weld_map with 0), so
+ * attribute-seam duplicates move together and stay equal. Positions on a boundary edge, on a non-manifold edge or
+ * vertex, and positions no triangle uses stay fixed. Updates are simultaneous (Jacobi), so the result does not
+ * depend on the vertex order. Normals and other attributes are not touched (recompute normals if they matter).
+ * Fails with RESURF_ERR_INVALID_MESH for an index out of range or a non-finite coordinate (the message names
+ * it), RESURF_ERR_INVALID_OPTIONS for an unknown method or a step out of range, RESURF_ERR_CANCELLED (mesh
+ * unchanged). */
 RESURF_API resurf_status resurf_smooth(resurf_mesh *mesh, const resurf_smooth_options *options, resurf_error *error);
 
 /* ------------------------------------------------------------------------------------------------------------- */
 /* Metrics                                                                                                       */
 /* ------------------------------------------------------------------------------------------------------------- */
 
+/* Surface distances (in the spirit of Metro, Cignoni et al. 1998) with exact point–triangle distances, and the
+ * triangle quality of a mesh. Deterministic: the same inputs, options and seed give bit-identical figures on any
+ * number of threads. */
 typedef struct resurf_compare_options {
     size_t struct_size;
-    size_t samples;        /* area-uniform samples per surface, in addition to all vertices; default 200000 */
-    uint64_t seed;         /* sample seed; default 1 */
+    size_t samples;        /* area-uniform random points on each surface, in addition to its vertices; at most 10^9;
+                              0 measures from the vertices alone; default 200000 */
+    uint64_t seed;         /* sample seed (any value); default 1 */
     unsigned threads;      /* 0 = all cores */
-    resurf_progress progress;
+    resurf_progress progress; /* stage "compare"; a cancel returns RESURF_ERR_CANCELLED and writes no output */
 } resurf_compare_options;
 
 RESURF_API resurf_compare_options resurf_compare_options_default(void);
 
+/* What resurf_compare() measures. Distances are in the meshes' units; divide by `diagonal` for relative figures
+ * (what `resurf compare` prints as "rel"). Each one-sided figure is measured from the points of one surface (its
+ * samples and the vertices its triangles use) to the nearest point of the other surface: the max over all those
+ * points, the mean and RMS over the area-uniform samples (so that they estimate the area average; over the
+ * vertices when samples is 0). */
 typedef struct resurf_metrics {
-    double diagonal;                           /* of REF's bounding box; the *_rel figures divide by it */
-    double hausdorff, mean, rms;               /* two-sided surface distance */
+    double diagonal;                           /* of REF's bounding box (resurf_mesh_bounds) */
+    double hausdorff;                          /* max(test_to_ref_max, ref_to_test_max) */
+    double mean;                               /* (test_to_ref_mean + ref_to_test_mean) / 2 */
+    double rms;                                /* sqrt of the mean of the two one-sided mean squares */
     double test_to_ref_max, test_to_ref_mean;  /* one-sided: TEST's surface to REF's */
-    double ref_to_test_max, ref_to_test_mean;
-    double vertex_max, vertex_mean;            /* TEST's vertices to REF's surface */
-    double min_angle_deg, mean_min_angle_deg;  /* triangle quality of TEST */
-    double share_below_10deg;                  /* fraction of TEST's triangles with an angle under 10° */
-    double mean_normal_deviation_deg;          /* TEST's face normals against REF's surface normal at the closest point */
+    double ref_to_test_max, ref_to_test_mean;  /* one-sided: REF's surface to TEST's */
+    double vertex_max, vertex_mean;            /* TEST's vertices (those triangles use) to REF's surface */
+    double min_angle_deg, mean_min_angle_deg;  /* triangle quality of TEST, see resurf_triangle_quality() */
+    double share_below_10deg;                  /* fraction of TEST's triangles whose smallest angle is under 10° */
+    double mean_normal_deviation_deg;          /* area-weighted mean over TEST's faces of the angle between the face
+                                                  normal and REF's face normal at the point of REF closest to the
+                                                  face's centroid, in [0, 180] (orientation counts: a flipped face
+                                                  is 180); faces of zero area are left out */
 } resurf_metrics;
 
-/* Distances between the surfaces of ref and test. out_vertex_distance, if not NULL, receives test->vertex_count
- * distances of TEST's vertices to REF's surface. */
+/* Distances between the surfaces of ref and test, TEST's triangle quality and normal deviation.
+ * ref, test: meshes with at least one triangle, indices in range and finite coordinates at the vertices triangles
+ * use (else RESURF_ERR_INVALID_MESH naming "REF" or "TEST" and the element). options: NULL = defaults.
+ * out_metrics: required. out_vertex_distance: NULL, or room for test->vertex_count distances of TEST's vertices to
+ * REF's surface (every vertex, unused ones included; a non-finite unused vertex gets INFINITY). */
 RESURF_API resurf_status resurf_compare(const resurf_mesh *ref, const resurf_mesh *test,
                                         const resurf_compare_options *options, resurf_metrics *out_metrics,
                                         double *out_vertex_distance, resurf_error *error);
+
+/* Triangle quality: the smallest angle of each triangle (a triangle with coincident corners or collinear corners
+ * has 0°), and over all triangles their minimum, their mean and the fraction under 10°. An equilateral triangle
+ * has 60°. All three are 0 for a mesh without triangles. Each output may be NULL.
+ * RESURF_ERR_INVALID_MESH for an index out of range or a non-finite corner (the message names the triangle). */
+RESURF_API resurf_status resurf_triangle_quality(const resurf_mesh *mesh, double *out_min_deg,
+                                                 double *out_mean_min_deg, double *out_share_below_10,
+                                                 resurf_error *error);
 
 /* ------------------------------------------------------------------------------------------------------------- */
 /* Scenes (glTF)                                                                                                 */
@@ -506,10 +563,11 @@ RESURF_API const resurf_mesh *resurf_scene_primitive_mesh(const resurf_scene *sc
 RESURF_API resurf_status resurf_scene_set_lods(resurf_scene *scene, size_t index, const resurf_mesh *const *lods,
                                                size_t lod_count, resurf_error *error);
 
-/* MSFT_lod screen coverage of glTF mesh `mesh`: coverage[k] is the smallest share of the screen at which level k
- * is shown, so count must be (1 + the most levels of any of its primitives) + 1 when the scene is saved (the last
- * value is where the coarsest level stops being drawn). Values in [0, 1], non-increasing. Unset: 0.5, 0.25, ...
- * halving per level, and 0 at the end (never culled). */
+/* MSFT_lod screen coverage of glTF mesh `mesh` (extras.MSFT_screencoverage): coverage[k] is the smallest share of
+ * the screen at which level k is shown (k = 0 full detail); below the last value nothing is drawn. count must be
+ * the mesh's level count (1 + the most levels of detail of any of its primitives) when the scene is saved, which
+ * is one more value than MSFT_lod's ids. Values in [0, 1], non-increasing. Unset: 0.5, 0.25, ... halving per
+ * level, and 0 for the coarsest level (never culled). */
 RESURF_API resurf_status resurf_scene_set_screen_coverage(resurf_scene *scene, size_t mesh, const double *coverage,
                                                           size_t count, resurf_error *error);
 
