@@ -1,4 +1,5 @@
 /* tools/shapes.c: the analytic meshes that every accuracy test relies on must be exactly what they claim. */
+#include <stdio.h>
 #include <string.h>
 
 #include "testutil.h"
@@ -118,6 +119,31 @@ START_TEST(shapes_deterministic)
 }
 END_TEST
 
+/* The bundled meshes in data/ are exactly what tools/make-data.sh generates: same counts, same positions. */
+START_TEST(shapes_bundled_data_matches_generator)
+{
+    static const struct {
+        const char *file;
+        shape_kind kind;
+        size_t triangles;
+    } bundled[] = {{"sphere.ply", SHAPE_SPHERE, 20000}, {"torus.ply", SHAPE_TORUS, 20000}, {"cubic.ply", SHAPE_CUBIC, 8000}};
+    for (size_t i = 0; i < sizeof bundled / sizeof *bundled; ++i) {
+        char path[4096];
+        snprintf(path, sizeof path, "%s/data/%s", RESURF_SOURCE_DIR, bundled[i].file);
+        resurf_mesh *loaded = NULL;
+        resurf_error error;
+        ck_assert_msg(resurf_mesh_load(path, NULL, &loaded, &error) == RESURF_OK, "%s", error.message);
+        resurf_mesh *made = shape_mesh(bundled[i].kind, bundled[i].triangles, 0.35, 1, 0);
+        ck_assert_uint_eq(loaded->vertex_count, made->vertex_count);
+        ck_assert_uint_eq(loaded->triangle_count, made->triangle_count);
+        ck_assert_int_eq(memcmp(loaded->positions, made->positions, made->vertex_count * 3 * sizeof(double)), 0);
+        ck_assert_int_eq(memcmp(loaded->indices, made->indices, made->triangle_count * 3 * sizeof(uint32_t)), 0);
+        resurf_mesh_free(loaded);
+        resurf_mesh_free(made);
+    }
+}
+END_TEST
+
 Suite *make_suite(void)
 {
     Suite *s = suite_create("shapes");
@@ -127,6 +153,7 @@ Suite *make_suite(void)
     tcase_add_test(tc, shapes_orientation_outward);
     tcase_add_test(tc, shapes_distance_hand_cases);
     tcase_add_test(tc, shapes_deterministic);
+    tcase_add_test(tc, shapes_bundled_data_matches_generator);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -2,4 +2,4 @@
 # Regenerates the small analytic meshes in data/ (every vertex exactly on its surface). Needs a build in build/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-build/tools/resurf-gen-analytic --data data
+${BUILD:-build}/tools/resurf-gen-analytic --data data

@@ -22,7 +22,7 @@ int cmd_convert(int argc, char **argv)
     resurf_format from = RESURF_FORMAT_AUTO;
     resurf_save_options save = resurf_save_options_default();
     cli_getopt_reset();
-    for (int c; (c = cli_getopt("convert", argc, argv, "+h", options)) != -1;) {
+    for (int c; (c = cli_getopt("convert", argc, argv, "h", options)) != -1;) {
         switch (c) {
         case 'f':
             if ((from = resurf_format_from_name(optarg)) == RESURF_FORMAT_AUTO)

@@ -88,7 +88,7 @@ int cmd_info(int argc, char **argv)
     int json = 0;
     resurf_format format = RESURF_FORMAT_AUTO;
     cli_getopt_reset();
-    for (int c; (c = cli_getopt("info", argc, argv, "+h", options)) != -1;) {
+    for (int c; (c = cli_getopt("info", argc, argv, "h", options)) != -1;) {
         switch (c) {
         case 'j':
             json = 1;
