@@ -20,9 +20,27 @@ if [ ${#missing[@]} -gt 0 ]; then
   apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
 
+# The Khronos glTF validator for the tests (tools/validate-gltf.js runs it).
+if [ ! -f tools/node/node_modules/gltf-validator/package.json ]; then
+  echo "setup: installing gltf-validator (npm)" >&2
+  npm install --prefix tools/node --no-audit --no-fund gltf-validator >/dev/null
+fi
+
 bash tools/fetch-data.sh
 
+# Quiet when all is well; the log's tail when something fails.
+quietly() {
+  local log
+  log=$(mktemp)
+  if ! "$@" >"$log" 2>&1; then
+    tail -n 40 "$log" >&2
+    rm -f "$log"
+    echo "setup: failed: $*" >&2
+    return 1
+  fi
+  rm -f "$log"
+}
 if [ ! -f build/build.ninja ]; then
-  meson setup build --buildtype=release -Dwerror=true >/dev/null
+  quietly meson setup build --buildtype=release -Dwerror=true
 fi
-ninja -C build >/dev/null
+quietly ninja -C build
