@@ -393,7 +393,8 @@ typedef enum resurf_smooth_method {
     RESURF_SMOOTH_TAUBIN,        /* Taubin 1995: p ← p + λ L(p), then p ← p + μ L(p) (μ < −λ), uniform weights;
                                     a low-pass filter that hardly shrinks */
     RESURF_SMOOTH_TAUBIN_COT,    /* the same λ|μ pair with cotangent weights w = (cot α + cot β) / 2 (Desbrun 1999),
-                                    recomputed every step; an edge whose two opposite angles sum to more than 180°
+                                    taken from the input positions once (recomputing them every step makes the
+                                    explicit flow unstable); an edge whose two opposite angles sum to more than 180°
                                     (non-Delaunay, from obtuse triangles) would get a negative weight and is clamped
                                     to 0, so the average stays convex; a vertex whose weights all vanish falls back
                                     to uniform weights */
