@@ -189,6 +189,10 @@ typedef struct resurfi_optdir_root {
 } resurfi_optdir_root;
 #define RESURFI_OPTDIR_INSIDE_TOL 1e-9
 int resurfi_optdir_solve(vec3 p, const vec3 pj[3], const vec3 nj[3], resurfi_optdir_root roots[3]);
+/* The root nearest t_guess, by Newton steps on the same cubic: for a point that moved a little since a root was
+ * found (the restorer's later iterations). Returns 1 and the root (ranked fields as above) when Newton settles on
+ * a genuine root, else 0 (then call resurfi_optdir_solve). */
+int resurfi_optdir_near(vec3 p, const vec3 pj[3], const vec3 nj[3], double t_guess, resurfi_optdir_root *out);
 
 /* ---- gliding-normal displacement (glide.c) ------------------------------------------------------------------- */
 
@@ -201,31 +205,67 @@ double resurfi_glide_normal_section(vec3 p, vec3 pj, vec3 nj, vec3 n_opt);
 
 typedef struct resurfi_restorer resurfi_restorer;
 
-/* What happened to one point. */
+/* What happened to one point (the last step's outcome when it took several). */
 typedef enum resurfi_restore_outcome {
-    RESURFI_RESTORED = 0,
-    RESURFI_RESTORED_LEAST_OUTSIDE,
-    RESURFI_RESTORED_BOUNDARY,
-    RESURFI_RESTORED_CREASE,
-    RESURFI_LEFT_FAR,
-    RESURFI_LEFT_OUTSIDE,
-    RESURFI_LEFT_NONFINITE,
+    RESURFI_RESTORED = 0,            /* with a root inside its triangle (or on a vertex of M already) */
+    RESURFI_RESTORED_LEAST_OUTSIDE,  /* with the least-outside root (no triangle around had one inside) */
+    RESURFI_RESTORED_BOUNDARY,       /* put on a boundary curve */
+    RESURFI_RESTORED_CREASE,         /* put on a crease curve */
+    RESURFI_LEFT_FAR,                /* farther than far_factor × the local edge length: unchanged */
+    RESURFI_LEFT_OUTSIDE,            /* no root (or none inside with RESURF_OUTSIDE_KEEP) at the first step */
+    RESURFI_LEFT_NONFINITE,          /* a non-finite point: unchanged */
 } resurfi_restore_outcome;
 
-/* Builds M's services (welded topology, BVH, normals, curvatures, creases, boundaries) once. `original` is
- * borrowed and must outlive the restorer. Thread-safe to query from several threads. */
+/* Builds M's services (welded positions and topology, crease fans, normals, curvatures when the options need them,
+ * feature curves, BVH) once; everything is copied, so `original` may change or go afterwards. Triangle indices are
+ * M's. The options are checked as resurf_restore() does (their progress is not used). Read-only afterwards: any
+ * number of threads may query it at once. */
 resurf_status resurfi_restorer_create(const resurf_mesh *original, const resurf_restore_options *options,
                                       resurfi_restorer **out, resurf_error *error);
-void resurfi_restorer_free(resurfi_restorer *r);
+void resurfi_restorer_free(resurfi_restorer *r); /* NULL is fine */
 
-/* Restores one point onto S. out_point receives the restored position (p itself when left alone); out_triangle
- * (may be NULL) the triangle of M it was restored against and out_bary (may be NULL) the barycentrics of its foot. */
+/* Restores one point onto S with the restorer's options (iterations, step, policies). out_point receives the
+ * restored position (p itself when left alone). out_triangle and out_bary (each may be NULL) receive the triangle of
+ * M and the barycentrics of the last step's root (for a point put on a feature curve or found on a vertex of M: its
+ * closest triangle and closest point); out_triangle is UINT32_MAX when no triangle was reached (non-finite p). */
 resurfi_restore_outcome resurfi_restorer_point(const resurfi_restorer *r, vec3 p, vec3 *out_point,
                                                uint32_t *out_triangle, double out_bary[3]);
+/* The same with a triangle of M near p (e.g. the previous point's out_triangle; UINT32_MAX for none) that speeds
+ * up the closest-triangle search. The result does not depend on the hint. */
+resurfi_restore_outcome resurfi_restorer_point_near(const resurfi_restorer *r, vec3 p, uint32_t hint,
+                                                    vec3 *out_point, uint32_t *out_triangle, double out_bary[3]);
 
 /* The interpolated smooth unit normal of M at barycentrics bary of triangle t (crease-aware). */
 vec3 resurfi_restorer_normal(const resurfi_restorer *r, uint32_t t, const double bary[3]);
 /* The BVH over M (for closest-point queries by callers that already hold a restorer). */
 const resurfi_bvh *resurfi_restorer_bvh(const resurfi_restorer *r);
+
+/* ---- error quadrics (quadric.c), for the simplifier (simplify.c) --------------------------------------------- */
+
+/* Garland–Heckbert quadric: Q(x) = xᵀ A x + 2 bᵀ x + c, a weighted sum of squared distances to planes, with the
+ * total weight w (so sqrt(Q(x) / w) is an RMS distance). A is symmetric: a[0..5] = A00 A01 A02 A11 A12 A22. */
+typedef struct resurfi_quadric {
+    double a[6];
+    double b[3];
+    double c;
+    double w;
+} resurfi_quadric;
+
+/* weight × (n·x + d)², n a unit vector (not checked: a non-unit n scales the distance). */
+resurfi_quadric resurfi_quadric_plane(vec3 n, double d, double weight);
+/* The plane of triangle (p0, p1, p2) weighted by its area; the zero quadric for a zero-area triangle. */
+resurfi_quadric resurfi_quadric_triangle(vec3 p0, vec3 p1, vec3 p2);
+/* q += r (weights too). */
+void resurfi_quadric_add(resurfi_quadric *q, const resurfi_quadric *r);
+/* Q(x), clamped at 0 (rounding can make it slightly negative). */
+double resurfi_quadric_eval(const resurfi_quadric *q, vec3 x);
+/* The minimiser of Q nearest `around`. Where A is well conditioned (every Cholesky pivot above
+ * RESURFI_QUADRIC_COND × trace A) this is the exact optimum. Otherwise Q is flat in some direction (a plane, a
+ * cylinder, a straight border) and the step from `around` is damped there: (A + λI) δ = −(A·around + b) with
+ * λ = RESURFI_QUADRIC_COND × trace A, so the point moves along the well-determined directions only and stays near
+ * `around` along the flat ones. Returns 1 with the exact optimum, 2 with the damped one, 0 (and `around`) when A is
+ * zero or the result is not finite. */
+#define RESURFI_QUADRIC_COND 1e-3
+int resurfi_quadric_optimum(const resurfi_quadric *q, vec3 around, vec3 *out);
 
 #endif

@@ -237,14 +237,37 @@ resurf_status resurf_mesh_load_memory(const void *data, size_t size, resurf_form
     return load_bytes(data, size, format, name, &opts, out_mesh, error);
 }
 
-/* Reads the whole file into one buffer (sized by fstat, so a regular file takes one read). */
-static resurf_status read_file(const char *path, char **out_data, size_t *out_size, resurf_error *error)
+/* Bytes a stream (a pipe, or a file whose size the system does not know) may deliver before the load gives up:
+ * 64 MiB plus 1 KiB per allowed triangle, far more than any format spends on a triangle (a text OBJ with normals
+ * and texture coordinates needs about 150 bytes), so that an endless writer cannot eat all memory. */
+static size_t stream_limit(size_t max_triangles)
 {
-    int fd = open(path, O_RDONLY | O_CLOEXEC);
+    const size_t base = (size_t)64 << 20, per_triangle = 1024;
+    if (max_triangles == 0 || max_triangles > (SIZE_MAX / 2 - base) / per_triangle)
+        return SIZE_MAX / 2;
+    return base + per_triangle * max_triangles;
+}
+
+/* Reads the whole file into one buffer (sized by fstat, so a regular file takes one read). Refuses folders,
+ * devices and sockets; reads pipes up to stream_limit(). */
+static resurf_status read_file(const char *path, const resurf_load_options *opts, char **out_data, size_t *out_size,
+                               resurf_error *error)
+{
+    /* Look before opening: opening a device can have effects of its own (a tape rewinds, a tty becomes ours). */
+    struct stat st;
+    if (stat(path, &st) == 0) {
+        if (S_ISDIR(st.st_mode))
+            return resurfi_fail(error, RESURF_ERR_IO, path, 0, -1, "is a directory, not a mesh file");
+        if (!S_ISREG(st.st_mode) && !S_ISFIFO(st.st_mode))
+            return resurfi_fail(error, RESURF_ERR_IO, path, 0, -1, "is a device or socket, not a mesh file");
+    }
+    /* O_NONBLOCK: opening a FIFO that no process writes to would wait for a writer forever. Reads block again
+     * below, and a FIFO without a writer reads as the end of the file. */
+    int fd = open(path, O_RDONLY | O_CLOEXEC | O_NONBLOCK);
     if (fd < 0)
         return resurfi_fail(error, RESURF_ERR_IO, path, 0, -1, "cannot open: %s", strerror(errno));
-    struct stat st;
-    if (fstat(fd, &st) != 0) {
+    int fl = fcntl(fd, F_GETFL);
+    if (fstat(fd, &st) != 0 || fl < 0 || fcntl(fd, F_SETFL, fl & ~O_NONBLOCK) != 0) {
         int e = errno;
         close(fd);
         return resurfi_fail(error, RESURF_ERR_IO, path, 0, -1, "cannot read: %s", strerror(e));
@@ -253,42 +276,65 @@ static resurf_status read_file(const char *path, char **out_data, size_t *out_si
         close(fd);
         return resurfi_fail(error, RESURF_ERR_IO, path, 0, -1, "is a directory, not a mesh file");
     }
-    /* Pipes and devices report no size: grow the buffer as data comes. */
-    size_t cap = S_ISREG(st.st_mode) && st.st_size > 0 ? (size_t)st.st_size + 1 : 1 << 16, size = 0;
+    if (!S_ISREG(st.st_mode) && !S_ISFIFO(st.st_mode)) {
+        close(fd);
+        return resurfi_fail(error, RESURF_ERR_IO, path, 0, -1, "is a device or socket, not a mesh file");
+    }
     if (S_ISREG(st.st_mode) && (uint64_t)st.st_size >= SIZE_MAX / 2) {
         close(fd);
         return resurfi_fail(error, RESURF_ERR_LIMIT, path, 0, -1, "the file is too large for this machine");
     }
+    /* A regular file's size is known: the buffer it needs is justified by the file. Pipes (and files that report
+     * size 0, such as those of /proc) grow the buffer as data comes, up to a limit. */
+    const bool sized = S_ISREG(st.st_mode) && st.st_size > 0;
+    const size_t limit = sized ? SIZE_MAX / 2 : stream_limit(opts->max_triangles);
+    size_t cap = sized ? (size_t)st.st_size + 1 : 1 << 16, size = 0;
     char *data = malloc(cap);
     if (!data) {
         close(fd);
         return resurfi_fail(error, RESURF_ERR_OUT_OF_MEMORY, path, 0, -1, "out of memory reading %zu bytes", cap);
     }
+    resurf_status status = RESURF_OK;
     for (;;) {
         if (size == cap) {
-            char *bigger = cap < SIZE_MAX / 2 ? realloc(data, cap * 2) : NULL;
+            if (size >= limit) {
+                status = resurfi_fail(error, RESURF_ERR_LIMIT, path, 0, -1,
+                                      "the stream goes on past %zu bytes, more than the max_triangles limit (%zu "
+                                      "triangles) can need",
+                                      limit, opts->max_triangles);
+                break;
+            }
+            size_t grown = cap < limit / 2 ? cap * 2 : limit;
+            char *bigger = realloc(data, grown);
             if (!bigger) {
-                free(data);
-                close(fd);
-                return resurfi_fail(error, RESURF_ERR_OUT_OF_MEMORY, path, 0, -1, "out of memory reading the file");
+                status = resurfi_fail(error, RESURF_ERR_OUT_OF_MEMORY, path, 0, -1, "out of memory reading the file");
+                break;
             }
             data = bigger;
-            cap *= 2;
+            cap = grown;
         }
         ssize_t n = read(fd, data + size, cap - size);
-        if (n < 0 && errno == EINTR)
+        if (n < 0 && errno == EINTR) {
+            /* A signal interrupted a read that waits on a pipe: the caller may want to stop. */
+            if (resurfi_progress(&opts->progress, "load", 0.0)) {
+                status = resurfi_fail(error, RESURF_ERR_CANCELLED, path, 0, -1, "cancelled by the progress callback");
+                break;
+            }
             continue;
+        }
         if (n < 0) {
-            int e = errno;
-            free(data);
-            close(fd);
-            return resurfi_fail(error, RESURF_ERR_IO, path, 0, -1, "cannot read: %s", strerror(e));
+            status = resurfi_fail(error, RESURF_ERR_IO, path, 0, -1, "cannot read: %s", strerror(errno));
+            break;
         }
         if (n == 0)
             break;
         size += (size_t)n;
     }
     close(fd);
+    if (status != RESURF_OK) {
+        free(data);
+        return status;
+    }
     *out_data = data;
     *out_size = size;
     return RESURF_OK;
@@ -309,7 +355,7 @@ resurf_status resurf_mesh_load(const char *path, const resurf_load_options *opti
     size_t size = 0;
     c_locale_scope scope; /* so that strerror speaks the "C" locale too, like every other message */
     enter_c_locale(&scope);
-    resurf_status status = read_file(path, &data, &size, error);
+    resurf_status status = read_file(path, &opts, &data, &size, error);
     leave_c_locale(&scope);
     if (status != RESURF_OK)
         return status;

@@ -673,7 +673,10 @@ resurf_status resurfi_write_obj(resurfi_writer *w, const resurf_mesh *m, const r
     const bool colors = o->write_colors && m->colors;
     const bool normals = o->write_normals && m->normals;
     const bool tex = o->write_texcoords && m->texcoord_count > 0 && m->texcoords[0];
-    const size_t nv = m->vertex_count, nt = m->triangle_count, total = 2 * nv + nt;
+    const size_t nv = m->vertex_count, nt = m->triangle_count;
+    /* Progress counts every line written (v, vt, vn, f), so that a cancel is noticed within 2^16 lines. */
+    const size_t vt_start = nv, vn_start = vt_start + (tex ? nv : 0), f_start = vn_start + (normals ? nv : 0);
+    const size_t total = f_start + nt;
     resurfi_write_str(w, "# written by resurf " RESURF_VERSION_STRING "\n");
     for (size_t i = 0; i < nv; ++i) {
         const double *p = m->positions + 3 * i;
@@ -691,13 +694,14 @@ resurf_status resurfi_write_obj(resurfi_writer *w, const resurf_mesh *m, const r
         resurfi_write_double(w, ' ', m->texcoords[0][2 * i]);
         resurfi_write_double(w, ' ', m->texcoords[0][2 * i + 1]);
         resurfi_write(w, "\n", 1);
+        resurfi_write_tick(w, vt_start + i, total);
     }
     for (size_t i = 0; normals && i < nv; ++i) {
         resurfi_write(w, "vn", 2);
         for (int a = 0; a < 3; ++a)
             resurfi_write_double(w, ' ', m->normals[3 * i + a]);
         resurfi_write(w, "\n", 1);
-        resurfi_write_tick(w, nv + i, total);
+        resurfi_write_tick(w, vn_start + i, total);
     }
     uint32_t group = NONE;
     for (size_t t = 0; t < nt; ++t) {
@@ -718,7 +722,7 @@ resurf_status resurfi_write_obj(resurfi_writer *w, const resurf_mesh *m, const r
             }
         }
         resurfi_write(w, "\n", 1);
-        resurfi_write_tick(w, 2 * nv + t, total);
+        resurfi_write_tick(w, f_start + t, total);
     }
     return RESURF_OK;
 }

@@ -1,2 +1,991 @@
-/* restore.c: to be written. */
+/* The restoring projection: move points (the vertices of a processed mesh M') onto the smooth surface S that the
+ * original mesh M approximates. Semenova, Savchenko, Hagiwara, "Reconstruction of Shapes Based on Normals
+ * Analysis" (§3), with the open points fixed as in notes/restoring.md (§3–§7) and the normal-section variant of §9.
+ *
+ * Per point p, repeated `iterations` times (or until the step is below tolerance_rel × local edge length):
+ *   1. the closest triangle T of M (BVH, exact);
+ *   2. the optimal direction: the root of the cubic of optdir.c, inside T if possible (else the policy decides:
+ *      search the triangles around T for a root inside them, take the least-outside root, or stop). Zero-area
+ *      triangles and triangles with a corner without normal carry no root: the search goes around them;
+ *   3. N_opt = normalize(Σ b_j N_j), and for each corner the gliding-normal displacement δ_j (glide.c), with the
+ *      max/min side chosen by the principal curvatures at the corner (the paper) or by the local chord rule;
+ *   4. p ← p + k Σ δ_j N_opt.
+ * From the second step on, steps 1–2 start from the previous root's triangle: if Newton steps on its cubic find a
+ * root still inside it, that root is used. Near S the lines p0 + t n(p0) of neighbouring triangles do not cross, so
+ * an inside root is the only one and the closest-triangle search would find the same; it is run only when the root
+ * has left the triangle. This saves a tree walk and a cubic solve per step (the paper's 5 steps cost little more
+ * than one).
+ *
+ * Where S is not smooth (notes §7):
+ *   - Creases: an edge whose faces' normals differ by more than crease_angle_deg (or, with use_input_normals, whose
+ *     input normals are split along it) is a crease. At each vertex the incident faces are grouped into fans
+ *     separated by crease (and non-manifold) edges; each fan gets its own normal and curvature, computed on the mesh
+ *     split along the creases, and a triangle takes each corner's normal from its own fan. So a point next to a
+ *     crease is restored with the normals of its own side and the crease is not rounded off.
+ *   - Feature curves: boundary edges (with `boundary`) and crease edges. A point whose closest point on M lies on a
+ *     feature edge (the barycentric of the opposite corner is 0), or on a vertex that has feature edges, is put on
+ *     the feature curve instead: the curve between the edge's ends a, b is the blend (1 − u) A(u) + u B(u) of the
+ *     circular arc through a and b tangent to the curve at a (A) and the one tangent at b (B), u being the
+ *     parameter of p's projection on the chord (clamped to [0, 1]). The curve tangent at a vertex is that of the
+ *     circle through it and its two curve neighbours, exact on circles (the 1-D analogue of Max's normals); at a
+ *     curve end, a vertex with more than two feature edges, a vertex where boundary meets crease or where the curve
+ *     turns by more than crease_angle_deg, the curve has a corner and the chord direction is used. A point at a
+ *     feature vertex goes to the feature edge that points most towards it, or stays on the vertex.
+ *   - Far points: farther from M than far_factor × the local edge length (the largest mean incident edge length of
+ *     the closest triangle's corners) are left where they are.
+ *   - A point that coincides with a vertex of M (to 1e-12 of the local edge length) is on S already (M's vertices
+ *     sample S) and stays where it is: restoring M onto itself changes nothing.
+ *
+ * M is welded exactly first (resurfi_weld_exact) so that attribute seams neither split normals nor look like
+ * boundaries. Each point's result depends only on its position and M, so results are the same whatever the thread
+ * count and identical positions (seams of M') move together. */
+#include <stdlib.h>
+#include <string.h>
+
 #include "internal.h"
+
+enum {
+    CHUNK_VERTICES = 1 << 15, /* vertices between two progress reports */
+    BLOCK_VERTICES = 256,     /* parallel block: small enough to balance, large enough to amortise the hand-out */
+};
+
+/* A barycentric at or below this is zero: the closest point lies on the opposite edge (Ericson's region test in
+ * resurfi_closest_on_triangle gives exact zeros there). */
+static const double foot_zero = 1e-12;
+/* Input normals closer than this (cosine, about 1°) count as the same normal when looking for split normals. */
+static const double same_normal_cos = 0.99984769515639127;
+
+/* cos² of the largest angle (150°) a triangle may have to take part in crease detection (see reliable_normal). */
+static const double sliver_cos2 = 0.75;
+
+enum { FEATURE_NONE = 0, FEATURE_BOUNDARY = 1, FEATURE_CREASE = 2 };
+
+struct resurfi_restorer {
+    resurf_restore_options opt;
+    size_t position_count, triangle_count;
+    double *positions;      /* welded positions, 3 per position id */
+    uint32_t *tris;         /* 3 per triangle: welded position ids */
+    resurfi_adjacency adj;  /* over welded ids */
+    resurfi_bvh *bvh;
+    uint32_t *corner_split; /* 3 per triangle: the (vertex, fan) id of each corner */
+    size_t split_count;
+    double *split_normals;  /* 3 per split id */
+    double *k1, *k2;        /* per split id (side rule CURVATURE with formula (2) only) */
+    double *dir1, *dir2;    /* 3 per split id */
+    double *local_length;   /* per position: mean length of its edges */
+    uint8_t *edge_kind;     /* per edge: FEATURE_* */
+    uint32_t *feature_offset, *feature_vertex, *feature_edge; /* per position: its feature edges (CSR) */
+    double *tangent;        /* 3 per position: unit feature-curve tangent, or 0 at a corner / off curves */
+    uint8_t *usable;        /* per triangle: has area and three corner normals (a root on it means something) */
+};
+
+/* ---- options ------------------------------------------------------------------------------------------------- */
+
+resurf_restore_options resurf_restore_options_default(void)
+{
+    resurf_restore_options o;
+    memset(&o, 0, sizeof o);
+    o.struct_size = sizeof o;
+    o.normals = RESURF_NORMALS_JET;
+    o.side_rule = RESURF_SIDE_CURVATURE;
+    o.displacement = RESURF_DISPLACEMENT_NORMAL_SECTION;
+    o.step = 1.0 / 3.0;
+    o.iterations = 10;
+    o.tolerance_rel = 1e-6;
+    o.crease_angle_deg = 60;
+    o.use_input_normals = 1;
+    o.far_factor = 4;
+    o.outside = RESURF_OUTSIDE_NEIGHBOURS;
+    o.boundary = 1;
+    o.threads = 0;
+    return o;
+}
+
+resurf_restore_options resurf_restore_options_paper(void)
+{
+    resurf_restore_options o = resurf_restore_options_default();
+    o.normals = RESURF_NORMALS_INVERSE_AREA;
+    o.side_rule = RESURF_SIDE_CURVATURE;
+    o.displacement = RESURF_DISPLACEMENT_PAPER;
+    o.step = 1.0 / 6.0;
+    o.iterations = 5;
+    o.tolerance_rel = 0;
+    return o;
+}
+
+static resurf_status check_options(const resurf_restore_options *o, resurf_error *error)
+{
+    RESURFI_CHECK_OPTIONS(o, resurf_restore_options, error);
+    if (!o)
+        return RESURF_OK; /* the defaults */
+    const char *bad = NULL;
+    if ((unsigned)o->normals >= RESURF_NORMALS_COUNT)
+        bad = "normals is not a resurf_normal_scheme";
+    else if ((unsigned)o->side_rule >= RESURF_SIDE_COUNT)
+        bad = "side_rule is not a resurf_side_rule";
+    else if ((unsigned)o->displacement >= RESURF_DISPLACEMENT_COUNT)
+        bad = "displacement is not a resurf_displacement";
+    else if ((unsigned)o->outside >= RESURF_OUTSIDE_COUNT)
+        bad = "outside is not a resurf_outside_policy";
+    else if (!(o->step > 0 && o->step <= 1))
+        bad = "step must be in (0, 1]";
+    else if (o->iterations < 1 || o->iterations > 1000)
+        bad = "iterations must be in 1..1000";
+    else if (!(o->tolerance_rel >= 0 && isfinite(o->tolerance_rel)))
+        bad = "tolerance_rel must be finite and >= 0";
+    else if (!(o->crease_angle_deg >= 0 && o->crease_angle_deg <= 180))
+        bad = "crease_angle_deg must be in [0, 180]";
+    else if (!(o->far_factor > 0)) /* INFINITY: never far */
+        bad = "far_factor must be > 0";
+    else if (o->use_input_normals < 0 || o->use_input_normals > 2)
+        bad = "use_input_normals must be 0, 1 or 2";
+    else if (o->boundary != 0 && o->boundary != 1)
+        bad = "boundary must be 0 or 1";
+    if (bad)
+        return resurfi_error(error, RESURF_ERR_INVALID_OPTIONS, "resurf_restore_options: %s", bad);
+    return RESURF_OK;
+}
+
+/* ---- building M's services, in phase order ------------------------------------------------------------------- */
+
+static vec3 position(const resurfi_restorer *r, uint32_t v) { return v3_load(r->positions + 3 * (size_t)v); }
+
+static vec3 face_normal(const resurfi_restorer *r, size_t t)
+{
+    const uint32_t *i = r->tris + 3 * t;
+    return v3_normalize(v3_tri_cross(position(r, i[0]), position(r, i[1]), position(r, i[2])));
+}
+
+/* Is the face normal of t meaningful for a dihedral angle? The normal of a triangle whose corners lie on a curved
+ * surface is the surface normal near its circumcentre, which for a flat sliver (an angle near 180°) lies far
+ * outside the triangle: on irregular meshes of smooth surfaces such slivers have normals tens of degrees off, and
+ * taking their edges for creases would split the normals around them. With every angle at most 150° the
+ * circumcentre is within one longest edge of the triangle; needles (a tiny angle, two long sides) are fine. */
+static int reliable_normal(const resurfi_restorer *r, size_t t)
+{
+    const uint32_t *i = r->tris + 3 * t;
+    vec3 p[3] = {position(r, i[0]), position(r, i[1]), position(r, i[2])};
+    for (int k = 0; k < 3; ++k) {
+        vec3 u = v3_sub(p[(k + 1) % 3], p[k]), v = v3_sub(p[(k + 2) % 3], p[k]);
+        double uv = v3_dot(u, v), l2 = v3_len2(u) * v3_len2(v);
+        if (!(l2 > 0) || (uv < 0 && uv * uv > sliver_cos2 * l2))
+            return 0;
+    }
+    return 1;
+}
+
+/* Phase 1: refuse what cannot be processed, weld exactly, index the triangles by position id. */
+static resurf_status weld_original(resurfi_restorer *r, const resurf_mesh *m, resurf_error *error)
+{
+    if (m->triangle_count == 0)
+        return resurfi_error(error, RESURF_ERR_INVALID_MESH, "the original mesh has no triangles");
+    for (size_t t = 0; t < m->triangle_count; ++t)
+        for (int k = 0; k < 3; ++k) {
+            uint32_t v = m->indices[3 * t + k];
+            if (v >= m->vertex_count)
+                return resurfi_error(error, RESURF_ERR_INVALID_MESH,
+                                     "original triangle %zu refers to vertex %u of %zu", t, v, m->vertex_count);
+            if (!v3_finite(resurfi_position(m, v)))
+                return resurfi_error(error, RESURF_ERR_INVALID_MESH, "original vertex %u has a non-finite position",
+                                     v);
+        }
+    uint32_t *remap = resurfi_alloc_array(m->vertex_count, sizeof *remap);
+    if (!remap)
+        return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory welding the original mesh");
+    resurf_status s = resurfi_weld_exact(m->positions, m->vertex_count, remap, &r->position_count);
+    if (s != RESURF_OK) {
+        free(remap);
+        return resurfi_error(error, s, "cannot weld the original mesh");
+    }
+    r->triangle_count = m->triangle_count;
+    r->positions = resurfi_alloc_array(r->position_count, 3 * sizeof(double));
+    r->tris = resurfi_alloc_array(m->triangle_count, 3 * sizeof(uint32_t));
+    if (!r->positions || !r->tris) {
+        free(remap);
+        return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory welding the original mesh");
+    }
+    for (size_t v = 0; v < m->vertex_count; ++v)
+        memcpy(r->positions + 3 * (size_t)remap[v], m->positions + 3 * v, 3 * sizeof(double));
+    for (size_t i = 0; i < 3 * m->triangle_count; ++i)
+        r->tris[i] = remap[m->indices[i]];
+    free(remap);
+    return RESURF_OK;
+}
+
+/* The corner of triangle t (attribute vertex indices in m) at position id v; the first such corner. */
+static int corner_of(const resurfi_restorer *r, size_t t, uint32_t v)
+{
+    for (int k = 0; k < 3; ++k)
+        if (r->tris[3 * t + k] == v)
+            return k;
+    return -1;
+}
+
+/* Do the two faces of edge e carry different input normals at one of its ends? */
+static int split_input_normals(const resurfi_restorer *r, const resurf_mesh *m, uint32_t e, uint32_t f, uint32_t g)
+{
+    for (int end = 0; end < 2; ++end) {
+        uint32_t v = r->adj.edge_vertices[2 * (size_t)e + end];
+        int cf = corner_of(r, f, v), cg = corner_of(r, g, v);
+        uint32_t af = m->indices[3 * (size_t)f + cf], ag = m->indices[3 * (size_t)g + cg];
+        if (af == ag)
+            continue;
+        vec3 nf = v3_normalize(v3_load(m->normals + 3 * (size_t)af));
+        vec3 ng = v3_normalize(v3_load(m->normals + 3 * (size_t)ag));
+        if (v3_len2(nf) > 0 && v3_len2(ng) > 0 && v3_finite(nf) && v3_finite(ng) && v3_dot(nf, ng) < same_normal_cos)
+            return 1;
+    }
+    return 0;
+}
+
+/* Phase 2: topology, crease and boundary edges. */
+static resurf_status classify_edges(resurfi_restorer *r, const resurf_mesh *m, resurf_error *error)
+{
+    resurf_status s = resurfi_adjacency_build(r->tris, r->triangle_count, r->position_count, &r->adj);
+    if (s != RESURF_OK)
+        return resurfi_error(error, s, "cannot build the original mesh's adjacency");
+    const resurfi_adjacency *adj = &r->adj;
+    r->edge_kind = resurfi_calloc_array(adj->edge_count ? adj->edge_count : 1, 1);
+    if (!r->edge_kind)
+        return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory classifying edges");
+    double crease_cos = cos(r->opt.crease_angle_deg * (M_PI / 180.0));
+    int by_angle = r->opt.crease_angle_deg < 180;
+    int by_normals = r->opt.use_input_normals && m->normals;
+    for (size_t e = 0; e < adj->edge_count; ++e) {
+        uint32_t nf = resurfi_edge_face_count(adj, (uint32_t)e);
+        const uint32_t *faces = adj->edge_faces + adj->edge_face_offset[e];
+        if (nf == 1) {
+            if (r->opt.boundary)
+                r->edge_kind[e] = FEATURE_BOUNDARY;
+        } else if (nf == 2) {
+            vec3 a = face_normal(r, faces[0]), b = face_normal(r, faces[1]);
+            int crease = by_angle && reliable_normal(r, faces[0]) && reliable_normal(r, faces[1]) &&
+                         v3_dot(a, b) < crease_cos;
+            if (!crease && by_normals)
+                crease = split_input_normals(r, m, (uint32_t)e, faces[0], faces[1]);
+            if (crease)
+                r->edge_kind[e] = FEATURE_CREASE;
+        }
+    }
+    return RESURF_OK;
+}
+
+static uint32_t uf_find(uint32_t *parent, uint32_t x)
+{
+    while (parent[x] != x)
+        x = parent[x] = parent[parent[x]];
+    return x;
+}
+
+/* Phase 3: split every vertex into its fans (faces connected across manifold, non-crease edges ending there) and
+ * give each corner the id of its fan. Triangles the adjacency ignores (a repeated position) take the vertex's
+ * first fan, or a fan of their own. */
+static resurf_status split_fans(resurfi_restorer *r, resurf_error *error)
+{
+    const resurfi_adjacency *adj = &r->adj;
+    size_t nt = r->triangle_count;
+    r->corner_split = resurfi_alloc_array(nt, 3 * sizeof(uint32_t));
+    size_t max_degree = 1;
+    for (size_t v = 0; v < r->position_count; ++v) {
+        size_t d = adj->vertex_face_offset[v + 1] - adj->vertex_face_offset[v];
+        max_degree = d > max_degree ? d : max_degree;
+    }
+    uint32_t *parent = resurfi_alloc_array(max_degree, sizeof *parent);
+    uint32_t *fan_id = resurfi_alloc_array(max_degree, sizeof *fan_id);
+    if (!r->corner_split || !parent || !fan_id) {
+        free(parent);
+        free(fan_id);
+        return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory splitting crease fans");
+    }
+    for (size_t i = 0; i < 3 * nt; ++i)
+        r->corner_split[i] = UINT32_MAX;
+    uint32_t next = 0;
+    for (size_t v = 0; v < r->position_count; ++v) {
+        const uint32_t *faces = adj->vertex_faces + adj->vertex_face_offset[v];
+        uint32_t n = adj->vertex_face_offset[v + 1] - adj->vertex_face_offset[v];
+        for (uint32_t i = 0; i < n; ++i)
+            parent[i] = i;
+        for (uint32_t i = 0; i < n; ++i) {
+            size_t f = faces[i];
+            for (int side = 0; side < 3; ++side) {
+                uint32_t a = r->tris[3 * f + side], b = r->tris[3 * f + (side + 1) % 3];
+                uint32_t e = adj->face_edges[3 * f + side];
+                if ((a != v && b != v) || e == UINT32_MAX || resurfi_edge_face_count(adj, e) != 2 ||
+                    r->edge_kind[e] == FEATURE_CREASE)
+                    continue;
+                const uint32_t *ef = adj->edge_faces + adj->edge_face_offset[e];
+                uint32_t g = ef[0] == f ? ef[1] : ef[0];
+                for (uint32_t j = 0; j < n; ++j) /* faces are sorted: the fan lists are short */
+                    if (faces[j] == g) {
+                        uint32_t x = uf_find(parent, i), y = uf_find(parent, j);
+                        if (x != y)
+                            parent[x > y ? x : y] = x < y ? x : y;
+                        break;
+                    }
+            }
+        }
+        for (uint32_t i = 0; i < n; ++i)
+            fan_id[i] = UINT32_MAX;
+        for (uint32_t i = 0; i < n; ++i) {
+            uint32_t root = uf_find(parent, i);
+            if (fan_id[root] == UINT32_MAX)
+                fan_id[root] = next++;
+            int k = corner_of(r, faces[i], (uint32_t)v);
+            r->corner_split[3 * (size_t)faces[i] + k] = fan_id[root];
+        }
+    }
+    /* corners of ignored triangles */
+    for (size_t t = 0; t < nt; ++t)
+        for (int k = 0; k < 3; ++k) {
+            if (r->corner_split[3 * t + k] != UINT32_MAX)
+                continue;
+            uint32_t v = r->tris[3 * t + k];
+            uint32_t first = adj->vertex_face_offset[v], last = adj->vertex_face_offset[v + 1];
+            if (first < last) {
+                uint32_t f = adj->vertex_faces[first];
+                r->corner_split[3 * t + k] = r->corner_split[3 * (size_t)f + corner_of(r, f, v)];
+            } else {
+                r->corner_split[3 * t + k] = next++;
+            }
+        }
+    free(parent);
+    free(fan_id);
+    r->split_count = next;
+    return RESURF_OK;
+}
+
+/* With use_input_normals = 2: each fan's normal is the sum of the input normals of its corners (a fan never mixes
+ * different ones: a split marks a crease), normalised; fans whose input normals are all zero or not finite keep
+ * the estimated normal. */
+static resurf_status take_input_normals(resurfi_restorer *r, const resurf_mesh *m)
+{
+    size_t ns = r->split_count;
+    double *sum = resurfi_calloc_array(ns ? ns : 1, 3 * sizeof(double));
+    if (!sum)
+        return RESURF_ERR_OUT_OF_MEMORY;
+    for (size_t i = 0; i < 3 * r->triangle_count; ++i) {
+        vec3 n = v3_normalize(v3_load(m->normals + 3 * (size_t)m->indices[i]));
+        if (!v3_finite(n))
+            continue;
+        double *acc = sum + 3 * (size_t)r->corner_split[i];
+        acc[0] += n.x, acc[1] += n.y, acc[2] += n.z;
+    }
+    for (size_t v = 0; v < ns; ++v) {
+        vec3 n = v3_normalize(v3_load(sum + 3 * v));
+        if (v3_len2(n) > 0)
+            v3_store(r->split_normals + 3 * v, n);
+    }
+    free(sum);
+    return RESURF_OK;
+}
+
+/* Phase 4: normals (and, when the side rule needs them, curvatures) on the mesh split along the creases. */
+static resurf_status estimate_normals(resurfi_restorer *r, const resurf_mesh *m, resurf_error *error)
+{
+    size_t ns = r->split_count, nt = r->triangle_count;
+    double *split_positions = resurfi_alloc_array(ns ? ns : 1, 3 * sizeof(double));
+    r->split_normals = resurfi_calloc_array(ns ? ns : 1, 3 * sizeof(double));
+    if (!split_positions || !r->split_normals) {
+        free(split_positions);
+        return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory estimating normals");
+    }
+    for (size_t i = 0; i < 3 * nt; ++i)
+        memcpy(split_positions + 3 * (size_t)r->corner_split[i], r->positions + 3 * (size_t)r->tris[i],
+               3 * sizeof(double));
+    resurf_status s =
+        resurfi_vertex_normals(split_positions, ns, r->corner_split, nt, r->opt.normals, r->split_normals);
+    if (s != RESURF_OK) {
+        free(split_positions);
+        return resurfi_error(error, s, "cannot estimate the original mesh's vertex normals");
+    }
+    if (r->opt.use_input_normals == 2 && m->normals && take_input_normals(r, m) != RESURF_OK) {
+        free(split_positions);
+        return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory taking the input normals");
+    }
+    if (r->opt.side_rule == RESURF_SIDE_CURVATURE && r->opt.displacement == RESURF_DISPLACEMENT_PAPER) {
+        r->k1 = resurfi_alloc_array(ns ? ns : 1, sizeof(double));
+        r->k2 = resurfi_alloc_array(ns ? ns : 1, sizeof(double));
+        r->dir1 = resurfi_alloc_array(ns ? ns : 1, 3 * sizeof(double));
+        r->dir2 = resurfi_alloc_array(ns ? ns : 1, 3 * sizeof(double));
+        if (!r->k1 || !r->k2 || !r->dir1 || !r->dir2)
+            s = RESURF_ERR_OUT_OF_MEMORY;
+        else
+            s = resurfi_principal_curvatures(split_positions, ns, r->corner_split, nt, r->split_normals, r->k1,
+                                             r->k2, r->dir1, r->dir2);
+        if (s != RESURF_OK) {
+            free(split_positions);
+            return resurfi_error(error, s, "cannot estimate the original mesh's curvatures");
+        }
+    }
+    free(split_positions);
+    return RESURF_OK;
+}
+
+/* Phase 5: per position, the mean length of its edges (the local edge length), its feature edges and the
+ * feature-curve tangent. */
+static resurf_status trace_features(resurfi_restorer *r, resurf_error *error)
+{
+    const resurfi_adjacency *adj = &r->adj;
+    size_t nv = r->position_count, ne = adj->edge_count;
+    r->local_length = resurfi_calloc_array(nv, sizeof(double));
+    r->feature_offset = resurfi_calloc_array(nv + 1, sizeof(uint32_t));
+    r->tangent = resurfi_calloc_array(nv, 3 * sizeof(double));
+    uint32_t *edge_count = resurfi_calloc_array(nv, sizeof(uint32_t));
+    if (!r->local_length || !r->feature_offset || !r->tangent || !edge_count) {
+        free(edge_count);
+        return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory tracing feature curves");
+    }
+    for (size_t e = 0; e < ne; ++e) {
+        uint32_t a = adj->edge_vertices[2 * e], b = adj->edge_vertices[2 * e + 1];
+        double l = v3_dist(position(r, a), position(r, b));
+        r->local_length[a] += l, r->local_length[b] += l;
+        ++edge_count[a], ++edge_count[b];
+        if (r->edge_kind[e])
+            ++r->feature_offset[a + 1], ++r->feature_offset[b + 1];
+    }
+    for (size_t v = 0; v < nv; ++v) {
+        if (edge_count[v])
+            r->local_length[v] /= edge_count[v];
+        r->feature_offset[v + 1] += r->feature_offset[v];
+    }
+    size_t nf = r->feature_offset[nv];
+    r->feature_vertex = resurfi_alloc_array(nf ? nf : 1, sizeof(uint32_t));
+    r->feature_edge = resurfi_alloc_array(nf ? nf : 1, sizeof(uint32_t));
+    if (!r->feature_vertex || !r->feature_edge) {
+        free(edge_count);
+        return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory tracing feature curves");
+    }
+    memset(edge_count, 0, nv * sizeof(uint32_t)); /* now the fill cursor */
+    for (size_t e = 0; e < ne; ++e) {
+        if (!r->edge_kind[e])
+            continue;
+        uint32_t a = adj->edge_vertices[2 * e], b = adj->edge_vertices[2 * e + 1];
+        uint32_t ia = r->feature_offset[a] + edge_count[a]++, ib = r->feature_offset[b] + edge_count[b]++;
+        r->feature_vertex[ia] = b, r->feature_edge[ia] = (uint32_t)e;
+        r->feature_vertex[ib] = a, r->feature_edge[ib] = (uint32_t)e;
+    }
+    free(edge_count);
+    /* Tangents where the curve passes smoothly: two feature edges of one kind, turning by at most the crease
+     * angle. The circle through prev, v, next has the tangent e1/|e1|² + e2/|e2|² at v (e1 = v − prev,
+     * e2 = next − v). */
+    double corner_cos = cos(r->opt.crease_angle_deg * (M_PI / 180.0));
+    for (size_t v = 0; v < nv; ++v) {
+        uint32_t first = r->feature_offset[v];
+        if (r->feature_offset[v + 1] - first != 2 ||
+            r->edge_kind[r->feature_edge[first]] != r->edge_kind[r->feature_edge[first + 1]])
+            continue;
+        vec3 p = position(r, (uint32_t)v);
+        vec3 e1 = v3_sub(p, position(r, r->feature_vertex[first]));
+        vec3 e2 = v3_sub(position(r, r->feature_vertex[first + 1]), p);
+        double l1 = v3_len2(e1), l2 = v3_len2(e2);
+        if (!(l1 > 0 && l2 > 0) || v3_dot(e1, e2) < corner_cos * sqrt(l1 * l2))
+            continue;
+        v3_store(r->tangent + 3 * v, v3_normalize(v3_add(v3_scale(e1, 1 / l1), v3_scale(e2, 1 / l2))));
+    }
+    return RESURF_OK;
+}
+
+/* Phase 6: which triangles can carry a root. A zero-area triangle (a T-junction sliver, a collapsed face) or one
+ * with a corner that has no normal (a vertex of zero-area faces only) gives no meaningful optimal direction; the
+ * search then goes to the triangles around it. */
+static resurf_status mark_usable(resurfi_restorer *r, resurf_error *error)
+{
+    r->usable = resurfi_alloc_array(r->triangle_count, 1);
+    if (!r->usable)
+        return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory marking triangles");
+    for (size_t t = 0; t < r->triangle_count; ++t) {
+        const uint32_t *i = r->tris + 3 * t;
+        vec3 a = position(r, i[0]), b = position(r, i[1]), c = position(r, i[2]);
+        double longest2 = fmax(fmax(v3_dist2(a, b), v3_dist2(b, c)), v3_dist2(c, a));
+        int ok = v3_len2(v3_tri_cross(a, b, c)) > 1e-24 * longest2 * longest2;
+        for (int k = 0; k < 3 && ok; ++k)
+            ok = v3_len2(v3_load(r->split_normals + 3 * (size_t)r->corner_split[3 * t + k])) > 0;
+        r->usable[t] = (uint8_t)ok;
+    }
+    return RESURF_OK;
+}
+
+void resurfi_restorer_free(resurfi_restorer *r)
+{
+    if (!r)
+        return;
+    free(r->positions);
+    free(r->tris);
+    resurfi_adjacency_free(&r->adj);
+    resurfi_bvh_free(r->bvh);
+    free(r->corner_split);
+    free(r->split_normals);
+    free(r->k1);
+    free(r->k2);
+    free(r->dir1);
+    free(r->dir2);
+    free(r->local_length);
+    free(r->edge_kind);
+    free(r->feature_offset);
+    free(r->feature_vertex);
+    free(r->feature_edge);
+    free(r->tangent);
+    free(r->usable);
+    free(r);
+}
+
+resurf_status resurfi_restorer_create(const resurf_mesh *original, const resurf_restore_options *options,
+                                      resurfi_restorer **out, resurf_error *error)
+{
+    if (!out)
+        return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "out is NULL");
+    *out = NULL;
+    if (!original)
+        return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "the original mesh is NULL");
+    resurf_status s = check_options(options, error);
+    if (s != RESURF_OK)
+        return s;
+    resurfi_restorer *r = calloc(1, sizeof *r);
+    if (!r)
+        return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory creating the restorer");
+    r->opt = options ? *options : resurf_restore_options_default();
+    if ((s = weld_original(r, original, error)) == RESURF_OK && (s = classify_edges(r, original, error)) == RESURF_OK &&
+        (s = split_fans(r, error)) == RESURF_OK && (s = estimate_normals(r, original, error)) == RESURF_OK &&
+        (s = trace_features(r, error)) == RESURF_OK && (s = mark_usable(r, error)) == RESURF_OK) {
+        s = resurfi_bvh_build_threads(r->positions, r->position_count, r->tris, r->triangle_count, r->opt.threads,
+                                      &r->bvh);
+        if (s != RESURF_OK)
+            resurfi_error(error, s, "cannot build the original mesh's BVH");
+    }
+    if (s != RESURF_OK) {
+        resurfi_restorer_free(r);
+        return s;
+    }
+    *out = r;
+    return RESURF_OK;
+}
+
+const resurfi_bvh *resurfi_restorer_bvh(const resurfi_restorer *r) { return r->bvh; }
+
+/* ---- one point ----------------------------------------------------------------------------------------------- */
+
+static vec3 corner_normal(const resurfi_restorer *r, uint32_t t, int k)
+{
+    return v3_load(r->split_normals + 3 * (size_t)r->corner_split[3 * (size_t)t + k]);
+}
+
+vec3 resurfi_restorer_normal(const resurfi_restorer *r, uint32_t t, const double bary[3])
+{
+    vec3 n = v3(0, 0, 0);
+    for (int k = 0; k < 3; ++k)
+        n = v3_madd(n, corner_normal(r, t, k), bary[k]);
+    return v3_normalize(n);
+}
+
+/* The local edge length at triangle t: the largest mean edge length of its corners. */
+static double local_length(const resurfi_restorer *r, uint32_t t)
+{
+    const uint32_t *i = r->tris + 3 * (size_t)t;
+    return fmax(fmax(r->local_length[i[0]], r->local_length[i[1]]), r->local_length[i[2]]);
+}
+
+/* Height above the chord, at chord coordinate x from its midpoint, of the circular arc through both chord ends
+ * (length L) that leaves an end at angle φ to the chord: (L²/4 − x²) / (R (√(1 − x²/R²) + cos φ)) with
+ * 1/R = 2 sin φ / L, a form that stays accurate as φ → 0. Tangents pointing backwards give a straight chord. */
+static double arc_height(double L, double x, double sin_phi, double cos_phi)
+{
+    if (!(cos_phi > 0) || !(L > 0))
+        return 0;
+    double inv_r = 2 * sin_phi / L;
+    double q = 1 - x * x * inv_r * inv_r;
+    return (0.25 * L * L - x * x) * inv_r / (sqrt(q > 0 ? q : 0) + cos_phi);
+}
+
+/* The point of the feature curve over edge (a, b) at the projection of p on its chord (see the file comment). */
+static vec3 curve_point(const resurfi_restorer *r, uint32_t a, uint32_t b, vec3 p)
+{
+    vec3 pa = position(r, a), pb = position(r, b);
+    vec3 chord = v3_sub(pb, pa);
+    double L = v3_len(chord);
+    if (!(L > 0))
+        return pa;
+    vec3 e = v3_scale(chord, 1 / L);
+    double u = v3_dot(v3_sub(p, pa), e) / L;
+    u = u < 0 ? 0 : u > 1 ? 1 : u;
+    vec3 q = v3_madd(pa, chord, u);
+    if (u == 0)
+        return pa;
+    if (u == 1)
+        return pb;
+    double x = (u - 0.5) * L;
+    for (int end = 0; end < 2; ++end) {
+        vec3 t = v3_load(r->tangent + 3 * (size_t)(end ? b : a));
+        if (v3_len2(t) == 0)
+            continue; /* a corner: no bend from this end */
+        double c = v3_dot(t, e);
+        if (c < 0) { /* the stored tangent has no orientation */
+            t = v3_neg(t);
+            c = -c;
+        }
+        vec3 side = v3_madd(t, e, -c); /* sin φ times the bulge direction (reversed at the far end) */
+        double s = v3_len(side);
+        if (!(s > 0))
+            continue;
+        double h = arc_height(L, x, s, c);
+        double w = end ? u : 1 - u;
+        q = v3_madd(q, side, (end ? -h : h) * w / s);
+    }
+    return q;
+}
+
+/* Where on triangle t the foot with barycentrics bary lies: returns 0 inside, 1 on an edge (side index in *which,
+ * side k joins corners k and k+1), 2 at a corner (corner index in *which). */
+static int foot_location(const double bary[3], int *which)
+{
+    int zeros = 0, zero = 0, nonzero = 0;
+    for (int k = 0; k < 3; ++k) {
+        if (bary[k] <= foot_zero)
+            ++zeros, zero = k;
+        else
+            nonzero = k;
+    }
+    if (zeros == 1) {
+        *which = (zero + 1) % 3;
+        return 1;
+    }
+    if (zeros >= 2) {
+        *which = nonzero;
+        return 2;
+    }
+    return 0;
+}
+
+/* If the foot of p on triangle t lies on a feature curve, put p on it and say which kind (else FEATURE_NONE). */
+static int restore_on_feature(const resurfi_restorer *r, uint32_t t, const double bary[3], vec3 p, vec3 *out)
+{
+    int which;
+    int where = foot_location(bary, &which);
+    if (where == 1) {
+        uint32_t e = r->adj.face_edges[3 * (size_t)t + which];
+        if (e == UINT32_MAX || !r->edge_kind[e])
+            return FEATURE_NONE;
+        *out = curve_point(r, r->adj.edge_vertices[2 * (size_t)e], r->adj.edge_vertices[2 * (size_t)e + 1], p);
+        return r->edge_kind[e];
+    }
+    if (where == 2) {
+        uint32_t v = r->tris[3 * (size_t)t + which];
+        uint32_t first = r->feature_offset[v], last = r->feature_offset[v + 1];
+        if (first == last)
+            return FEATURE_NONE;
+        /* the feature edge pointing most towards p, if any points towards it */
+        vec3 pv = position(r, v);
+        uint32_t best = first;
+        double best_score = -INFINITY;
+        for (uint32_t i = first; i < last; ++i) {
+            vec3 d = v3_sub(position(r, r->feature_vertex[i]), pv);
+            double l = v3_len(d);
+            double score = l > 0 ? v3_dot(v3_sub(p, pv), d) / l : -INFINITY;
+            if (score > best_score)
+                best_score = score, best = i;
+        }
+        *out = best_score > 0 ? curve_point(r, v, r->feature_vertex[best], p) : pv;
+        return r->edge_kind[r->feature_edge[best]];
+    }
+    return FEATURE_NONE;
+}
+
+/* The roots of the optimal direction on triangle t. */
+static int solve_on(const resurfi_restorer *r, uint32_t t, vec3 p, resurfi_optdir_root roots[3])
+{
+    vec3 pj[3], nj[3];
+    for (int k = 0; k < 3; ++k) {
+        pj[k] = position(r, r->tris[3 * (size_t)t + k]);
+        nj[k] = corner_normal(r, t, k);
+    }
+    return resurfi_optdir_solve(p, pj, nj, roots);
+}
+
+/* The root on triangle t nearest the parameter t_guess (see resurfi_optdir_near). */
+static int near_on(const resurfi_restorer *r, uint32_t t, vec3 p, double t_guess, resurfi_optdir_root *out)
+{
+    vec3 pj[3], nj[3];
+    for (int k = 0; k < 3; ++k) {
+        pj[k] = position(r, r->tris[3 * (size_t)t + k]);
+        nj[k] = corner_normal(r, t, k);
+    }
+    return resurfi_optdir_near(p, pj, nj, t_guess, out);
+}
+
+typedef struct root_choice {
+    uint32_t triangle; /* UINT32_MAX: none yet */
+    resurfi_optdir_root root;
+} root_choice;
+
+static int is_inside(const resurfi_optdir_root *root) { return root->outside <= RESURFI_OPTDIR_INSIDE_TOL; }
+
+/* Keeps the better of best and (t, root): inside before outside, then smallest |t| (inside) or least outside. */
+static void consider(root_choice *best, uint32_t t, const resurfi_optdir_root *root)
+{
+    if (best->triangle != UINT32_MAX) {
+        int in_new = is_inside(root), in_old = is_inside(&best->root);
+        if (in_new != in_old ? !in_new
+                             : in_new ? !(fabs(root->t) < fabs(best->root.t)) : !(root->outside < best->root.outside))
+            return;
+    }
+    best->triangle = t;
+    best->root = *root;
+}
+
+/* The optimal direction for p, starting at its closest triangle t: an inside root there, else (when the policy
+ * searches) the best root over the triangles around t's corners (the ties of a point nearest a vertex or an edge).
+ * Returns 0 when there is no root at all. */
+static int choose_root(const resurfi_restorer *r, uint32_t t, vec3 p, root_choice *out)
+{
+    resurfi_optdir_root roots[3];
+    out->triangle = UINT32_MAX;
+    if (r->usable[t] && solve_on(r, t, p, roots) > 0) {
+        consider(out, t, &roots[0]);
+        if (is_inside(&roots[0]) || r->opt.outside == RESURF_OUTSIDE_LEAST)
+            return 1;
+    }
+    const uint32_t *tri = r->tris + 3 * (size_t)t;
+    for (int k = 0; k < 3; ++k) {
+        uint32_t v = tri[k];
+        const uint32_t *faces = r->adj.vertex_faces + r->adj.vertex_face_offset[v];
+        uint32_t n = r->adj.vertex_face_offset[v + 1] - r->adj.vertex_face_offset[v];
+        for (uint32_t i = 0; i < n; ++i) {
+            uint32_t f = faces[i];
+            if (f == t)
+                continue;
+            int seen = 0; /* already visited through an earlier corner of t */
+            for (int j = 0; j < k; ++j)
+                seen |= corner_of(r, f, tri[j]) >= 0;
+            if (seen || !r->usable[f])
+                continue;
+            if (solve_on(r, f, p, roots) > 0)
+                consider(out, f, &roots[0]);
+        }
+    }
+    return out->triangle != UINT32_MAX;
+}
+
+/* Max (+1) or min (−1) algorithm at corner k of triangle t (notes §5). */
+static int corner_side(const resurfi_restorer *r, uint32_t t, int k, vec3 p, vec3 pj, vec3 nj, vec3 n_opt, vec3 p0)
+{
+    if (r->opt.side_rule == RESURF_SIDE_LOCAL || !r->k1)
+        return v3_dot(v3_sub(n_opt, nj), v3_sub(p0, pj)) < 0 ? -1 : +1;
+    /* the paper: convex (both curvatures > 0) max, concave min, otherwise the sign of the normal curvature in the
+     * direction from the corner towards p, projected on the corner's tangent plane */
+    size_t s = r->corner_split[3 * (size_t)t + k];
+    double k1 = r->k1[s], k2 = r->k2[s];
+    if (k2 > 0)
+        return +1;
+    if (k1 < 0)
+        return -1;
+    vec3 d = v3_sub(p, pj);
+    d = v3_madd(d, nj, -v3_dot(d, nj));
+    double c1 = v3_dot(d, v3_load(r->dir1 + 3 * s)), c2 = v3_dot(d, v3_load(r->dir2 + 3 * s));
+    double kn = k1 * c1 * c1 + k2 * c2 * c2;
+    if (c1 == 0 && c2 == 0)
+        kn = k1 + k2;
+    return kn < 0 ? -1 : +1;
+}
+
+/* The closest triangle to p. A triangle `hint` near p (or UINT32_MAX) bounds the tree walk by its distance: the
+ * answer is the same (the tree returns the lowest-index triangle among those at the least distance, and the hint is
+ * within reach), only found sooner. */
+static uint32_t closest_triangle(const resurfi_restorer *r, vec3 p, uint32_t hint, double bary[3], double *dist2)
+{
+    double reach2 = INFINITY;
+    if (hint != UINT32_MAX) {
+        const uint32_t *i = r->tris + 3 * (size_t)hint;
+        vec3 q = resurfi_closest_on_triangle(p, position(r, i[0]), position(r, i[1]), position(r, i[2]), NULL);
+        reach2 = v3_dist2(p, q);
+    }
+    uint32_t t = resurfi_bvh_closest(r->bvh, p, reach2, NULL, bary, dist2);
+    if (t == UINT32_MAX && reach2 < INFINITY) /* a hint in a part the tree skipped (non-finite corners) */
+        t = resurfi_bvh_closest(r->bvh, p, INFINITY, NULL, bary, dist2);
+    return t;
+}
+
+resurfi_restore_outcome resurfi_restorer_point(const resurfi_restorer *r, vec3 p, vec3 *out_point,
+                                               uint32_t *out_triangle, double out_bary[3])
+{
+    return resurfi_restorer_point_near(r, p, UINT32_MAX, out_point, out_triangle, out_bary);
+}
+
+resurfi_restore_outcome resurfi_restorer_point_near(const resurfi_restorer *r, vec3 p, uint32_t hint,
+                                                    vec3 *out_point, uint32_t *out_triangle, double out_bary[3])
+{
+    if (hint >= r->triangle_count)
+        hint = UINT32_MAX;
+    *out_point = p;
+    if (out_triangle)
+        *out_triangle = UINT32_MAX;
+    if (!v3_finite(p))
+        return RESURFI_LEFT_NONFINITE;
+    const resurf_restore_options *o = &r->opt;
+    resurfi_restore_outcome outcome = RESURFI_RESTORED;
+    vec3 cur = p;
+    uint32_t chosen = UINT32_MAX; /* the triangle of the previous step's root */
+    double len = 0, t_guess = 0;
+    for (unsigned it = 0; it < o->iterations; ++it) {
+        root_choice c = {.triangle = UINT32_MAX};
+        resurfi_optdir_root roots[3];
+        /* After the first step, the previous root's triangle usually still holds the root: near S the lines
+         * p0 + t n(p0) of neighbouring triangles do not cross, so a root inside a triangle is the only one and
+         * finding it from the closest triangle would give the same answer at the price of a tree walk and a
+         * cubic solve; a few Newton steps from the previous root find it. */
+        if (chosen != UINT32_MAX && near_on(r, chosen, cur, t_guess, &roots[0]) && is_inside(&roots[0])) {
+            c.triangle = chosen;
+            c.root = roots[0];
+            len = local_length(r, chosen);
+        } else {
+            double bary[3], dist2;
+            uint32_t t = closest_triangle(r, cur, chosen != UINT32_MAX ? chosen : hint, bary, &dist2);
+            if (t == UINT32_MAX)
+                return RESURFI_LEFT_FAR; /* an empty tree */
+            len = local_length(r, t);
+            if (it == 0 && dist2 > (o->far_factor * len) * (o->far_factor * len))
+                return RESURFI_LEFT_FAR;
+            if (out_triangle)
+                *out_triangle = t;
+            if (out_bary)
+                memcpy(out_bary, bary, sizeof bary);
+            vec3 on_curve;
+            int feature = restore_on_feature(r, t, bary, cur, &on_curve);
+            if (feature != FEATURE_NONE) {
+                cur = on_curve;
+                outcome = feature == FEATURE_BOUNDARY ? RESURFI_RESTORED_BOUNDARY : RESURFI_RESTORED_CREASE;
+                break;
+            }
+            int which;
+            if (foot_location(bary, &which) == 2 && dist2 <= 1e-24 * len * len)
+                break; /* on a vertex of M, so on S */
+            if (!choose_root(r, t, cur, &c) || (!is_inside(&c.root) && o->outside == RESURF_OUTSIDE_KEEP)) {
+                if (it == 0)
+                    return RESURFI_LEFT_OUTSIDE;
+                break;
+            }
+        }
+        outcome = is_inside(&c.root) ? RESURFI_RESTORED : RESURFI_RESTORED_LEAST_OUTSIDE;
+        chosen = is_inside(&c.root) ? c.triangle : UINT32_MAX;
+        vec3 n_opt = resurfi_restorer_normal(r, c.triangle, c.root.bary);
+        if (v3_len2(n_opt) == 0)
+            break;
+        vec3 pj[3], nj[3], p0 = v3(0, 0, 0);
+        for (int k = 0; k < 3; ++k) {
+            pj[k] = position(r, r->tris[3 * (size_t)c.triangle + k]);
+            nj[k] = corner_normal(r, c.triangle, k);
+            p0 = v3_madd(p0, pj[k], c.root.bary[k]);
+        }
+        double sum = 0;
+        for (int k = 0; k < 3; ++k) {
+            if (o->displacement == RESURF_DISPLACEMENT_NORMAL_SECTION)
+                sum += resurfi_glide_normal_section(cur, pj[k], nj[k], n_opt);
+            else
+                sum += resurfi_glide_paper(cur, pj[k], nj[k], n_opt,
+                                           corner_side(r, c.triangle, k, cur, pj[k], nj[k], n_opt, p0));
+        }
+        double step = o->step * sum;
+        cur = v3_madd(cur, n_opt, step);
+        t_guess = c.root.t + step; /* the line's parameter moves about as much as the point along it */
+        if (out_triangle)
+            *out_triangle = c.triangle;
+        if (out_bary)
+            memcpy(out_bary, c.root.bary, sizeof c.root.bary);
+        if (fabs(step) < o->tolerance_rel * len)
+            break;
+    }
+    *out_point = cur;
+    return outcome;
+}
+
+/* ---- the public call ----------------------------------------------------------------------------------------- */
+
+typedef struct restore_job {
+    const resurfi_restorer *r;
+    const double *in;
+    double *out;
+    uint8_t *outcome;
+} restore_job;
+
+static int restore_block(void *ctx, size_t begin, size_t end, unsigned worker)
+{
+    (void)worker;
+    restore_job *j = ctx;
+    uint32_t hint = UINT32_MAX; /* the previous vertex's triangle: vertices in index order are usually neighbours */
+    for (size_t v = begin; v < end; ++v) {
+        vec3 q;
+        uint32_t t;
+        j->outcome[v] = (uint8_t)resurfi_restorer_point_near(j->r, v3_load(j->in + 3 * v), hint, &q, &t, NULL);
+        if (t != UINT32_MAX)
+            hint = t;
+        v3_store(j->out + 3 * v, q);
+    }
+    return 0;
+}
+
+resurf_status resurf_restore(const resurf_mesh *original, resurf_mesh *processed,
+                             const resurf_restore_options *options, resurf_restore_report *out_report,
+                             resurf_error *error)
+{
+    resurfi_clear_error(error);
+    if (!original || !processed)
+        return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "%s mesh is NULL",
+                             original ? "the processed" : "the original");
+    resurf_status s = check_options(options, error);
+    if (s != RESURF_OK)
+        return s;
+    resurf_restore_options opt = options ? *options : resurf_restore_options_default();
+    if (resurfi_progress(&opt.progress, "restore", 0))
+        return resurfi_error(error, RESURF_ERR_CANCELLED, "restore cancelled");
+    resurfi_restorer *r = NULL;
+    if ((s = resurfi_restorer_create(original, &opt, &r, error)) != RESURF_OK)
+        return s;
+    size_t n = processed->vertex_count;
+    double *out = resurfi_alloc_array(n, 3 * sizeof(double));
+    uint8_t *outcome = resurfi_alloc_array(n, 1);
+    if (!out || !outcome) {
+        free(out);
+        free(outcome);
+        resurfi_restorer_free(r);
+        return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory restoring %zu vertices", n);
+    }
+    restore_job job = {r, processed->positions, out, outcome};
+    unsigned threads = resurfi_thread_count(opt.threads);
+    for (size_t begin = 0; begin < n; begin += CHUNK_VERTICES) {
+        size_t count = n - begin < CHUNK_VERTICES ? n - begin : CHUNK_VERTICES;
+        restore_job chunk = {r, job.in + 3 * begin, job.out + 3 * begin, job.outcome + begin};
+        resurfi_parallel_for(count, BLOCK_VERTICES, threads, restore_block, &chunk);
+        if (resurfi_progress(&opt.progress, "restore", (double)(begin + count) / (double)n)) {
+            free(out);
+            free(outcome);
+            resurfi_restorer_free(r);
+            return resurfi_error(error, RESURF_ERR_CANCELLED, "restore cancelled");
+        }
+    }
+    resurf_restore_report rep;
+    memset(&rep, 0, sizeof rep);
+    rep.vertices = n;
+    double total = 0;
+    for (size_t v = 0; v < n; ++v) {
+        double d = v3_dist(v3_load(out + 3 * v), v3_load(processed->positions + 3 * v));
+        if (d > 0) /* d is NaN only for a non-finite input, which is left where it is */
+            ++rep.moved, total += d;
+        if (d > rep.max_displacement)
+            rep.max_displacement = d;
+        switch ((resurfi_restore_outcome)outcome[v]) {
+        case RESURFI_RESTORED: break;
+        case RESURFI_RESTORED_LEAST_OUTSIDE: ++rep.used_least_outside; break;
+        case RESURFI_RESTORED_BOUNDARY: ++rep.on_boundary; break;
+        case RESURFI_RESTORED_CREASE: ++rep.on_crease; break;
+        case RESURFI_LEFT_FAR: ++rep.left_far; break;
+        case RESURFI_LEFT_OUTSIDE: ++rep.left_outside; break;
+        case RESURFI_LEFT_NONFINITE: ++rep.left_nonfinite; break;
+        }
+    }
+    rep.mean_displacement = rep.moved ? total / (double)rep.moved : 0;
+    memcpy(processed->positions, out, n * 3 * sizeof(double));
+    free(out);
+    free(outcome);
+    resurfi_restorer_free(r);
+    if (out_report)
+        *out_report = rep;
+    return RESURF_OK;
+}

@@ -10,7 +10,11 @@ if [ ! -f build-fuzz/build.ninja ]; then
   CC=clang CXX=clang++ meson setup build-fuzz -Dbuildtype=debugoptimized -Dfuzz=true -Dtests=false \
     -Dbenchmarks=false -Db_sanitize=address,undefined -Db_lundef=false >/dev/null
 fi
-ninja -C build-fuzz >/dev/null
+if ! ninja -C build-fuzz >build-fuzz/build.log 2>&1; then
+  tail -n 40 build-fuzz/build.log >&2
+  echo "fuzz: building build-fuzz failed" >&2
+  exit 1
+fi
 names=("$@")
 [ ${#names[@]} -gt 0 ] || names=($(cd build-fuzz/tests/fuzz && ls fuzz_* | grep -v '\.p$' | sed 's/^fuzz_//'))
 mkdir -p build-fuzz/crashes

@@ -1,16 +1,124 @@
 #!/usr/bin/env bash
-# Runs the whole test suite of build/ and ends with one plain line "tests: N passed, N failed".
+# The whole test suite in four parts, run in order; ends with one plain line "tests: N passed, N failed" that
+# counts every test of every part (a meson test per run, a fuzz harness per run, a failed build as one failure).
+#   1. release: every suite of build/ (configured and built by tools/setup.sh);
+#   2. asan:    every suite again under ASan+UBSan (clang, debug build in build-asan/; leaks count as errors);
+#   3. valgrind: the core suites under memcheck on the release build (any error or leak fails the suite);
+#   4. fuzz:    every libFuzzer harness for FUZZ_SECONDS seconds each (default 30), via tools/fuzz.sh.
+# Parts run even after a failure (so the count is complete); the exit status is non-zero if anything failed.
+#   bash tools/test.sh [SUITE ...]       SUITEs limit parts 1 and 2 to those meson tests
+#   TEST_PARTS=release,asan bash tools/test.sh    runs only the named parts
 set -uo pipefail
 cd "$(dirname "$0")/.."
-meson test -C build --print-errorlogs "$@"
-rc=$?
-python3 - <<'PY' || true
-import json
+
+parts=${TEST_PARTS:-release,asan,valgrind,fuzz}
+export FUZZ_SECONDS=${FUZZ_SECONDS:-30}
+passed=0
+failed=0
+
+has_part() { [[ ",$parts," == *",$1,"* ]]; }
+
+# Adds a meson test log's results to the totals (OK and expected failures pass; skips are not counted).
+count_log() {
+  local counts
+  counts=$(python3 - "$1" <<'PY'
+import json, sys
 passed = failed = 0
-for line in open("build/meson-logs/testlog.json"):
+for line in open(sys.argv[1]):
     r = json.loads(line)["result"]
-    if r in ("OK", "EXPECTEDFAIL", "SKIP"): passed += r != "SKIP"
-    else: failed += 1
-print(f"tests: {passed} passed, {failed} failed")
+    if r in ("OK", "EXPECTEDFAIL"): passed += 1
+    elif r != "SKIP": failed += 1
+print(passed, failed)
 PY
-exit $rc
+) || counts="0 1"
+  passed=$((passed + ${counts% *}))
+  failed=$((failed + ${counts#* }))
+}
+
+# Runs `meson test` in a build folder (already built) and counts its log. Extra arguments go to meson test.
+run_meson_tests() {
+  local build=$1 log=$2
+  shift 2
+  rm -f "$build/meson-logs/$log"
+  meson test -C "$build" --no-rebuild --print-errorlogs "$@"
+  if [ -f "$build/meson-logs/$log" ]; then
+    count_log "$build/meson-logs/$log"
+  else
+    echo "test: no test log in $build" >&2
+    failed=$((failed + 1))
+  fi
+}
+
+# Builds a folder; on failure counts one failed test and returns 1.
+build() {
+  if ! ninja -C "$1" >"$1/build.log" 2>&1; then
+    tail -n 40 "$1/build.log" >&2
+    echo "test: building $1 failed" >&2
+    failed=$((failed + 1))
+    return 1
+  fi
+}
+
+part() { printf '\n==== %s ====\n' "$*"; }
+
+start=$SECONDS
+
+if has_part release; then
+  part "1/4 release suite (build/)"
+  if [ ! -f build/build.ninja ]; then
+    meson setup build --buildtype=release -Dwerror=true >/dev/null
+  fi
+  build build && run_meson_tests build testlog.json "$@"
+fi
+
+if has_part asan; then
+  part "2/4 ASan+UBSan suite (build-asan/, clang debug)"
+  # clang: gcc's ASan takes minutes over the tinygltf translation unit. -Db_lundef=false: clang's sanitizer
+  # runtime is linked into executables only.
+  if [ ! -f build-asan/build.ninja ]; then
+    CC=clang CXX=clang++ meson setup build-asan -Dbuildtype=debug -Db_sanitize=address,undefined \
+      -Db_lundef=false -Dbenchmarks=false >/dev/null
+  fi
+  if build build-asan; then
+    ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
+      run_meson_tests build-asan testlog.json "$@"
+  fi
+fi
+
+if has_part valgrind; then
+  part "3/4 core suites under valgrind (build/, memcheck)"
+  core=(mesh weld adjacency validate repair io io_obj io_ply io_off io_stl io_corpus bvh normals curvature optdir
+        glide restore smooth metrics)
+  # Only the suites that exist (tests/meson.build builds a suite once its file is there).
+  existing=$(meson test -C build --list 2>/dev/null | sed -n 's/^resurf \/ //p')
+  suites=()
+  for s in "${core[@]}"; do
+    grep -qx "$s" <<<"$existing" && suites+=("$s")
+  done
+  if [ -f build/build.ninja ]; then
+    run_meson_tests build testlog-valgrind.json --setup valgrind "${suites[@]}"
+  else
+    echo "test: build/ is not configured" >&2
+    failed=$((failed + 1))
+  fi
+fi
+
+if has_part fuzz; then
+  part "4/4 fuzz harnesses, ${FUZZ_SECONDS} s each (build-fuzz/)"
+  fuzz_out=$(mktemp)
+  bash tools/fuzz.sh "$FUZZ_SECONDS" | tee "$fuzz_out"
+  # tools/fuzz.sh prints "harness executions crashes corpus" rows; a missing table is a failure (the build).
+  rows=$(awk '/^[a-z0-9_]+ +[0-9?]+ +[0-9]+ +[0-9]+ files$/ {print $3}' "$fuzz_out")
+  if [ -z "$rows" ]; then
+    failed=$((failed + 1))
+  else
+    for crashes in $rows; do
+      if [ "$crashes" -eq 0 ]; then passed=$((passed + 1)); else failed=$((failed + 1)); fi
+    done
+  fi
+  rm -f "$fuzz_out"
+fi
+
+printf '\n(%d s)\n' $((SECONDS - start))
+echo "tests: $passed passed, $failed failed"
+[ "$failed" -eq 0 ]

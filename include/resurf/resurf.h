@@ -267,6 +267,10 @@ RESURF_API resurf_load_options resurf_load_options_default(void);
 /* Loads a mesh. Polygons are triangulated (fan); STL is welded on load (exact positions). Indices are checked:
  * a file whose faces point outside its vertices fails with RESURF_ERR_PARSE and the face's line or offset.
  * Non-finite coordinates are refused. No allocation exceeds what the file's size can justify.
+ * Folders, devices and sockets are refused (RESURF_ERR_IO) without being read. A pipe, whose size is not known
+ * beforehand, is read up to 64 MiB + 1 KiB × max_triangles bytes (RESURF_ERR_LIMIT beyond; no bound when
+ * max_triangles is 0); a FIFO that no process has open for writing reads as empty (the call never waits for a
+ * writer). A read blocked on a pipe that a signal interrupts asks options->progress whether to go on.
  * The format comes from options->format, else the extension, else the content. Per format:
  * - OBJ: one vertex per distinct v/vt/vn triple used by faces (with positions only, vertex i is "v" line i);
  *   faces may refer only to elements defined above them (negative indices count back); o/g/usemtl become
@@ -334,50 +338,80 @@ typedef enum resurf_displacement {
     RESURF_DISPLACEMENT_COUNT
 } resurf_displacement;
 
-/* What a vertex whose optimal-direction root lies outside its closest triangle does. */
+/* What a vertex does whose optimal-direction root (the foot of the line through it along the interpolated normal)
+ * lies outside its closest triangle, which happens where triangles tie (a vertex nearest an edge or a vertex of M)
+ * and on strongly curved or badly shaped parts. */
 typedef enum resurf_outside_policy {
-    RESURF_OUTSIDE_NEIGHBOURS = 0, /* try the triangles around the closest one; else use the least-outside root */
-    RESURF_OUTSIDE_LEAST,          /* use the least-outside root of the closest triangle */
-    RESURF_OUTSIDE_KEEP,           /* leave the vertex where it is (reported) */
+    RESURF_OUTSIDE_NEIGHBOURS = 0, /* take a root inside one of the triangles around the closest one's corners
+                                      (smallest |t|); else the least-outside root among them all */
+    RESURF_OUTSIDE_LEAST,          /* take the least-outside root of the closest triangle (no search) */
+    RESURF_OUTSIDE_KEEP,           /* search like NEIGHBOURS; with no inside root, leave the vertex where it is
+                                      (counted in left_outside; a vertex that already moved stops there) */
     RESURF_OUTSIDE_COUNT
 } resurf_outside_policy;
 
+/* Options of resurf_restore(). Lengths are relative to the *local edge length* of M: at a triangle, the largest of
+ * its corners' mean incident edge lengths. */
 typedef struct resurf_restore_options {
     size_t struct_size;
-    resurf_normal_scheme normals;      /* default: see resurf_restore_options_default() */
-    resurf_side_rule side_rule;
-    resurf_displacement displacement;
-    double step;                       /* k: p ← p + k Σ δ_j N_opt; paper 1/6; 1/3 takes the average */
-    unsigned iterations;               /* paper 5; with tolerance_rel > 0 the maximum number */
-    double tolerance_rel;              /* stop a vertex once its step is below this × its local edge length; 0 = off */
-    double crease_angle_deg;           /* dihedral angle above which an edge is a crease; default 60; 180 = none */
-    int use_input_normals;             /* 1: split normals of M (different normals at one position) mark creases */
-    double far_factor;                 /* vertices farther from M than this × local edge length stay; default 4 */
-    resurf_outside_policy outside;
-    int boundary;                      /* 1 (default): vertices nearest a boundary edge stay on the boundary curve */
-    unsigned threads;                  /* 0 = all cores */
-    resurf_progress progress;
+    resurf_normal_scheme normals;      /* vertex normals of M; default JET */
+    resurf_side_rule side_rule;        /* max/min choice of formula (2); default CURVATURE (unused by NORMAL_SECTION) */
+    resurf_displacement displacement;  /* default NORMAL_SECTION */
+    double step;                       /* k in p ← p + k Σ_j δ_j N_opt, in (0, 1]; each δ_j estimates the whole
+                                          displacement, so 1/3 takes their average (default); the paper uses 1/6 */
+    unsigned iterations;               /* steps per vertex, 1..1000, each with the closest triangle and N_opt taken
+                                          again at the new position; with tolerance_rel > 0 the most; default 10,
+                                          paper 5 */
+    double tolerance_rel;              /* stop a vertex once its step is below this × the local edge length;
+                                          0 = always run `iterations` steps; default 1e-6 */
+    double crease_angle_deg;           /* an edge whose two faces' normals differ by more than this is a crease
+                                          (slivers with an angle over 150° take no part); a boundary or crease
+                                          curve that turns by more than this at a vertex has a corner there;
+                                          [0, 180], 180 = no creases; default 60 */
+    int use_input_normals;             /* M's own normals, when it has them: 0 = ignore them; 1 (default) = an edge
+                                          whose faces carry different normals (by more than 1°) at an end is a crease;
+                                          2 = that, and use them as M's vertex normals (the scheme fills in corners
+                                          whose input normal is zero) */
+    double far_factor;                 /* a vertex farther from M than this × the local edge length is left where it
+                                          is (counted in left_far); > 0, INFINITY = never; default 4 */
+    resurf_outside_policy outside;     /* default NEIGHBOURS */
+    int boundary;                      /* 1 (default): a vertex whose closest point on M lies on a boundary edge (or
+                                          a boundary vertex) is put on the boundary curve (circular arcs through the
+                                          edge's end points, tangent to the boundary there); 0: treated like others */
+    unsigned threads;                  /* 0 = all cores; results are the same for every count */
+    resurf_progress progress;          /* stage "restore", called between blocks of vertices */
 } resurf_restore_options;
 
-/* resurf's default (chosen by measurement, see README). */
+/* resurf's default: JET normals, the normal-section displacement, k = 1/3, up to 10 steps with tolerance 1e-6,
+ * crease angle 60°, boundaries kept, far factor 4. Chosen by measurement on the irregular sphere and the cubic
+ * surface after Laplacian smoothing (see README). */
 RESURF_API resurf_restore_options resurf_restore_options_default(void);
-/* The paper's preset: inverse-area normals, curvature rule, formula (2), k = 1/6, 5 iterations. */
+/* The paper's preset: inverse-area normals, curvature rule, formula (2), k = 1/6, 5 iterations, no tolerance (the
+ * other fields as in the default). */
 RESURF_API resurf_restore_options resurf_restore_options_paper(void);
 
 typedef struct resurf_restore_report {
-    size_t vertices;              /* vertices considered */
-    size_t moved;                 /* vertices that moved */
-    double mean_displacement, max_displacement;
+    size_t vertices;              /* vertices of the processed mesh (all are considered, referenced or not) */
+    size_t moved;                 /* vertices whose position changed */
+    double mean_displacement;     /* mean distance moved, over the vertices that moved */
+    double max_displacement;
     size_t left_far;              /* left alone: farther from M than far_factor × local edge length */
-    size_t left_outside;          /* left alone: no root inside a triangle (RESURF_OUTSIDE_KEEP) */
-    size_t used_least_outside;    /* restored with a root outside its triangle */
-    size_t on_boundary;           /* restored along a boundary curve */
-    size_t on_crease;             /* restored along a crease */
-    size_t left_nonfinite;        /* non-finite input position */
+    size_t left_outside;          /* left alone: no root inside a triangle (RESURF_OUTSIDE_KEEP), or no root */
+    size_t used_least_outside;    /* restored with a root outside its triangle (the last step's) */
+    size_t on_boundary;           /* put on a boundary curve */
+    size_t on_crease;             /* put on a crease curve */
+    size_t left_nonfinite;        /* non-finite input position, left as it is */
 } resurf_restore_report;
 
-/* Moves the vertices of `processed` (M') onto the smooth surface S approximated by `original` (M), in place.
- * Connectivity and attributes are unchanged. out_report may be NULL. On error or cancel, processed is unchanged. */
+/* Moves the vertices of `processed` (M') onto the smooth surface S approximated by `original` (M), in place
+ * (Semenova, Savchenko, Hagiwara, "Reconstruction of Shapes Based on Normals Analysis"). Connectivity and
+ * attributes are unchanged; each vertex is handled on its own, so vertices at one position move together.
+ * A vertex that coincides with a vertex of M stays where it is (M's vertices are taken to lie on S).
+ * M is welded exactly first (attribute seams are not boundaries). original must have triangles, indices in range
+ * and finite referenced positions (else RESURF_ERR_INVALID_MESH); processed may have non-finite positions (left as
+ * they are) and no triangles. options NULL = resurf_restore_options_default(). out_report may be NULL.
+ * On error or cancel, processed is unchanged. Memory: about 300 bytes per triangle of M at the peak, plus 25 per
+ * vertex of M'. */
 RESURF_API resurf_status resurf_restore(const resurf_mesh *original, resurf_mesh *processed,
                                         const resurf_restore_options *options, resurf_restore_report *out_report,
                                         resurf_error *error);
@@ -484,6 +518,143 @@ RESURF_API resurf_status resurf_triangle_quality(const resurf_mesh *mesh, double
                                                  resurf_error *error);
 
 /* ------------------------------------------------------------------------------------------------------------- */
+/* Simplification                                                                                                */
+/* ------------------------------------------------------------------------------------------------------------- */
+
+/* Where the vertex that replaces a collapsed edge goes (before restoration). */
+typedef enum resurf_placement {
+    RESURF_PLACEMENT_QUADRIC = 0, /* Garland–Heckbert optimum; where the quadric is flat in a direction the point stays
+                                     at the midpoint along it; if it lands farther than the edge length from the
+                                     midpoint, the best of the end points and the midpoint */
+    RESURF_PLACEMENT_MIDPOINT,    /* the edge's midpoint (the paper's §4.2 setting) */
+    RESURF_PLACEMENT_COUNT
+} resurf_placement;
+
+/* When the simplified mesh's vertices are moved onto the smooth surface S of the input (see resurf_restore). */
+typedef enum resurf_restore_mode {
+    RESURF_RESTORE_INLINE = 0, /* after every collapse, the new vertex is restored onto S of the ORIGINAL mesh */
+    RESURF_RESTORE_POST,       /* once, at the end, every vertex of the result */
+    RESURF_RESTORE_NONE,       /* plain edge collapse */
+    RESURF_RESTORE_MODE_COUNT
+} resurf_restore_mode;
+
+typedef struct resurf_simplify_options {
+    size_t struct_size;
+    /* Stopping: the run stops at whichever of these comes first; a field at 0 is not used. With all four at 0 the
+     * mesh is simplified as far as the guards allow. */
+    size_t target_triangles;      /* stop once the result has at most this many triangles; default 0 */
+    double target_ratio;          /* ... at most ratio × the input's triangles, in [0, 1]; default 0.5 */
+    double max_error;             /* never collapse where the estimated error (RMS distance of the new vertex to the
+                                     planes of the input triangles merged into it) exceeds this, in mesh units;
+                                     default 0 (off) */
+    double max_error_rel;         /* the same relative to the input's bounding-box diagonal; default 0 (off) */
+
+    resurf_placement placement;   /* default RESURF_PLACEMENT_QUADRIC */
+    resurf_restore_mode restore;  /* default RESURF_RESTORE_INLINE */
+    const resurf_restore_options *restore_options; /* how points are restored; NULL = resurf_restore_options_default()
+                                     with normals = RESURF_NORMALS_MAX (as good for LODs, whose error is the chord
+                                     sag, and faster to set up than the jet fit); its threads and progress are
+                                     ignored: this call's are used */
+    double sag_offset;            /* with restoration: once vertices lie on S, the facets between them cut inside
+                                     convex parts of S by the chord sag (about h²κ/8 for an edge of length h where
+                                     S bends by κ). Each output vertex is moved along S's normal by sag_offset × its
+                                     estimated local sag so that the facets straddle S. 0 = vertices exactly on S;
+                                     range [0, 4]; default: see resurf_simplify_options_default() */
+    int cost_at_restored;         /* with INLINE: 1 = rank candidate collapses by the quadric at their restored
+                                     position (restores every candidate: slower); default 0 */
+
+    /* Guards. A candidate collapse that breaks one is skipped and counted in the report. The link condition (no
+     * non-manifold result) and attribute seams (a seam vertex collapses only along its seam) always apply; vertices
+     * that are non-manifold in the input never move. */
+    int lock_border;              /* 1 = border vertices never move or disappear; default 0 (borders are kept by
+                                     boundary quadrics and collapse only along themselves) */
+    double min_angle_deg;         /* skip collapses that leave a changed triangle with a smallest angle under this
+                                     (unless that angle did not decrease); in [0, 60); 0 = off (default) */
+    double max_normal_change_deg; /* skip collapses that turn a triangle's normal by more than this (flips and
+                                     folds); in (0, 180]; default: see resurf_simplify_options_default() */
+    double border_weight;         /* weight of the planes through border and seam edges, perpendicular to their
+                                     triangles, relative to the triangles' own planes; >= 0; default 1 */
+
+    size_t measure_samples;       /* area-uniform samples of the result (plus all its vertices) whose distance to the
+                                     input surface is measured for the report; default 100000; 0 = no measurement */
+    unsigned threads;             /* 0 = all cores; the result is the same for any value */
+    resurf_progress progress;     /* stages "prepare", "simplify", "finish"; a cancel returns RESURF_ERR_CANCELLED */
+} resurf_simplify_options;
+
+/* The defaults (chosen by measurement, see README). */
+RESURF_API resurf_simplify_options resurf_simplify_options_default(void);
+
+/* Why a simplification stopped. */
+typedef enum resurf_simplify_stop {
+    RESURF_STOP_TARGET = 0,   /* the triangle target was reached */
+    RESURF_STOP_ERROR,        /* no collapse is left under max_error / max_error_rel (some were skipped for it) */
+    RESURF_STOP_BLOCKED,      /* every remaining collapse is blocked by a guard (see the blocked_* counts) */
+    RESURF_STOP_COUNT
+} resurf_simplify_stop;
+
+typedef struct resurf_simplify_report {
+    size_t input_triangles;          /* triangles of the input that take part (a repeated position drops one) */
+    size_t input_positions;          /* distinct positions they use */
+    size_t triangles, vertices;      /* the result's counts */
+    size_t positions;                /* distinct positions of the result (vertices minus seam copies) */
+    size_t collapses;                /* edge collapses done (cumulative over LOD levels) */
+    resurf_simplify_stop stop;
+    double max_error_estimate;       /* largest estimated error (see max_error) of a collapse done */
+
+    /* Measured: distance from the result's surface (its vertices and measure_samples area-uniform samples) to the
+     * input's surface, one-sided, exact point–triangle distances through a BVH over the input. The *_rel figures
+     * divide by diagonal. NaN when not measured (measure_samples = 0) or the result is empty. */
+    double max_distance, mean_distance;
+    double max_distance_rel, mean_distance_rel;
+    double diagonal;                 /* of the input's bounding box */
+
+    /* Candidate collapses rejected by each guard. A candidate is counted each time it is taken up, so one edge can
+     * be counted several times. */
+    size_t blocked_link;             /* link condition: the result would be non-manifold or a double-sided sheet */
+    size_t blocked_flip;             /* a triangle would flip, fold or degenerate (max_normal_change_deg) */
+    size_t blocked_min_angle;        /* min_angle_deg */
+    size_t blocked_border;           /* a border vertex would leave its border, or lock_border */
+    size_t blocked_seam;             /* a seam vertex would leave its seam */
+    size_t blocked_nonmanifold;      /* an end is a non-manifold vertex of the input, or the edge has > 2 triangles */
+    size_t skipped_error;            /* candidates over max_error / max_error_rel */
+
+    size_t restored;                 /* points restored onto S (INLINE: one per collapse; POST: one per position) */
+    size_t restore_left;             /* of those, points the restorer left where they were (too far, no root) */
+} resurf_simplify_report;
+
+/* Simplifies a mesh by edge collapses (Garland–Heckbert quadrics) over welded positions, restoring new vertices
+ * onto the smooth surface the input approximates (Semenova et al., §4.2) as options->restore says.
+ * - in: finite positions where triangles refer, indices in range (else RESURF_ERR_INVALID_MESH naming the element);
+ *   triangles with a repeated position are dropped; any topology is accepted (non-manifold vertices stay put).
+ *   Not modified.
+ * - options: NULL = defaults.
+ * - out: receives a new mesh (free with resurf_mesh_free) with the input's attribute layout: normals from S's
+ *   smooth normal field at each vertex (without restoration: the input's normals interpolated), texcoords,
+ *   colours and extras interpolated from the input at the vertex's closest input triangle on the same side of an
+ *   attribute seam, and triangle groups from the input triangle each result triangle descends from. Triangles keep
+ *   the input's relative order; vertices are numbered in order of first use.
+ * - out_report: may be NULL.
+ * The result is byte-identical for the same input and options whatever options->threads is. On error or cancel
+ * *out is NULL. Time about n log n for n triangles; memory about 200 bytes per input triangle plus the restorer. */
+RESURF_API resurf_status resurf_simplify(const resurf_mesh *in, const resurf_simplify_options *options,
+                                         resurf_mesh **out, resurf_simplify_report *out_report,
+                                         resurf_error *error);
+
+/* A chain of levels of detail: level i has at most ratios[i] × the input's triangles and is simplified from level
+ * i − 1 (the collapse sequence continues where the previous level stopped), yet every level is restored onto S of
+ * the ORIGINAL input, never onto a previous level. options' target_triangles and target_ratio are ignored;
+ * max_error / max_error_rel still apply (a level that cannot go further equals the previous one).
+ * - ratios: count values in (0, 1], non-increasing (else RESURF_ERR_INVALID_ARGUMENT).
+ * - out_levels: room for count mesh pointers; each level is freed by the caller with resurf_mesh_free.
+ * - out_reports: room for count reports, or NULL.
+ * On error or cancel every out_levels[i] is NULL. The CLI writes level i (1-based, in the order given) of
+ * `-o STEM.EXT` to STEM_lodI.EXT: `resurf simplify in.ply -o out.ply --levels 0.5,0.1` writes out_lod1.ply and
+ * out_lod2.ply. */
+RESURF_API resurf_status resurf_simplify_lods(const resurf_mesh *in, const resurf_simplify_options *options,
+                                              const double *ratios, size_t count, resurf_mesh **out_levels,
+                                              resurf_simplify_report *out_reports, resurf_error *error);
+
+/* ------------------------------------------------------------------------------------------------------------- */
 /* Scenes (glTF)                                                                                                 */
 /* ------------------------------------------------------------------------------------------------------------- */
 
@@ -502,6 +673,8 @@ RESURF_API resurf_status resurf_triangle_quality(const resurf_mesh *mesh, double
  * that repeat an index are dropped), KHR_draco_mesh_compression and KHR_mesh_quantization inputs are decoded.
  * Every index, accessor, buffer range, node graph and Draco reference is checked before it is used: a malformed
  * or hostile file fails with RESURF_ERR_PARSE and a one-line message naming the glTF object ("accessors[3]: ...").
+ * JSON nested deeper than 128 levels, numbers that overflow to infinity and node graphs with cycles or nodes with
+ * two parents are refused; so is a document that requires an extension resurf does not know.
  *
  * External image files (a relative `uri`) are referenced, not copied: write the output next to the input, or copy
  * the images. Embedded images (data: URIs, bufferViews) are carried into the output. */
@@ -609,7 +782,8 @@ typedef struct resurf_scene_save_report {
     size_t levels;                                   /* 1 + the most levels of detail any primitive has */
     size_t level_triangles[RESURF_SCENE_MAX_LEVELS]; /* triangles of each level (point/line primitives excluded) */
     size_t level_bytes[RESURF_SCENE_MAX_LEVELS];     /* geometry bytes of each level: the Draco payloads, or the
-                                                        index and vertex data of its triangle primitives */
+                                                        index and vertex data, of its triangle primitives (morphed,
+                                                        point and line primitives, copied untouched, not counted) */
     size_t files;                                    /* files written, .bin files included */
     size_t total_bytes;                              /* their total size */
 } resurf_scene_save_report;

@@ -1,6 +1,7 @@
 /* The resurf command-line tool: shared helpers for the commands. The CLI only parses arguments and calls the
  * public API (resurf.h); it never reaches into the library's internals.
- * Exit status: 0 success, 1 the work failed (bad input, I/O), 2 usage error. Errors: one line on stderr,
+ * Exit status: 0 success, 1 the work failed (bad input, I/O), 2 usage error, 128 + N interrupted by signal N
+ * (SIGINT 130, SIGTERM 143). Errors: one line on stderr,
  * "resurf: FILE: what is wrong". */
 #ifndef RESURF_CLI_H
 #define RESURF_CLI_H
@@ -23,6 +24,8 @@ int cmd_convert(int argc, char **argv);
 int cmd_restore(int argc, char **argv);
 int cmd_smooth(int argc, char **argv);
 int cmd_compare(int argc, char **argv);
+int cmd_simplify(int argc, char **argv);
+int cmd_lod(int argc, char **argv);
 
 /* Prints "resurf: <message>" on stderr and returns CLI_FAILED. */
 int cli_fail(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
@@ -43,14 +46,33 @@ int cli_parse_unsigned(const char *command, const char *option, const char *text
 /* Refuses (prints, returns CLI_FAILED) when output names the same file as one of the inputs; else 0. */
 int cli_check_output(const char *output, const char *const *inputs, int input_count);
 
-/* A progress reporter that draws a bar on stderr when it is a terminal (and does nothing otherwise).
- * cli_progress_done() ends the line. */
+/* Interrupts. cli_install_signal_handlers() makes SIGINT and SIGTERM set a flag and nothing else (a second one
+ * kills as usual). The progress callback of cli_progress() returns non-zero once the flag is set, so the running
+ * library call cancels: it frees its memory, removes its temporary file and returns RESURF_ERR_CANCELLED, which
+ * cli_fail_error() does not print. main() then prints "resurf: interrupted by SIGINT" and exits 128 + the signal
+ * number (130, 143). cli_interrupted() is that signal number, or 0. */
+void cli_install_signal_handlers(void);
+int cli_interrupted(void);
+
+/* The progress callback for every library call that takes one: it cancels after an interrupt, and draws a bar
+ * on stderr when stderr is a terminal. cli_progress_done() ends the bar's line. */
 resurf_progress cli_progress(void);
 void cli_progress_done(void);
 
-/* Loads a mesh or prints the error; returns 0 or CLI_FAILED. */
+/* --max-triangles N, taken by every command that loads meshes: cli_load() refuses inputs with more triangles
+ * (RESURF_ERR_LIMIT). The default is resurf_load_options_default()'s (100 million); 0 removes the limit.
+ * Add CLI_MAX_TRIANGLES_OPTION to the command's long options and call cli_set_max_triangles() for 'T'. */
+#define CLI_MAX_TRIANGLES_OPTION {"max-triangles", required_argument, NULL, 'T'}
+#define CLI_MAX_TRIANGLES_HELP                                                                                  \
+    "  --max-triangles N  refuse inputs with more than N triangles (default 100000000; 0 = no limit)\n"
+int cli_set_max_triangles(const char *command, const char *text);
+/* The limit in force, for commands that load through other calls (resurf_scene_load: load options' max_triangles). */
+size_t cli_max_triangles(void);
+
+/* Loads a mesh or prints the error; returns 0 or CLI_FAILED. Honours --max-triangles and interrupts. */
 int cli_load(const char *path, resurf_format format, resurf_mesh **out);
-/* Saves a mesh or prints the error; returns 0 or CLI_FAILED. */
+/* Saves a mesh or prints the error; returns 0 or CLI_FAILED. Writes nothing after an interrupt, and installs
+ * cli_progress() when options->progress has no callback (options may be NULL). */
 int cli_save(const resurf_mesh *mesh, const char *path, const resurf_save_options *options);
 
 /* JSON helpers: a string with escapes, and a number that stays valid JSON for non-finite values (null). */

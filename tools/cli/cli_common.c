@@ -1,6 +1,7 @@
 /* Helpers shared by the resurf commands: errors, option parsing, output safety, progress bar, JSON. */
 #include <errno.h>
 #include <math.h>
+#include <signal.h>
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
@@ -22,6 +23,9 @@ int cli_fail(const char *fmt, ...)
 
 int cli_fail_error(const resurf_error *error)
 {
+    /* A cancel after an interrupt is not a failure to describe: main() reports the interrupt once. */
+    if (error->status == RESURF_ERR_CANCELLED && cli_interrupted())
+        return CLI_FAILED;
     char text[1024];
     resurf_format_error(text, sizeof text, error);
     return cli_fail("%s", text);
@@ -99,6 +103,29 @@ int cli_check_output(const char *output, const char *const *inputs, int input_co
     return 0;
 }
 
+/* ---- interrupts ---------------------------------------------------------------------------------------------- */
+
+/* The only thing a handler may safely do here: note the signal. The library notices through the progress
+ * callback, at its next report (a bounded interval), and cleans up on its own thread. */
+static volatile sig_atomic_t interrupted_by;
+
+static void note_signal(int signo) { interrupted_by = signo; }
+
+void cli_install_signal_handlers(void)
+{
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = note_signal;
+    sigemptyset(&sa.sa_mask);
+    /* No SA_RESTART: a read blocked on a pipe returns EINTR, and the library asks the progress callback whether
+     * to go on. SA_RESETHAND: a second signal takes the default action, in case something does not notice. */
+    sa.sa_flags = SA_RESETHAND;
+    sigaction(SIGINT, &sa, NULL);
+    sigaction(SIGTERM, &sa, NULL);
+}
+
+int cli_interrupted(void) { return (int)interrupted_by; }
+
 /* ---- progress bar -------------------------------------------------------------------------------------------- */
 
 typedef struct bar_state {
@@ -109,9 +136,8 @@ typedef struct bar_state {
 
 static bar_state bar; /* the CLI is single-threaded; the library itself keeps no such state */
 
-static int draw_bar(void *user, const char *stage, double fraction)
+static int draw_bar(const char *stage, double fraction)
 {
-    (void)user;
     int permille = (int)(fraction * 1000);
     if (bar.active && stage == bar.last_stage && permille / 5 == bar.last_permille / 5 && permille < 1000)
         return 0;
@@ -128,11 +154,21 @@ static int draw_bar(void *user, const char *stage, double fraction)
     return 0;
 }
 
+static int on_progress(void *user, const char *stage, double fraction)
+{
+    if (interrupted_by)
+        return 1;
+    if (user)
+        draw_bar(stage, fraction);
+    return 0;
+}
+
 resurf_progress cli_progress(void)
 {
-    resurf_progress p = {NULL, NULL};
-    if (isatty(fileno(stderr)))
-        p.fn = draw_bar;
+    static int terminal = -1;
+    if (terminal < 0)
+        terminal = isatty(fileno(stderr));
+    resurf_progress p = {on_progress, terminal ? (void *)&bar : NULL}; /* user: where to draw, or NULL */
     return p;
 }
 
@@ -145,10 +181,26 @@ void cli_progress_done(void)
 
 /* ---- load / save --------------------------------------------------------------------------------------------- */
 
+static size_t max_triangles = 100000000; /* resurf_load_options_default()'s, until --max-triangles says */
+
+int cli_set_max_triangles(const char *command, const char *text)
+{
+    unsigned long n = 0;
+    if (cli_parse_unsigned(command, "max-triangles", text, &n))
+        return CLI_USAGE;
+    max_triangles = n;
+    return 0;
+}
+
+size_t cli_max_triangles(void) { return max_triangles; }
+
 int cli_load(const char *path, resurf_format format, resurf_mesh **out)
 {
+    if (interrupted_by)
+        return CLI_FAILED;
     resurf_load_options options = resurf_load_options_default();
     options.format = format;
+    options.max_triangles = max_triangles;
     options.progress = cli_progress();
     resurf_error error;
     resurf_status s = resurf_mesh_load(path, &options, out, &error);
@@ -158,8 +210,14 @@ int cli_load(const char *path, resurf_format format, resurf_mesh **out)
 
 int cli_save(const resurf_mesh *mesh, const char *path, const resurf_save_options *options)
 {
+    if (interrupted_by)
+        return CLI_FAILED; /* the user asked to stop: write nothing, not even a complete file */
+    resurf_save_options so = options ? *options : resurf_save_options_default();
+    if (!so.progress.fn)
+        so.progress = cli_progress();
     resurf_error error;
-    resurf_status s = resurf_mesh_save(mesh, path, options, &error);
+    resurf_status s = resurf_mesh_save(mesh, path, &so, &error);
+    cli_progress_done();
     return s == RESURF_OK ? 0 : cli_fail_error(&error);
 }
 

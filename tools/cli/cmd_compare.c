@@ -7,7 +7,7 @@
 
 static const char usage[] =
     "usage: resurf compare REF TEST [--json] [--samples N] [--seed S] [--threads N]\n"
-    "                      [--heatmap OUT.ply] [--heatmap-max D]\n\n"
+    "                      [--heatmap OUT.ply] [--heatmap-max D] [--max-triangles N]\n\n"
     "Measures how far TEST's surface is from REF's: two-sided Hausdorff, mean and RMS distance (area-uniform\n"
     "samples plus all vertices, exact point-triangle distances), each one-sided direction, the distances of\n"
     "TEST's vertices to REF's surface, TEST's triangle quality (smallest angle, mean smallest angle, share of\n"
@@ -21,7 +21,8 @@ static const char usage[] =
     "  --heatmap OUT.ply  write TEST with vertex colours from its vertices' distance to REF:\n"
     "                     blue (0) - cyan - green - yellow - red (the largest distance, or --heatmap-max)\n"
     "  --heatmap-max D    distance shown as red (default: the largest vertex distance); larger ones are red too\n"
-    "  --format FMT       read both meshes as obj|ply|off|stl whatever their names say\n";
+    "  --format FMT       read both meshes as obj|ply|off|stl whatever their names say\n"
+    CLI_MAX_TRIANGLES_HELP;
 
 /* Blue → cyan → green → yellow → red for t in [0, 1]: a ramp whose hue tells the distance at a glance. */
 static void ramp(double t, double rgb[3])
@@ -137,6 +138,7 @@ int cmd_compare(int argc, char **argv)
         {"heatmap", required_argument, NULL, 'm'},
         {"heatmap-max", required_argument, NULL, 'x'},
         {"format", required_argument, NULL, 'f'},
+        CLI_MAX_TRIANGLES_OPTION,
         {"help", no_argument, NULL, 'h'},
         {NULL, 0, NULL, 0},
     };
@@ -183,6 +185,10 @@ int cmd_compare(int argc, char **argv)
         case 'f':
             if ((format = resurf_format_from_name(optarg)) == RESURF_FORMAT_AUTO)
                 return cli_usage("compare", "unknown format '%s'", optarg);
+            break;
+        case 'T':
+            if (cli_set_max_triangles("compare", optarg))
+                return CLI_USAGE;
             break;
         case 'h':
             fputs(usage, stdout);

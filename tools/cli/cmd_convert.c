@@ -2,13 +2,14 @@
 #include "cli.h"
 
 static const char usage[] =
-    "usage: resurf convert IN OUT [--from FMT] [--to FMT] [--ascii]\n\n"
+    "usage: resurf convert IN OUT [--from FMT] [--to FMT] [--ascii] [--max-triangles N]\n\n"
     "Converts a mesh between OBJ, PLY, OFF and STL (chosen by extension unless --from/--to say otherwise),\n"
     "keeping the attributes the target format can hold. OUT is written to a temporary file and renamed into\n"
     "place; writing onto IN is refused.\n\n"
     "  --from FMT   read IN as obj|ply|off|stl\n"
     "  --to FMT     write OUT as obj|ply|off|stl\n"
-    "  --ascii      PLY and STL: write text instead of binary\n";
+    "  --ascii      PLY and STL: write text instead of binary\n"
+    CLI_MAX_TRIANGLES_HELP;
 
 int cmd_convert(int argc, char **argv)
 {
@@ -16,6 +17,7 @@ int cmd_convert(int argc, char **argv)
         {"from", required_argument, NULL, 'f'},
         {"to", required_argument, NULL, 't'},
         {"ascii", no_argument, NULL, 'a'},
+        CLI_MAX_TRIANGLES_OPTION,
         {"help", no_argument, NULL, 'h'},
         {NULL, 0, NULL, 0},
     };
@@ -34,6 +36,10 @@ int cmd_convert(int argc, char **argv)
             break;
         case 'a':
             save.binary = 0;
+            break;
+        case 'T':
+            if (cli_set_max_triangles("convert", optarg))
+                return CLI_USAGE;
             break;
         case 'h':
             fputs(usage, stdout);

@@ -4,13 +4,14 @@
 #include "cli.h"
 
 static const char usage[] =
-    "usage: resurf info FILE [--json] [--format obj|ply|off|stl]\n\n"
+    "usage: resurf info FILE [--json] [--format obj|ply|off|stl] [--max-triangles N]\n\n"
     "Prints vertices, triangles, distinct positions, connected components, boundary loops and edges,\n"
     "non-manifold edges and vertices, degenerate and zero-area triangles, inconsistently oriented edges,\n"
     "unreferenced vertices, the bounding box and the attributes of a mesh.\n"
     "Topology is counted over welded positions, so attribute seams are not boundaries.\n\n"
     "  --json           machine-readable output on stdout\n"
-    "  --format FMT     read as FMT whatever the file name says\n";
+    "  --format FMT     read as FMT whatever the file name says\n"
+    CLI_MAX_TRIANGLES_HELP;
 
 static void print_text(const char *path, const resurf_mesh *m, const resurf_validation *v, const double lo[3],
                        const double hi[3], double diagonal)
@@ -82,6 +83,7 @@ int cmd_info(int argc, char **argv)
     static const struct option options[] = {
         {"json", no_argument, NULL, 'j'},
         {"format", required_argument, NULL, 'f'},
+        CLI_MAX_TRIANGLES_OPTION,
         {"help", no_argument, NULL, 'h'},
         {NULL, 0, NULL, 0},
     };
@@ -96,6 +98,10 @@ int cmd_info(int argc, char **argv)
         case 'f':
             if ((format = resurf_format_from_name(optarg)) == RESURF_FORMAT_AUTO)
                 return cli_usage("info", "unknown format '%s'", optarg);
+            break;
+        case 'T':
+            if (cli_set_max_triangles("info", optarg))
+                return CLI_USAGE;
             break;
         case 'h':
             fputs(usage, stdout);

@@ -4,7 +4,8 @@
 #include "cli.h"
 
 static const char usage[] =
-    "usage: resurf smooth IN -o OUT [--method METHOD] [--iterations N] [--lambda L] [--mu M]\n\n"
+    "usage: resurf smooth IN -o OUT [--method METHOD] [--iterations N] [--lambda L] [--mu M]\n"
+    "                             [--max-triangles N]\n\n"
     "Smooths the positions of a mesh; connectivity and attributes stay. Attribute seams move together,\n"
     "boundary and non-manifold vertices stay fixed. Normals are written as they were read (not recomputed).\n\n"
     "  -o, --output OUT    the smoothed mesh (format from the extension; refuses to overwrite IN)\n"
@@ -15,7 +16,8 @@ static const char usage[] =
     "  --iterations N      default 10 (a Taubin iteration is one lambda and one mu step)\n"
     "  --lambda L          step in (0, 1]; default 0.5 (laplacian, bilaplacian), 0.33 (taubin)\n"
     "  --mu M              Taubin's negative step in [-1, 0); default -0.34\n"
-    "  --format FMT        read IN as obj|ply|off|stl whatever its name says\n";
+    "  --format FMT        read IN as obj|ply|off|stl whatever its name says\n"
+    CLI_MAX_TRIANGLES_HELP;
 
 static int parse_method(const char *text, resurf_smooth_method *out)
 {
@@ -36,6 +38,7 @@ int cmd_smooth(int argc, char **argv)
         {"lambda", required_argument, NULL, 'l'},
         {"mu", required_argument, NULL, 'u'},
         {"format", required_argument, NULL, 'f'},
+        CLI_MAX_TRIANGLES_OPTION,
         {"help", no_argument, NULL, 'h'},
         {NULL, 0, NULL, 0},
     };
@@ -75,6 +78,10 @@ int cmd_smooth(int argc, char **argv)
         case 'f':
             if ((format = resurf_format_from_name(optarg)) == RESURF_FORMAT_AUTO)
                 return cli_usage("smooth", "unknown format '%s'", optarg);
+            break;
+        case 'T':
+            if (cli_set_max_triangles("smooth", optarg))
+                return CLI_USAGE;
             break;
         case 'h':
             fputs(usage, stdout);

@@ -1,4 +1,5 @@
 /* resurf: command dispatch, --help and --version. */
+#include <signal.h>
 #include <string.h>
 
 #include "cli.h"
@@ -9,6 +10,8 @@ static const cli_command commands[] = {
     {"restore", "move the vertices of a processed mesh back onto the original's smooth surface", cmd_restore},
     {"smooth", "smooth a mesh (Laplacian, Taubin, cotangent Taubin, bilaplacian)", cmd_smooth},
     {"compare", "measure the distance between two meshes' surfaces and triangle quality", cmd_compare},
+    {"simplify", "simplify a mesh by edge collapses restored onto its smooth surface (levels of detail)", cmd_simplify},
+    {"lod", "levels of detail of a glTF scene (or mesh) as MSFT_lod, files or side by side, Draco-compressed", cmd_lod},
 };
 
 static void print_help(FILE *f)
@@ -19,7 +22,7 @@ static void print_help(FILE *f)
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; ++i)
         fprintf(f, "  %-9s %s\n", commands[i].name, commands[i].summary);
     fprintf(f, "\n'resurf COMMAND --help' describes a command.\n"
-               "Exit status: 0 success, 1 the work failed, 2 usage error.\n");
+               "Exit status: 0 success, 1 the work failed, 2 usage error, 130/143 interrupted by SIGINT/SIGTERM.\n");
 }
 
 int main(int argc, char **argv)
@@ -38,8 +41,18 @@ int main(int argc, char **argv)
         return CLI_OK;
     }
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; ++i)
-        if (!strcmp(name, commands[i].name))
-            return commands[i].run(argc - 1, argv + 1);
+        if (!strcmp(name, commands[i].name)) {
+            cli_install_signal_handlers();
+            int rc = commands[i].run(argc - 1, argv + 1);
+            int signo = cli_interrupted();
+            if (signo) {
+                /* The library cancelled at its next progress report and removed its temporary file; any output
+                 * either was complete before the signal or was not written. */
+                fprintf(stderr, "resurf: interrupted by %s\n", signo == SIGINT ? "SIGINT" : "SIGTERM");
+                return 128 + signo;
+            }
+            return rc;
+        }
     fprintf(stderr, "resurf: unknown command '%s' (see 'resurf --help')\n", name);
     return CLI_USAGE;
 }

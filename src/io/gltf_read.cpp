@@ -1,0 +1,575 @@
+// Reading glTF 2.0 with tinygltf, behind the C view of gltf_shim.h.
+//
+// Two passes over the JSON. The first (nlohmann::json) takes every KHR_draco_mesh_compression extension, and the
+// `indices` of its primitive, out of the document and records them: tinygltf is compiled without Draco (see
+// tinygltf_impl.cpp) and would otherwise refuse the indices accessor that has no bufferView. It also counts numbers
+// that overflowed to infinity (1e999). The second pass is tinygltf's own load, with file callbacks that read
+// regular files only and an image callback that keeps image bytes as they are.
+//
+// Nothing here judges the content: indices, ranges and references are copied into the view as the file gives
+// them, and scene.c checks them (the Khronos glTF 2.0 specification, sections 3.6-3.7 and 5).
+#include <sys/stat.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <deque>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <new>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+#include <tiny_gltf.h>
+
+#include "gltf_internal.hpp"
+
+namespace {
+
+// The first non-empty line of a tinygltf message, for a one-line error.
+std::string first_line(const std::string &text)
+{
+    size_t begin = 0;
+    while (begin < text.size()) {
+        size_t end = text.find('\n', begin);
+        if (end == std::string::npos)
+            end = text.size();
+        std::string line = text.substr(begin, end - begin);
+        while (!line.empty() && (line.back() == '\r' || line.back() == ' '))
+            line.pop_back();
+        if (!line.empty())
+            return line;
+        begin = end + 1;
+    }
+    return std::string();
+}
+
+long long json_index(const nlohmann::json &j)
+{
+    if (j.is_number_integer())
+        return j.get<long long>();
+    if (j.is_number_unsigned()) {
+        unsigned long long u = j.get<unsigned long long>();
+        return u > (unsigned long long)INT64_MAX ? RESURFI_GLTF_BAD : (long long)u;
+    }
+    return RESURFI_GLTF_BAD;
+}
+
+// Counts non-finite numbers (JSON has no literal for them, but 1e999 parses as infinity) and remembers where the
+// first one is, as a JSON pointer.
+void find_nonfinite(const nlohmann::json &j, std::string &where, size_t &count, std::string &first)
+{
+    if (j.is_number_float()) {
+        if (!std::isfinite(j.get<double>())) {
+            if (count++ == 0)
+                first = where.empty() ? "/" : where;
+        }
+    } else if (j.is_object()) {
+        for (auto it = j.begin(); it != j.end(); ++it) {
+            size_t n = where.size();
+            where += "/" + it.key();
+            find_nonfinite(it.value(), where, count, first);
+            where.resize(n);
+        }
+    } else if (j.is_array()) {
+        for (size_t i = 0; i < j.size(); ++i) {
+            size_t n = where.size();
+            where += "/" + std::to_string(i);
+            find_nonfinite(j[i], where, count, first);
+            where.resize(n);
+        }
+    }
+}
+
+// Takes the Draco extensions (and their primitives' indices) out of the document. Returns true when it changed.
+bool take_draco(nlohmann::json &root, std::map<std::pair<size_t, size_t>, DracoRecord> &out)
+{
+    bool changed = false;
+    auto meshes = root.find("meshes");
+    if (meshes == root.end() || !meshes->is_array())
+        return false;
+    for (size_t m = 0; m < meshes->size(); ++m) {
+        nlohmann::json &mesh = (*meshes)[m];
+        if (!mesh.is_object())
+            continue;
+        auto prims = mesh.find("primitives");
+        if (prims == mesh.end() || !prims->is_array())
+            continue;
+        for (size_t p = 0; p < prims->size(); ++p) {
+            nlohmann::json &prim = (*prims)[p];
+            if (!prim.is_object())
+                continue;
+            auto exts = prim.find("extensions");
+            if (exts == prim.end() || !exts->is_object())
+                continue;
+            auto draco = exts->find("KHR_draco_mesh_compression");
+            if (draco == exts->end())
+                continue;
+            DracoRecord rec;
+            rec.view = RESURFI_GLTF_NONE;
+            rec.indices = RESURFI_GLTF_NONE;
+            rec.malformed = true;
+            if (draco->is_object()) {
+                auto view = draco->find("bufferView");
+                if (view != draco->end())
+                    rec.view = json_index(*view);
+                auto attrs = draco->find("attributes");
+                if (attrs != draco->end() && attrs->is_object()) {
+                    rec.malformed = false;
+                    for (auto a = attrs->begin(); a != attrs->end(); ++a)
+                        rec.attributes.emplace_back(a.key(), json_index(a.value()));
+                }
+            }
+            auto indices = prim.find("indices");
+            if (indices != prim.end()) {
+                rec.indices = json_index(*indices);
+                prim.erase(indices);
+            }
+            exts->erase(draco);
+            if (exts->empty())
+                prim.erase("extensions");
+            out[std::make_pair(m, p)] = std::move(rec);
+            changed = true;
+        }
+    }
+    return changed;
+}
+
+// ---- tinygltf callbacks ---------------------------------------------------------------------------------------
+
+struct FsContext {
+    uint64_t max_bytes;
+};
+
+bool fs_exists(const std::string &path, void *)
+{
+    struct stat st;
+    return stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode);
+}
+
+// URIs are used as they are: no ~, $VAR or command expansion (tinygltf's default runs wordexp()).
+std::string fs_expand(const std::string &path, void *) { return path; }
+
+bool fs_read(std::vector<unsigned char> *out, std::string *err, const std::string &path, void *user)
+{
+    const FsContext *ctx = static_cast<const FsContext *>(user);
+    struct stat st;
+    if (stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) {
+        if (err)
+            *err += "'" + path + "' is not a regular file\n";
+        return false;
+    }
+    if ((uint64_t)st.st_size > ctx->max_bytes) {
+        if (err)
+            *err += "'" + path + "' is larger than the limit\n";
+        return false;
+    }
+    std::ifstream f(path, std::ios::binary);
+    if (!f) {
+        if (err)
+            *err += "cannot open '" + path + "'\n";
+        return false;
+    }
+    out->resize((size_t)st.st_size);
+    if (!out->empty() && !f.read(reinterpret_cast<char *>(out->data()), (std::streamsize)out->size())) {
+        if (err)
+            *err += "cannot read '" + path + "'\n";
+        return false;
+    }
+    return true;
+}
+
+bool fs_write(std::string *err, const std::string &, const std::vector<unsigned char> &, void *)
+{
+    if (err)
+        *err += "resurf writes files itself\n";
+    return false;
+}
+
+// Images are never decoded: the encoded bytes of an embedded (data: URI) image are kept for the writer; an image
+// in a bufferView stays there (the writer copies the bufferView), so its bytes are not kept twice.
+bool keep_image_bytes(tinygltf::Image *image, const int, std::string *, std::string *, int, int,
+                      const unsigned char *bytes, int size, void *)
+{
+    if (image->bufferView >= 0)
+        return true;
+    if (size > 0)
+        image->image.assign(bytes, bytes + size);
+    image->width = image->height = -1;
+    image->as_is = true;
+    return true;
+}
+
+int components_of(int type)
+{
+    switch (type) {
+    case TINYGLTF_TYPE_SCALAR: return 1;
+    case TINYGLTF_TYPE_VEC2: return 2;
+    case TINYGLTF_TYPE_VEC3: return 3;
+    case TINYGLTF_TYPE_VEC4: return 4;
+    case TINYGLTF_TYPE_MAT2: return 4;
+    case TINYGLTF_TYPE_MAT3: return 9;
+    case TINYGLTF_TYPE_MAT4: return 16;
+    default: return 0;
+    }
+}
+
+// ---- the C view ---------------------------------------------------------------------------------------------
+
+void add_ref(resurfi_gltf_doc *doc, std::string where, long long index, size_t limit)
+{
+    doc->strings.push_back(std::move(where));
+    resurfi_gltf_ref r;
+    r.where = doc->strings.back().c_str();
+    r.index = index;
+    r.limit = limit;
+    doc->refs.push_back(r);
+}
+
+const char *keep(resurfi_gltf_doc *doc, const std::string &s)
+{
+    doc->strings.push_back(s);
+    return doc->strings.back().c_str();
+}
+
+void add_texture_ref(resurfi_gltf_doc *doc, const std::string &where, int index)
+{
+    if (index != -1)
+        add_ref(doc, where + ".index", index, doc->model.textures.size());
+}
+
+void build_view(resurfi_gltf_doc *doc)
+{
+    const tinygltf::Model &m = doc->model;
+    resurfi_gltf_view &v = doc->view;
+
+    for (const tinygltf::Buffer &b : m.buffers)
+        doc->buffers.push_back(resurfi_gltf_buffer{b.data.data(), b.data.size()});
+    for (const tinygltf::BufferView &bv : m.bufferViews)
+        doc->views.push_back(resurfi_gltf_buffer_view{bv.buffer, bv.byteOffset, bv.byteLength, bv.byteStride});
+    for (const tinygltf::Accessor &a : m.accessors) {
+        resurfi_gltf_accessor c;
+        std::memset(&c, 0, sizeof c);
+        c.buffer_view = a.bufferView;
+        c.byte_offset = a.byteOffset;
+        c.component_type = a.componentType;
+        c.normalized = a.normalized;
+        c.count = a.count;
+        c.components = components_of(a.type);
+        c.matrix = a.type == TINYGLTF_TYPE_MAT2 || a.type == TINYGLTF_TYPE_MAT3 || a.type == TINYGLTF_TYPE_MAT4;
+        c.sparse = a.sparse.isSparse;
+        if (c.sparse) {
+            c.sparse_count = a.sparse.count;
+            c.sparse_indices_view = a.sparse.indices.bufferView;
+            c.sparse_indices_offset = a.sparse.indices.byteOffset;
+            c.sparse_indices_type = a.sparse.indices.componentType;
+            c.sparse_values_view = a.sparse.values.bufferView;
+            c.sparse_values_offset = a.sparse.values.byteOffset;
+        }
+        doc->accessors.push_back(c);
+    }
+
+    // Primitives: named lists first (their addresses must not move), then the structs pointing into them.
+    size_t prim_total = 0;
+    for (const tinygltf::Mesh &mesh : m.meshes)
+        prim_total += mesh.primitives.size();
+    doc->prims.resize(prim_total);
+    doc->named.resize(prim_total * 3);
+    doc->target_begin.resize(prim_total);
+    size_t k = 0;
+    for (size_t mi = 0; mi < m.meshes.size(); ++mi) {
+        const tinygltf::Mesh &mesh = m.meshes[mi];
+        for (size_t pi = 0; pi < mesh.primitives.size(); ++pi, ++k) {
+            const tinygltf::Primitive &p = mesh.primitives[pi];
+            resurfi_gltf_primitive &c = doc->prims[k];
+            std::memset(&c, 0, sizeof c);
+            std::vector<resurfi_gltf_named> &attrs = doc->named[3 * k];
+            for (const auto &a : p.attributes)
+                attrs.push_back(resurfi_gltf_named{keep(doc, a.first), a.second});
+            std::vector<resurfi_gltf_named> &targets = doc->named[3 * k + 1];
+            std::vector<size_t> &begin = doc->target_begin[k];
+            for (const auto &t : p.targets) {
+                begin.push_back(targets.size());
+                for (const auto &a : t)
+                    targets.push_back(resurfi_gltf_named{keep(doc, a.first), a.second});
+            }
+            begin.push_back(targets.size());
+            c.mode = p.mode;
+            c.indices = p.indices;
+            c.attribute_count = attrs.size();
+            c.attributes = attrs.data();
+            c.target_count = p.targets.size();
+            c.target_begin = begin.data();
+            c.target_attributes = targets.data();
+            if (p.material != -1)
+                add_ref(doc, "meshes[" + std::to_string(mi) + "].primitives[" + std::to_string(pi) + "].material",
+                        p.material, m.materials.size());
+            auto d = doc->draco.find(std::make_pair(mi, pi));
+            if (d != doc->draco.end()) {
+                std::vector<resurfi_gltf_named> &ids = doc->named[3 * k + 2];
+                for (const auto &a : d->second.attributes)
+                    ids.push_back(resurfi_gltf_named{keep(doc, a.first), a.second});
+                c.draco = 1;
+                c.draco_malformed = d->second.malformed;
+                c.draco_view = d->second.view;
+                c.indices = d->second.indices;
+                c.draco_attribute_count = ids.size();
+                c.draco_attributes = ids.data();
+            }
+        }
+    }
+    k = 0;
+    for (const tinygltf::Mesh &mesh : m.meshes) {
+        doc->meshes.push_back(resurfi_gltf_mesh{keep(doc, mesh.name), mesh.primitives.size(), &doc->prims[k]});
+        k += mesh.primitives.size();
+    }
+
+    std::vector<char> animated(m.nodes.size(), 0);
+    for (const tinygltf::Animation &a : m.animations)
+        for (const tinygltf::AnimationChannel &c : a.channels)
+            if (c.target_node >= 0 && (size_t)c.target_node < m.nodes.size() &&
+                (c.target_path == "translation" || c.target_path == "rotation" || c.target_path == "scale"))
+                animated[(size_t)c.target_node] = 1;
+    doc->children.resize(m.nodes.size());
+    for (size_t ni = 0; ni < m.nodes.size(); ++ni) {
+        const tinygltf::Node &n = m.nodes[ni];
+        resurfi_gltf_node c;
+        std::memset(&c, 0, sizeof c);
+        c.mesh = n.mesh;
+        c.skin = n.skin;
+        c.camera = n.camera;
+        c.animated = animated[ni];
+        doc->children[ni].assign(n.children.begin(), n.children.end());
+        c.child_count = n.children.size();
+        c.children = doc->children[ni].data();
+        c.matrix_count = n.matrix.size();
+        c.translation_count = n.translation.size();
+        c.rotation_count = n.rotation.size();
+        c.scale_count = n.scale.size();
+        for (size_t i = 0; i < n.matrix.size() && i < 16; ++i)
+            c.matrix[i] = n.matrix[i];
+        for (size_t i = 0; i < n.translation.size() && i < 3; ++i)
+            c.translation[i] = n.translation[i];
+        for (size_t i = 0; i < n.rotation.size() && i < 4; ++i)
+            c.rotation[i] = n.rotation[i];
+        for (size_t i = 0; i < n.scale.size() && i < 3; ++i)
+            c.scale[i] = n.scale[i];
+        doc->nodes.push_back(c);
+        std::string where = "nodes[" + std::to_string(ni) + "]";
+        if (n.skin != -1)
+            add_ref(doc, where + ".skin", n.skin, m.skins.size());
+        if (n.camera != -1)
+            add_ref(doc, where + ".camera", n.camera, m.cameras.size());
+    }
+    doc->scene_nodes.resize(m.scenes.size());
+    for (size_t si = 0; si < m.scenes.size(); ++si) {
+        doc->scene_nodes[si].assign(m.scenes[si].nodes.begin(), m.scenes[si].nodes.end());
+        doc->scenes.push_back(resurfi_gltf_scene{doc->scene_nodes[si].size(), doc->scene_nodes[si].data()});
+    }
+
+    for (size_t i = 0; i < m.materials.size(); ++i) {
+        const tinygltf::Material &mat = m.materials[i];
+        std::string where = "materials[" + std::to_string(i) + "]";
+        add_texture_ref(doc, where + ".pbrMetallicRoughness.baseColorTexture",
+                        mat.pbrMetallicRoughness.baseColorTexture.index);
+        add_texture_ref(doc, where + ".pbrMetallicRoughness.metallicRoughnessTexture",
+                        mat.pbrMetallicRoughness.metallicRoughnessTexture.index);
+        add_texture_ref(doc, where + ".normalTexture", mat.normalTexture.index);
+        add_texture_ref(doc, where + ".occlusionTexture", mat.occlusionTexture.index);
+        add_texture_ref(doc, where + ".emissiveTexture", mat.emissiveTexture.index);
+    }
+    for (size_t i = 0; i < m.textures.size(); ++i) {
+        std::string where = "textures[" + std::to_string(i) + "]";
+        if (m.textures[i].source != -1)
+            add_ref(doc, where + ".source", m.textures[i].source, m.images.size());
+        if (m.textures[i].sampler != -1)
+            add_ref(doc, where + ".sampler", m.textures[i].sampler, m.samplers.size());
+    }
+    for (size_t i = 0; i < m.images.size(); ++i) {
+        const tinygltf::Image &img = m.images[i];
+        if (img.bufferView != -1)
+            add_ref(doc, "images[" + std::to_string(i) + "].bufferView", img.bufferView, m.bufferViews.size());
+        else if (!img.uri.empty())
+            doc->warnings.push_back("images[" + std::to_string(i) + "] refers to the external file '" + img.uri +
+                                    "': it is referenced by the output, not copied");
+    }
+    for (size_t i = 0; i < m.skins.size(); ++i) {
+        const tinygltf::Skin &s = m.skins[i];
+        std::string where = "skins[" + std::to_string(i) + "]";
+        if (s.inverseBindMatrices != -1)
+            add_ref(doc, where + ".inverseBindMatrices", s.inverseBindMatrices, m.accessors.size());
+        if (s.skeleton != -1)
+            add_ref(doc, where + ".skeleton", s.skeleton, m.nodes.size());
+        for (size_t j = 0; j < s.joints.size(); ++j)
+            add_ref(doc, where + ".joints[" + std::to_string(j) + "]", s.joints[j], m.nodes.size());
+    }
+    for (size_t i = 0; i < m.animations.size(); ++i) {
+        const tinygltf::Animation &a = m.animations[i];
+        std::string where = "animations[" + std::to_string(i) + "]";
+        for (size_t j = 0; j < a.samplers.size(); ++j) {
+            std::string w = where + ".samplers[" + std::to_string(j) + "]";
+            add_ref(doc, w + ".input", a.samplers[j].input, m.accessors.size());
+            add_ref(doc, w + ".output", a.samplers[j].output, m.accessors.size());
+        }
+        for (size_t j = 0; j < a.channels.size(); ++j) {
+            std::string w = where + ".channels[" + std::to_string(j) + "]";
+            add_ref(doc, w + ".sampler", a.channels[j].sampler, a.samplers.size());
+            if (a.channels[j].target_node != -1)
+                add_ref(doc, w + ".target.node", a.channels[j].target_node, m.nodes.size());
+        }
+    }
+
+    for (const std::string &e : m.extensionsUsed)
+        doc->ext_used.push_back(keep(doc, e));
+    for (const std::string &e : m.extensionsRequired)
+        doc->ext_required.push_back(keep(doc, e));
+    for (const std::string &w : doc->warnings)
+        doc->warning_ptrs.push_back(w.c_str());
+
+    v.buffer_count = doc->buffers.size();
+    v.buffers = doc->buffers.data();
+    v.buffer_view_count = doc->views.size();
+    v.buffer_views = doc->views.data();
+    v.accessor_count = doc->accessors.size();
+    v.accessors = doc->accessors.data();
+    v.mesh_count = doc->meshes.size();
+    v.meshes = doc->meshes.data();
+    v.node_count = doc->nodes.size();
+    v.nodes = doc->nodes.data();
+    v.scene_count = doc->scenes.size();
+    v.scenes = doc->scenes.data();
+    v.default_scene = m.defaultScene;
+    v.ref_count = doc->refs.size();
+    v.refs = doc->refs.data();
+    v.nonfinite_count = doc->nonfinite_count;
+    v.first_nonfinite = doc->first_nonfinite.c_str();
+    v.extension_used_count = doc->ext_used.size();
+    v.extensions_used = doc->ext_used.data();
+    v.extension_required_count = doc->ext_required.size();
+    v.extensions_required = doc->ext_required.data();
+    v.warning_count = doc->warning_ptrs.size();
+    v.warnings = doc->warning_ptrs.data();
+}
+
+resurf_status parse(const char *json, size_t json_size, const unsigned char *bin, size_t bin_size, int is_glb,
+                    const char *base_dir, const char *name, uint64_t max_external_bytes, resurfi_gltf_doc **out_doc,
+                    resurf_error *error)
+{
+    std::unique_ptr<resurfi_gltf_doc> doc(new resurfi_gltf_doc());
+
+    nlohmann::json root;
+    try {
+        root = nlohmann::json::parse(json, json + json_size);
+    } catch (const nlohmann::json::out_of_range &e) {
+        // nlohmann refuses numbers that overflow a double (1e999): they would be infinite.
+        std::string what = e.what();
+        size_t at = what.find("parsing '");
+        return resurfi_fail(error, RESURF_ERR_PARSE, name, 0, -1, "a number of the JSON is not finite: %s",
+                            at == std::string::npos ? what.c_str() : what.c_str() + at + 8);
+    } catch (const nlohmann::json::parse_error &e) {
+        std::string what = e.what();
+        size_t colon = what.rfind(": ");
+        return resurfi_fail(error, RESURF_ERR_PARSE, name, 0, (long long)e.byte - (e.byte > 0),
+                            "the JSON is malformed: %s", colon == std::string::npos ? what.c_str()
+                                                                                    : what.c_str() + colon + 2);
+    }
+    if (!root.is_object())
+        return resurfi_fail(error, RESURF_ERR_PARSE, name, 0, -1, "the JSON is not an object");
+    std::string where;
+    find_nonfinite(root, where, doc->nonfinite_count, doc->first_nonfinite);
+    std::string rewritten;
+    if (take_draco(root, doc->draco))
+        rewritten = root.dump();
+    root = nlohmann::json();
+
+    tinygltf::TinyGLTF loader;
+    FsContext fs_ctx{max_external_bytes};
+    tinygltf::FsCallbacks fs = {&fs_exists, &fs_expand, &fs_read, &fs_write, &fs_ctx};
+    loader.SetFsCallbacks(fs);
+    loader.SetImageLoader(&keep_image_bytes, nullptr);
+    loader.SetImageWriter(nullptr, nullptr);
+    std::string err, warn;
+    const char *text = rewritten.empty() ? json : rewritten.data();
+    size_t text_size = rewritten.empty() ? json_size : rewritten.size();
+    std::string dir = base_dir ? base_dir : "";
+    bool ok;
+    if (is_glb) {
+        // tinygltf reads a .glb from memory only: put the (possibly rewritten) JSON and the BIN chunk back into a
+        // container. The C side has checked the original container already.
+        size_t json_padded = (text_size + 3) & ~(size_t)3, bin_padded = (bin_size + 3) & ~(size_t)3;
+        uint64_t total = 12 + 8 + (uint64_t)json_padded + (bin_size ? 8 + (uint64_t)bin_padded : 0);
+        if (total > 0xffffffffu)
+            return resurfi_fail(error, RESURF_ERR_LIMIT, name, 0, -1, "the .glb is larger than 4 GiB");
+        std::vector<unsigned char> glb((size_t)total, 0);
+        auto put32 = [&](size_t at, uint32_t x) {
+            for (int i = 0; i < 4; ++i)
+                glb[at + i] = (unsigned char)(x >> (8 * i));
+        };
+        std::memcpy(glb.data(), "glTF", 4);
+        put32(4, 2);
+        put32(8, (uint32_t)total);
+        put32(12, (uint32_t)json_padded);
+        put32(16, 0x4E4F534Au);
+        std::memcpy(glb.data() + 20, text, text_size);
+        std::memset(glb.data() + 20 + text_size, ' ', json_padded - text_size);
+        if (bin_size) {
+            size_t at = 20 + json_padded;
+            put32(at, (uint32_t)bin_padded);
+            put32(at + 4, 0x004E4942u);
+            std::memcpy(glb.data() + at + 8, bin, bin_size);
+        }
+        ok = loader.LoadBinaryFromMemory(&doc->model, &err, &warn, glb.data(), (unsigned)glb.size(), dir);
+    } else {
+        if (text_size > 0xffffffffu)
+            return resurfi_fail(error, RESURF_ERR_LIMIT, name, 0, -1, "the JSON is larger than 4 GiB");
+        ok = loader.LoadASCIIFromString(&doc->model, &err, &warn, text, (unsigned)text_size, dir);
+    }
+    if (!ok) {
+        std::string line = first_line(err);
+        return resurfi_fail(error, RESURF_ERR_PARSE, name, 0, -1, "%s",
+                            line.empty() ? "tinygltf could not read the document" : line.c_str());
+    }
+    // The Draco records are keyed by the JSON's mesh and primitive positions: tinygltf must have kept them all.
+    for (const auto &d : doc->draco)
+        if (d.first.first >= doc->model.meshes.size() ||
+            d.first.second >= doc->model.meshes[d.first.first].primitives.size())
+            return resurfi_fail(error, RESURF_ERR_PARSE, name, 0, -1,
+                                "meshes[%zu].primitives[%zu]: the primitive was not read", d.first.first,
+                                d.first.second);
+    for (size_t begin = 0; begin < warn.size();) {
+        size_t end = warn.find('\n', begin);
+        if (end == std::string::npos)
+            end = warn.size();
+        if (end > begin)
+            doc->warnings.push_back("tinygltf: " + warn.substr(begin, end - begin));
+        begin = end + 1;
+    }
+    build_view(doc.get());
+    *out_doc = doc.release();
+    return RESURF_OK;
+}
+
+} // namespace
+
+extern "C" resurf_status resurfi_gltf_parse(const char *json, size_t json_size, const unsigned char *bin,
+                                            size_t bin_size, int is_glb, const char *base_dir, const char *name,
+                                            uint64_t max_external_bytes, resurfi_gltf_doc **out_doc,
+                                            resurf_error *error)
+{
+    *out_doc = nullptr;
+    try {
+        return parse(json, json_size, bin, bin_size, is_glb, base_dir, name, max_external_bytes, out_doc, error);
+    } catch (const std::bad_alloc &) {
+        return resurfi_fail(error, RESURF_ERR_OUT_OF_MEMORY, name, 0, -1, "out of memory reading the glTF document");
+    } catch (const std::exception &e) {
+        return resurfi_fail(error, RESURF_ERR_PARSE, name, 0, -1, "the glTF document cannot be read: %s", e.what());
+    } catch (...) {
+        return resurfi_fail(error, RESURF_ERR_INTERNAL, name, 0, -1, "unexpected exception reading the document");
+    }
+}
+
+extern "C" const resurfi_gltf_view *resurfi_gltf_doc_view(const resurfi_gltf_doc *doc) { return &doc->view; }
+
+extern "C" void resurfi_gltf_doc_free(resurfi_gltf_doc *doc) { delete doc; }

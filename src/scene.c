@@ -1,0 +1,1330 @@
+/* Scenes: loading glTF 2.0 (.gltf, .glb), raw Draco (.drc) and mesh files into a resurf_scene, checking every
+ * index, range and reference of the document, decoding its triangle primitives into resurf_meshes, and the public
+ * resurf_scene_* calls other than saving (scene_save.c).
+ *
+ * Follows the Khronos glTF 2.0 specification (3.6 binary data, 3.7 geometry, 3.11 accessors' sparse storage, 4.4
+ * GLB), KHR_draco_mesh_compression and KHR_mesh_quantization. The C++ shim (io/gltf_read.cpp) only parses: every
+ * decision about what is acceptable is taken here, before any byte is read through an index from the file.
+ * Draco payloads are decoded by io/draco.cpp only after their bufferView and byte range were checked here, and their
+ * attribute ids are checked against what the decoder found before any value is used. */
+#include <errno.h>
+#include <fcntl.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "scene_internal.h"
+
+#ifndef O_CLOEXEC
+#define O_CLOEXEC 0
+#endif
+
+/* JSON nesting deeper than this is refused before any parser sees it (a glTF document needs about 10 levels;
+ * extras may nest deeper, but not thousands of levels, which would exhaust a recursive parser's stack). */
+#define MAX_JSON_DEPTH 128
+
+/* ---- small helpers ------------------------------------------------------------------------------------------- */
+
+size_t resurfi_gltf_component_size(int component_type)
+{
+    switch (component_type) {
+    case RESURFI_GLTF_BYTE:
+    case RESURFI_GLTF_UNSIGNED_BYTE: return 1;
+    case RESURFI_GLTF_SHORT:
+    case RESURFI_GLTF_UNSIGNED_SHORT: return 2;
+    case RESURFI_GLTF_UNSIGNED_INT:
+    case RESURFI_GLTF_FLOAT: return 4;
+    default: return 0;
+    }
+}
+
+int resurfi_ends_with_nocase(const char *s, const char *suffix)
+{
+    size_t n = strlen(s), k = strlen(suffix);
+    if (n < k)
+        return 0;
+    for (size_t i = 0; i < k; ++i) {
+        char a = s[n - k + i], b = suffix[i];
+        if (a >= 'A' && a <= 'Z')
+            a = (char)(a - 'A' + 'a');
+        if (a != b)
+            return 0;
+    }
+    return 1;
+}
+
+static resurf_status add_warning(resurf_scene *s, const char *text)
+{
+    char **list = resurfi_realloc_array(s->warnings, s->warning_count + 1, sizeof *list);
+    if (!list)
+        return RESURF_ERR_OUT_OF_MEMORY;
+    s->warnings = list;
+    size_t n = strlen(text) + 1;
+    if (!(list[s->warning_count] = malloc(n)))
+        return RESURF_ERR_OUT_OF_MEMORY;
+    memcpy(list[s->warning_count++], text, n);
+    return RESURF_OK;
+}
+
+/* Reads a whole regular file (at most max_bytes). */
+static resurf_status read_whole(const char *path, uint64_t max_bytes, unsigned char **out, size_t *out_size,
+                                resurf_error *error)
+{
+    int fd = open(path, O_RDONLY | O_CLOEXEC);
+    if (fd < 0)
+        return resurfi_fail(error, RESURF_ERR_IO, path, 0, -1, "cannot open: %s", strerror(errno));
+    struct stat st;
+    if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+        close(fd);
+        return resurfi_fail(error, RESURF_ERR_IO, path, 0, -1, "not a regular file");
+    }
+    if ((uint64_t)st.st_size > max_bytes) {
+        close(fd);
+        return resurfi_fail(error, RESURF_ERR_LIMIT, path, 0, -1, "the file is larger than %llu bytes",
+                            (unsigned long long)max_bytes);
+    }
+    size_t size = (size_t)st.st_size, done = 0;
+    unsigned char *data = malloc(size + 1);
+    if (!data) {
+        close(fd);
+        return resurfi_fail(error, RESURF_ERR_OUT_OF_MEMORY, path, 0, -1, "out of memory reading %zu bytes", size);
+    }
+    while (done < size) {
+        ssize_t n = read(fd, data + done, size - done);
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n <= 0) {
+            int e = n < 0 ? errno : 0;
+            free(data);
+            close(fd);
+            return resurfi_fail(error, RESURF_ERR_IO, path, 0, -1, "cannot read: %s",
+                                e ? strerror(e) : "the file shrank while being read");
+        }
+        done += (size_t)n;
+    }
+    close(fd);
+    data[size] = 0;
+    *out = data;
+    *out_size = size;
+    return RESURF_OK;
+}
+
+static uint32_t get_u32le(const unsigned char *p)
+{
+    return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
+}
+
+/* Is the JSON nested deeper than MAX_JSON_DEPTH? Strings (with escapes) are skipped. Returns the byte offset of
+ * the first bracket too deep, or -1. */
+static long long json_too_deep(const char *p, size_t size)
+{
+    int depth = 0, in_string = 0;
+    for (size_t i = 0; i < size; ++i) {
+        char c = p[i];
+        if (in_string) {
+            if (c == '\\')
+                ++i;
+            else if (c == '"')
+                in_string = 0;
+        } else if (c == '"') {
+            in_string = 1;
+        } else if (c == '[' || c == '{') {
+            if (++depth > MAX_JSON_DEPTH)
+                return (long long)i;
+        } else if (c == ']' || c == '}') {
+            --depth;
+        }
+    }
+    return -1;
+}
+
+/* ---- the scene object ---------------------------------------------------------------------------------------- */
+
+static void free_prim(resurfi_scene_prim *p)
+{
+    resurf_mesh_free(p->mesh);
+    free(p->formats);
+    for (size_t k = 0; k < p->lod_count; ++k)
+        resurf_mesh_free(p->lods[k]);
+    free(p->lods);
+}
+
+void resurf_scene_free(resurf_scene *scene)
+{
+    if (!scene)
+        return;
+    for (size_t i = 0; i < scene->prim_count; ++i)
+        free_prim(&scene->prims[i]);
+    free(scene->prims);
+    if (scene->coverage)
+        for (size_t m = 0; m < scene->mesh_count; ++m)
+            free(scene->coverage[m]);
+    free(scene->coverage);
+    free(scene->coverage_count);
+    free(scene->mesh_first);
+    free(scene->world);
+    for (size_t i = 0; i < scene->warning_count; ++i)
+        free(scene->warnings[i]);
+    free(scene->warnings);
+    resurfi_gltf_doc_free(scene->doc);
+    free(scene);
+}
+
+/* A scene of mesh_count meshes and prim_count primitives, all zeroed. */
+static resurf_scene *scene_new(size_t mesh_count, size_t prim_count)
+{
+    resurf_scene *s = calloc(1, sizeof *s);
+    if (!s)
+        return NULL;
+    s->mesh_count = mesh_count;
+    s->prim_count = prim_count;
+    s->mesh_first = resurfi_calloc_array(mesh_count + 1, sizeof *s->mesh_first);
+    s->coverage = resurfi_calloc_array(mesh_count, sizeof *s->coverage);
+    s->coverage_count = resurfi_calloc_array(mesh_count, sizeof *s->coverage_count);
+    s->prims = resurfi_calloc_array(prim_count, sizeof *s->prims);
+    if (!s->mesh_first || !s->coverage || !s->coverage_count || !s->prims) {
+        resurf_scene_free(s);
+        return NULL;
+    }
+    return s;
+}
+
+/* A one-mesh scene that takes ownership of mesh (freed on failure too). */
+static resurf_status scene_of_mesh(resurf_mesh *mesh, resurf_scene **out, resurf_error *error)
+{
+    resurf_scene *s = scene_new(1, 1);
+    if (!s) {
+        resurf_mesh_free(mesh);
+        return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory creating a scene");
+    }
+    s->mesh_first[1] = 1;
+    resurfi_scene_prim *p = &s->prims[0];
+    p->mesh = mesh;
+    snprintf(p->info.name, sizeof p->info.name, "meshes[0].primitives[0]");
+    p->info.mode = 4;
+    p->info.kind = RESURF_PRIMITIVE_TRIANGLES;
+    p->info.instances = 1;
+    *out = s;
+    return RESURF_OK;
+}
+
+/* ---- checking the document ----------------------------------------------------------------------------------- */
+
+/* One load: where errors go and the running totals. */
+typedef struct load_ctx {
+    const char *path;
+    resurf_error *error;
+    const resurfi_gltf_view *v;
+    size_t max_triangles, triangles;
+    uint64_t buffer_bytes;  /* all buffers together: what zero-filled accessors may claim at most */
+    const resurf_progress *progress;
+} load_ctx;
+
+#define FAIL(ctx, ...) resurfi_fail((ctx)->error, RESURF_ERR_PARSE, (ctx)->path, 0, -1, __VA_ARGS__)
+
+/* The byte layout of one accessor element: matrices of 1- and 2-byte components pad each column to 4 bytes. */
+typedef struct element_layout {
+    size_t component_size, columns, rows, column_stride, size;
+} element_layout;
+
+static element_layout layout_of(const resurfi_gltf_accessor *a)
+{
+    element_layout e;
+    e.component_size = resurfi_gltf_component_size(a->component_type);
+    if (a->matrix) {
+        e.columns = a->components == 4 ? 2 : a->components == 9 ? 3 : 4;
+        e.rows = e.columns;
+        e.column_stride = (e.rows * e.component_size + 3) & ~(size_t)3;
+    } else {
+        e.columns = 1;
+        e.rows = (size_t)a->components;
+        e.column_stride = e.rows * e.component_size;
+    }
+    e.size = e.columns * e.column_stride;
+    return e;
+}
+
+/* Does [offset, offset + count × stride − stride + size) fit in length? (count >= 1; no overflow) */
+static int range_fits(uint64_t offset, uint64_t count, uint64_t stride, uint64_t size, uint64_t length)
+{
+    if (offset > length || size > length - offset)
+        return 0;
+    if (count <= 1)
+        return 1;
+    uint64_t room = length - offset - size;
+    return stride == 0 || count - 1 <= room / stride;
+}
+
+static double read_component(const unsigned char *p, int type)
+{
+    switch (type) {
+    case RESURFI_GLTF_BYTE: return (double)(int8_t)p[0];
+    case RESURFI_GLTF_UNSIGNED_BYTE: return p[0];
+    case RESURFI_GLTF_SHORT: return (double)(int16_t)(uint16_t)(p[0] | p[1] << 8);
+    case RESURFI_GLTF_UNSIGNED_SHORT: return (double)(uint16_t)(p[0] | p[1] << 8);
+    case RESURFI_GLTF_UNSIGNED_INT: return (double)get_u32le(p);
+    case RESURFI_GLTF_FLOAT: {
+        uint32_t bits = get_u32le(p);
+        float f;
+        memcpy(&f, &bits, 4);
+        return f;
+    }
+    default: return 0;
+    }
+}
+
+/* glTF 2.0 3.11: normalized integers map to [0,1] (unsigned) or [-1,1] (signed, the minimum clamped to -1). */
+static double normalize(double x, int type)
+{
+    switch (type) {
+    case RESURFI_GLTF_BYTE: return fmax(x / 127.0, -1.0);
+    case RESURFI_GLTF_UNSIGNED_BYTE: return x / 255.0;
+    case RESURFI_GLTF_SHORT: return fmax(x / 32767.0, -1.0);
+    case RESURFI_GLTF_UNSIGNED_SHORT: return x / 65535.0;
+    default: return x;
+    }
+}
+
+static resurf_status check_buffer_views(load_ctx *c)
+{
+    const resurfi_gltf_view *v = c->v;
+    for (size_t i = 0; i < v->buffer_view_count; ++i) {
+        const resurfi_gltf_buffer_view *bv = &v->buffer_views[i];
+        if (bv->buffer < 0 || (size_t)bv->buffer >= v->buffer_count)
+            return FAIL(c, "bufferViews[%zu]: buffer %lld does not exist (%zu buffers)", i, bv->buffer,
+                        v->buffer_count);
+        size_t size = v->buffers[bv->buffer].size;
+        if (!range_fits(bv->byte_offset, 1, 0, bv->byte_length, size))
+            return FAIL(c, "bufferViews[%zu]: bytes %llu..%llu lie past the end of buffers[%lld] (%zu bytes)", i,
+                        (unsigned long long)bv->byte_offset,
+                        (unsigned long long)(bv->byte_offset + bv->byte_length), bv->buffer, size);
+        if (bv->byte_stride && (bv->byte_stride < 4 || bv->byte_stride > 252 || bv->byte_stride % 4))
+            return FAIL(c, "bufferViews[%zu]: byteStride %llu is not a multiple of 4 in 4..252", i,
+                        (unsigned long long)bv->byte_stride);
+    }
+    return RESURF_OK;
+}
+
+/* The checks every accessor passes, used or not (the writer may copy any of them). Sparse indices are read to
+ * check that they increase and stay below count. */
+static resurf_status check_accessor(load_ctx *c, size_t i)
+{
+    const resurfi_gltf_view *v = c->v;
+    const resurfi_gltf_accessor *a = &v->accessors[i];
+    element_layout e = layout_of(a);
+    if (e.component_size == 0)
+        return FAIL(c, "accessors[%zu]: unknown componentType %d", i, a->component_type);
+    if (a->components == 0)
+        return FAIL(c, "accessors[%zu]: unknown type", i);
+    if (a->normalized && (a->component_type == RESURFI_GLTF_FLOAT || a->component_type == RESURFI_GLTF_UNSIGNED_INT))
+        return FAIL(c, "accessors[%zu]: normalized is not allowed for componentType %d", i, a->component_type);
+    if (a->count < 1)
+        return FAIL(c, "accessors[%zu]: count is 0", i);
+    if (a->buffer_view != RESURFI_GLTF_NONE) {
+        if (a->buffer_view < 0 || (size_t)a->buffer_view >= v->buffer_view_count)
+            return FAIL(c, "accessors[%zu]: bufferView %lld does not exist (%zu bufferViews)", i, a->buffer_view,
+                        v->buffer_view_count);
+        const resurfi_gltf_buffer_view *bv = &v->buffer_views[a->buffer_view];
+        uint64_t stride = bv->byte_stride ? bv->byte_stride : e.size;
+        if (stride < e.size)
+            return FAIL(c, "accessors[%zu]: byteStride %llu of bufferViews[%lld] is shorter than an element (%zu)", i,
+                        (unsigned long long)stride, a->buffer_view, e.size);
+        if ((a->byte_offset % e.component_size) || ((bv->byte_offset + a->byte_offset) % e.component_size))
+            return FAIL(c, "accessors[%zu]: byteOffset %llu is not aligned to its %zu-byte components", i,
+                        (unsigned long long)a->byte_offset, e.component_size);
+        if (!range_fits(a->byte_offset, a->count, stride, e.size, bv->byte_length))
+            return FAIL(c, "accessors[%zu]: %llu elements from byte %llu do not fit in bufferViews[%lld] (%llu bytes)",
+                        i, (unsigned long long)a->count, (unsigned long long)a->byte_offset, a->buffer_view,
+                        (unsigned long long)bv->byte_length);
+    }
+    if (!a->sparse)
+        return RESURF_OK;
+    if (a->sparse_count < 1 || (uint64_t)a->sparse_count > a->count)
+        return FAIL(c, "accessors[%zu]: sparse count %lld is not in 1..%llu", i, a->sparse_count,
+                    (unsigned long long)a->count);
+    size_t isize = resurfi_gltf_component_size(a->sparse_indices_type);
+    if (a->sparse_indices_type != RESURFI_GLTF_UNSIGNED_BYTE && a->sparse_indices_type != RESURFI_GLTF_UNSIGNED_SHORT &&
+        a->sparse_indices_type != RESURFI_GLTF_UNSIGNED_INT)
+        return FAIL(c, "accessors[%zu]: sparse indices have componentType %d (not an unsigned integer)", i,
+                    a->sparse_indices_type);
+    long long views[2] = {a->sparse_indices_view, a->sparse_values_view};
+    long long offsets[2] = {a->sparse_indices_offset, a->sparse_values_offset};
+    size_t sizes[2] = {isize, e.size};
+    for (int k = 0; k < 2; ++k) {
+        const char *what = k ? "values" : "indices";
+        if (views[k] < 0 || (size_t)views[k] >= v->buffer_view_count)
+            return FAIL(c, "accessors[%zu]: sparse %s bufferView %lld does not exist", i, what, views[k]);
+        if (offsets[k] < 0 || !range_fits((uint64_t)offsets[k], (uint64_t)a->sparse_count, sizes[k], sizes[k],
+                                          v->buffer_views[views[k]].byte_length))
+            return FAIL(c, "accessors[%zu]: %lld sparse %s do not fit in bufferViews[%lld]", i, a->sparse_count,
+                        what, views[k]);
+        if (((uint64_t)offsets[k] + v->buffer_views[views[k]].byte_offset) % (k ? e.component_size : isize))
+            return FAIL(c, "accessors[%zu]: sparse %s are not aligned", i, what);
+    }
+    const resurfi_gltf_buffer_view *iv = &v->buffer_views[a->sparse_indices_view];
+    const unsigned char *p = v->buffers[iv->buffer].data + iv->byte_offset + a->sparse_indices_offset;
+    double previous = -1;
+    for (long long k = 0; k < a->sparse_count; ++k) {
+        double index = read_component(p + (size_t)k * isize, a->sparse_indices_type);
+        if (index <= previous || index >= (double)a->count)
+            return FAIL(c, "accessors[%zu]: sparse index %lld is %.0f (indices must increase and stay below %llu)",
+                        i, k, index, (unsigned long long)a->count);
+        previous = index;
+    }
+    return RESURF_OK;
+}
+
+/* Reads a checked accessor into out (count × components doubles), normalized as the accessor says. */
+static void read_accessor(const resurfi_gltf_view *v, const resurfi_gltf_accessor *a, double *out)
+{
+    element_layout e = layout_of(a);
+    size_t n = (size_t)a->count, comps = (size_t)a->components;
+    if (a->buffer_view == RESURFI_GLTF_NONE) {
+        memset(out, 0, n * comps * sizeof *out);
+    } else {
+        const resurfi_gltf_buffer_view *bv = &v->buffer_views[a->buffer_view];
+        size_t stride = bv->byte_stride ? (size_t)bv->byte_stride : e.size;
+        const unsigned char *base = v->buffers[bv->buffer].data + bv->byte_offset + a->byte_offset;
+        for (size_t i = 0; i < n; ++i)
+            for (size_t col = 0; col < e.columns; ++col)
+                for (size_t r = 0; r < e.rows; ++r)
+                    out[i * comps + col * e.rows + r] =
+                        read_component(base + i * stride + col * e.column_stride + r * e.component_size,
+                                       a->component_type);
+    }
+    if (a->sparse) {
+        const resurfi_gltf_buffer_view *iv = &v->buffer_views[a->sparse_indices_view];
+        const resurfi_gltf_buffer_view *vv = &v->buffer_views[a->sparse_values_view];
+        const unsigned char *ip = v->buffers[iv->buffer].data + iv->byte_offset + a->sparse_indices_offset;
+        const unsigned char *vp = v->buffers[vv->buffer].data + vv->byte_offset + a->sparse_values_offset;
+        size_t isize = resurfi_gltf_component_size(a->sparse_indices_type);
+        for (long long k = 0; k < a->sparse_count; ++k) {
+            size_t i = (size_t)read_component(ip + (size_t)k * isize, a->sparse_indices_type);
+            for (size_t col = 0; col < e.columns; ++col)
+                for (size_t r = 0; r < e.rows; ++r)
+                    out[i * comps + col * e.rows + r] =
+                        read_component(vp + (size_t)k * e.size + col * e.column_stride + r * e.component_size,
+                                       a->component_type);
+        }
+    }
+    if (a->normalized)
+        for (size_t i = 0; i < n * comps; ++i)
+            out[i] = normalize(out[i], a->component_type);
+}
+
+/* Extensions that refer to no accessor or bufferView: the writer may renumber those freely when they are all the
+ * document uses. Prefixes cover the material and texture families. */
+static int extension_known(const char *name)
+{
+    static const char *const exact[] = {
+        "KHR_draco_mesh_compression", "KHR_mesh_quantization", "KHR_lights_punctual", "KHR_materials_variants",
+        "KHR_xmp", "KHR_xmp_json_ld", "KHR_animation_pointer", "KHR_node_visibility", "MSFT_lod",
+        "EXT_lights_image_based",
+    };
+    static const char *const prefixes[] = {"KHR_materials_", "KHR_texture_", "EXT_texture_", "MSFT_texture_",
+                                           "MSFT_packing_"};
+    for (size_t i = 0; i < sizeof exact / sizeof *exact; ++i)
+        if (!strcmp(name, exact[i]))
+            return 1;
+    for (size_t i = 0; i < sizeof prefixes / sizeof *prefixes; ++i)
+        if (!strncmp(name, prefixes[i], strlen(prefixes[i])))
+            return 1;
+    return 0;
+}
+
+/* Local transform of a node, column-major: its matrix, or T · R · S. */
+static void node_local(const resurfi_gltf_node *n, double m[16])
+{
+    if (n->matrix_count == 16) {
+        memcpy(m, n->matrix, sizeof n->matrix);
+        return;
+    }
+    double t[3] = {0, 0, 0}, q[4] = {0, 0, 0, 1}, s[3] = {1, 1, 1};
+    if (n->translation_count == 3)
+        memcpy(t, n->translation, sizeof t);
+    if (n->rotation_count == 4)
+        memcpy(q, n->rotation, sizeof q);
+    if (n->scale_count == 3)
+        memcpy(s, n->scale, sizeof s);
+    double x = q[0], y = q[1], z = q[2], w = q[3];
+    double r[9] = {1 - 2 * (y * y + z * z), 2 * (x * y + z * w),     2 * (x * z - y * w),
+                   2 * (x * y - z * w),     1 - 2 * (x * x + z * z), 2 * (y * z + x * w),
+                   2 * (x * z + y * w),     2 * (y * z - x * w),     1 - 2 * (x * x + y * y)};
+    for (int col = 0; col < 3; ++col)
+        for (int row = 0; row < 3; ++row)
+            m[4 * col + row] = r[3 * col + row] * s[col];
+    m[3] = m[7] = m[11] = 0;
+    m[12] = t[0], m[13] = t[1], m[14] = t[2], m[15] = 1;
+}
+
+static void mat_mul(const double a[16], const double b[16], double out[16])
+{
+    double r[16];
+    for (int col = 0; col < 4; ++col)
+        for (int row = 0; row < 4; ++row) {
+            double x = 0;
+            for (int k = 0; k < 4; ++k)
+                x += a[4 * k + row] * b[4 * col + k];
+            r[4 * col + row] = x;
+        }
+    memcpy(out, r, sizeof r);
+}
+
+/* The node graph: meshes, children and scene roots in range, one parent per node, no cycle, roots are roots.
+ * Then the world matrices (every node has at most one parent, so each has one). */
+static resurf_status check_nodes(load_ctx *c, resurf_scene *s)
+{
+    const resurfi_gltf_view *v = c->v;
+    size_t n = v->node_count;
+    long long *parent = resurfi_alloc_array(n, sizeof *parent);
+    unsigned char *state = resurfi_calloc_array(n, 1);
+    s->world = resurfi_alloc_array(n, sizeof *s->world);
+    resurf_status status = RESURF_OK;
+    if (!parent || !state || !s->world) {
+        status = resurfi_fail(c->error, RESURF_ERR_OUT_OF_MEMORY, c->path, 0, -1, "out of memory checking nodes");
+        goto done;
+    }
+    for (size_t i = 0; i < n; ++i)
+        parent[i] = -1;
+    for (size_t i = 0; i < n && status == RESURF_OK; ++i) {
+        const resurfi_gltf_node *node = &v->nodes[i];
+        if (node->mesh != RESURFI_GLTF_NONE && (node->mesh < 0 || (size_t)node->mesh >= v->mesh_count))
+            status = FAIL(c, "nodes[%zu]: mesh %lld does not exist (%zu meshes)", i, node->mesh, v->mesh_count);
+        else if ((node->matrix_count && node->matrix_count != 16) ||
+                 (node->translation_count && node->translation_count != 3) ||
+                 (node->rotation_count && node->rotation_count != 4) || (node->scale_count && node->scale_count != 3))
+            status = FAIL(c, "nodes[%zu]: a transform has the wrong number of values", i);
+        for (size_t k = 0; k < node->child_count && status == RESURF_OK; ++k) {
+            long long child = node->children[k];
+            if (child < 0 || (size_t)child >= n)
+                status = FAIL(c, "nodes[%zu].children[%zu]: node %lld does not exist (%zu nodes)", i, k, child, n);
+            else if (parent[child] != -1)
+                status = FAIL(c, "nodes[%lld] has two parents (nodes[%lld] and nodes[%zu])", child, parent[child], i);
+            else
+                parent[child] = (long long)i;
+        }
+    }
+    /* A cycle: walking up the parents from some node comes back to a node of the same walk (state 1). */
+    for (size_t i = 0; i < n && status == RESURF_OK; ++i) {
+        long long k = (long long)i;
+        while (k != -1 && state[k] == 0) {
+            state[k] = 1;
+            k = parent[k];
+        }
+        if (k != -1 && state[k] == 1) {
+            status = FAIL(c, "nodes[%lld] is its own ancestor: the node hierarchy has a cycle", k);
+            break;
+        }
+        for (k = (long long)i; k != -1 && state[k] == 1; k = parent[k])
+            state[k] = 2;
+    }
+    for (size_t i = 0; i < v->scene_count && status == RESURF_OK; ++i)
+        for (size_t k = 0; k < v->scenes[i].node_count && status == RESURF_OK; ++k) {
+            long long root = v->scenes[i].nodes[k];
+            if (root < 0 || (size_t)root >= n)
+                status = FAIL(c, "scenes[%zu].nodes[%zu]: node %lld does not exist (%zu nodes)", i, k, root, n);
+            else if (parent[root] != -1)
+                status = FAIL(c, "scenes[%zu].nodes[%zu]: nodes[%lld] is not a root (its parent is nodes[%lld])", i,
+                              k, root, parent[root]);
+        }
+    if (status == RESURF_OK && v->default_scene != RESURFI_GLTF_NONE &&
+        (v->default_scene < 0 || (size_t)v->default_scene >= v->scene_count))
+        status = FAIL(c, "scene %lld does not exist (%zu scenes)", v->default_scene, v->scene_count);
+    if (status != RESURF_OK)
+        goto done;
+    /* World matrices, each parent before its children: state 3 marks a finished node. */
+    for (size_t i = 0; i < n; ++i) {
+        while (state[i] != 3) {
+            long long k = (long long)i; /* the highest unfinished ancestor */
+            while (parent[k] != -1 && state[parent[k]] != 3)
+                k = parent[k];
+            double local[16];
+            node_local(&v->nodes[k], local);
+            if (parent[k] == -1)
+                memcpy(s->world[k], local, sizeof local);
+            else
+                mat_mul(s->world[parent[k]], local, s->world[k]);
+            state[k] = 3;
+        }
+    }
+done:
+    free(parent);
+    free(state);
+    return status;
+}
+
+/* ---- decoding primitives ------------------------------------------------------------------------------------- */
+
+/* The values of one attribute of a primitive, wherever they come from. */
+typedef struct attr_values {
+    const char *name;
+    const resurfi_gltf_accessor *accessor;
+    double *values;     /* count × components */
+} attr_values;
+
+static resurf_status oom(load_ctx *c) { return resurfi_fail(c->error, RESURF_ERR_OUT_OF_MEMORY, c->path, 0, -1, "out of memory decoding the scene"); }
+
+/* Checks a Draco extension's references and decodes its payload (NULL *out for a primitive without one). */
+static resurf_status decode_draco(load_ctx *c, const resurfi_gltf_primitive *gp, const char *where,
+                                  resurfi_draco_mesh **out)
+{
+    const resurfi_gltf_view *v = c->v;
+    *out = NULL;
+    if (!gp->draco)
+        return RESURF_OK;
+    if (gp->draco_malformed)
+        return FAIL(c, "%s: KHR_draco_mesh_compression is not an object with an `attributes` object", where);
+    if (gp->draco_view < 0 || (size_t)gp->draco_view >= v->buffer_view_count)
+        return FAIL(c, "%s: KHR_draco_mesh_compression names bufferView %lld, which does not exist (%zu bufferViews)",
+                    where, gp->draco_view, v->buffer_view_count);
+    if (gp->mode != 4 && gp->mode != 0)
+        return FAIL(c, "%s: a Draco-compressed primitive must be triangles or points (mode %d)", where, gp->mode);
+    for (size_t i = 0; i < gp->draco_attribute_count; ++i) {
+        const resurfi_gltf_named *d = &gp->draco_attributes[i];
+        if (d->index < 0 || d->index > INT32_MAX)
+            return FAIL(c, "%s: KHR_draco_mesh_compression attribute %s has no valid Draco id", where, d->name);
+        size_t k = 0;
+        while (k < gp->attribute_count && strcmp(gp->attributes[k].name, d->name))
+            ++k;
+        if (k == gp->attribute_count)
+            return FAIL(c, "%s: KHR_draco_mesh_compression compresses %s, which is not an attribute of the primitive",
+                        where, d->name);
+    }
+    /* The view's range was checked against its buffer by check_buffer_views. */
+    const resurfi_gltf_buffer_view *bv = &v->buffer_views[gp->draco_view];
+    const unsigned char *bytes = v->buffers[bv->buffer].data + bv->byte_offset;
+    resurf_error derr;
+    resurf_status status = resurfi_draco_decode(bytes, (size_t)bv->byte_length, out, &derr);
+    if (status != RESURF_OK)
+        return resurfi_fail(c->error, status, c->path, 0, -1, "%s: bufferViews[%lld]: %s", where, gp->draco_view,
+                            derr.message);
+    resurfi_draco_mesh *dm = *out;
+    for (size_t i = 0; i < gp->draco_attribute_count; ++i) {
+        const resurfi_gltf_named *d = &gp->draco_attributes[i];
+        const resurfi_draco_attribute *da = NULL;
+        for (size_t k = 0; k < dm->attribute_count; ++k)
+            if (dm->attributes[k].unique_id == d->index)
+                da = &dm->attributes[k];
+        if (!da)
+            return FAIL(c, "%s: Draco attribute id %lld of %s is not in the Draco data", where, d->index, d->name);
+        const resurfi_gltf_accessor *a = NULL;
+        for (size_t k = 0; k < gp->attribute_count; ++k)
+            if (!strcmp(gp->attributes[k].name, d->name))
+                a = &v->accessors[gp->attributes[k].index];
+        if (da->components != a->components)
+            return FAIL(c, "%s: %s has %d components in the Draco data and %d in its accessor", where, d->name,
+                        da->components, a->components);
+        if (a->count != dm->point_count)
+            return FAIL(c, "%s: the accessor of %s counts %llu vertices, the Draco data %zu", where, d->name,
+                        (unsigned long long)a->count, dm->point_count);
+    }
+    for (size_t i = 0; i < 3 * dm->face_count; ++i)
+        if (dm->faces[i] >= dm->point_count)
+            return FAIL(c, "%s: the Draco data has a face on point %u of %zu", where, dm->faces[i], dm->point_count);
+    if (gp->indices != RESURFI_GLTF_NONE && gp->mode == 4 && v->accessors[gp->indices].count != 3 * dm->face_count)
+        return FAIL(c, "%s: the indices accessor counts %llu, the Draco data has %zu triangles", where,
+                    (unsigned long long)v->accessors[gp->indices].count, dm->face_count);
+    return RESURF_OK;
+}
+
+/* The triangle list of a primitive from its index list (or 0..n-1), converting strips and fans (glTF 2.0 3.7.2.1):
+ * strip triangle i is (v_i, v_i+1+i%2, v_i+2-i%2); fan triangle i is (v_i+1, v_i+2, v_0).
+ * The joining triangles of strips and fans (a repeated index) are dropped. */
+static resurf_status build_triangles(load_ctx *c, const char *where, int mode, const double *index_values,
+                                     size_t index_count, size_t vertex_count, uint32_t **out, size_t *out_count)
+{
+    for (size_t i = 0; i < index_count; ++i)
+        if (index_values[i] >= (double)vertex_count)
+            return FAIL(c, "%s: index %zu is %.0f, past the %zu vertices", where, i, index_values[i], vertex_count);
+    if (mode == 4 && index_count % 3)
+        return FAIL(c, "%s: %zu indices are not a multiple of 3", where, index_count);
+    size_t cap = mode == 4 ? index_count / 3 : index_count >= 3 ? index_count - 2 : 0;
+    uint32_t *t = resurfi_alloc_array(cap, 3 * sizeof *t);
+    if (!t)
+        return oom(c);
+    size_t n = 0;
+    for (size_t i = 0; i < cap; ++i) {
+        uint32_t a, b, d;
+        if (mode == 4) {
+            a = (uint32_t)index_values[3 * i], b = (uint32_t)index_values[3 * i + 1];
+            d = (uint32_t)index_values[3 * i + 2];
+        } else if (mode == 5) {
+            a = (uint32_t)index_values[i], b = (uint32_t)index_values[i + 1 + (i & 1)];
+            d = (uint32_t)index_values[i + 2 - (i & 1)];
+        } else {
+            a = (uint32_t)index_values[i + 1], b = (uint32_t)index_values[i + 2], d = (uint32_t)index_values[0];
+        }
+        if (mode != 4 && (a == b || b == d || a == d))
+            continue;
+        t[3 * n] = a, t[3 * n + 1] = b, t[3 * n + 2] = d;
+        ++n;
+    }
+    *out = t;
+    *out_count = n;
+    return RESURF_OK;
+}
+
+/* Puts one attribute into the mesh: POSITION, NORMAL, TEXCOORD_0..3 (in order), COLOR_0, or an extra. */
+static resurf_status store_attribute(load_ctx *c, const char *where, resurf_mesh *m, const attr_values *a)
+{
+    size_t n = m->vertex_count, comps = (size_t)a->accessor->components;
+    int is_float = a->accessor->component_type == RESURFI_GLTF_FLOAT;
+    if (is_float)
+        for (size_t i = 0; i < n * comps; ++i)
+            if (!isfinite(a->values[i]))
+                return FAIL(c, "%s: %s of vertex %zu is not finite", where, a->name, i / comps);
+    const char *name = a->name;
+    int tex = -1;
+    if (!strncmp(name, "TEXCOORD_", 9) && name[9] >= '0' && name[9] <= '3' && !name[10])
+        tex = name[9] - '0';
+    if (!strcmp(name, "POSITION") || !strcmp(name, "NORMAL")) {
+        if (comps != 3 || a->accessor->matrix)
+            return FAIL(c, "%s: %s is not VEC3", where, name);
+        double *dst = name[0] == 'P' ? m->positions : m->normals;
+        if (!dst && !(dst = m->normals = resurfi_alloc_array(n, 3 * sizeof(double))))
+            return oom(c);
+        memcpy(dst, a->values, n * 3 * sizeof(double));
+    } else if (tex >= 0 && (unsigned)tex == m->texcoord_count) {
+        if (comps != 2 || a->accessor->matrix)
+            return FAIL(c, "%s: %s is not VEC2", where, name);
+        if (!(m->texcoords[tex] = resurfi_alloc_array(n, 2 * sizeof(double))))
+            return oom(c);
+        memcpy(m->texcoords[tex], a->values, n * 2 * sizeof(double));
+        m->texcoord_count = (unsigned)tex + 1;
+    } else if (!strcmp(name, "COLOR_0")) {
+        if ((comps != 3 && comps != 4) || a->accessor->matrix)
+            return FAIL(c, "%s: COLOR_0 is not VEC3 or VEC4", where);
+        if (!(m->colors = resurfi_alloc_array(n, 4 * sizeof(double))))
+            return oom(c);
+        for (size_t i = 0; i < n; ++i)
+            for (size_t k = 0; k < 4; ++k)
+                m->colors[4 * i + k] = k < comps ? a->values[comps * i + k] : 1.0;
+        m->color_components = (unsigned)comps;
+    } else {
+        if (strlen(name) >= sizeof m->extras[0].name)
+            return FAIL(c, "%s: the attribute name '%.40s...' is longer than 63 bytes", where, name);
+        resurf_attribute *x = NULL;
+        if (resurf_mesh_add_extra(m, name, (unsigned)comps, &x, NULL) != RESURF_OK)
+            return oom(c);
+        for (size_t i = 0; i < n * comps; ++i)
+            x->data[i] = (float)a->values[i];
+    }
+    return RESURF_OK;
+}
+
+/* Decodes primitive (mesh_index, prim_index) into out: every check first, then the mesh of a triangle primitive. */
+static resurf_status decode_primitive(load_ctx *c, size_t mesh_index, size_t prim_index, resurfi_scene_prim *out)
+{
+    const resurfi_gltf_view *v = c->v;
+    const resurfi_gltf_primitive *gp = &v->meshes[mesh_index].primitives[prim_index];
+    char where[64];
+    snprintf(where, sizeof where, "meshes[%zu].primitives[%zu]", mesh_index, prim_index);
+    snprintf(out->info.name, sizeof out->info.name, "%s", where);
+    snprintf(out->info.mesh_name, sizeof out->info.mesh_name, "%s", v->meshes[mesh_index].name);
+    out->info.mesh = mesh_index;
+    out->info.primitive = prim_index;
+    out->info.mode = gp->mode;
+    out->info.draco = gp->draco;
+    if (gp->mode < 0 || gp->mode > 6)
+        return FAIL(c, "%s: mode %d is not a glTF primitive mode (0..6)", where, gp->mode);
+    out->info.kind = gp->mode < 4 ? RESURF_PRIMITIVE_OTHER
+                     : gp->target_count ? RESURF_PRIMITIVE_MORPHED
+                                        : RESURF_PRIMITIVE_TRIANGLES;
+    for (size_t i = 0; i < gp->attribute_count; ++i)
+        if (gp->attributes[i].index < 0 || (size_t)gp->attributes[i].index >= v->accessor_count)
+            return FAIL(c, "%s: attribute %s names accessor %lld, which does not exist (%zu accessors)", where,
+                        gp->attributes[i].name, gp->attributes[i].index, v->accessor_count);
+    for (size_t i = 0; i < gp->target_begin[gp->target_count]; ++i)
+        if (gp->target_attributes[i].index < 0 || (size_t)gp->target_attributes[i].index >= v->accessor_count)
+            return FAIL(c, "%s: a morph target's %s names accessor %lld, which does not exist", where,
+                        gp->target_attributes[i].name, gp->target_attributes[i].index);
+    if (gp->indices != RESURFI_GLTF_NONE) {
+        if (gp->indices < 0 || (size_t)gp->indices >= v->accessor_count)
+            return FAIL(c, "%s: indices names accessor %lld, which does not exist (%zu accessors)", where, gp->indices,
+                        v->accessor_count);
+        const resurfi_gltf_accessor *ia = &v->accessors[gp->indices];
+        if (ia->components != 1 || ia->matrix || ia->normalized ||
+            (ia->component_type != RESURFI_GLTF_UNSIGNED_BYTE && ia->component_type != RESURFI_GLTF_UNSIGNED_SHORT &&
+             ia->component_type != RESURFI_GLTF_UNSIGNED_INT))
+            return FAIL(c, "%s: the indices accessor %lld is not SCALAR of unsigned integers", where, gp->indices);
+    }
+    /* Every attribute counts the same vertices (glTF 2.0 3.7.2.1), morph targets included. */
+    uint64_t count = 0;
+    for (size_t i = 0; i < gp->attribute_count; ++i) {
+        uint64_t n = v->accessors[gp->attributes[i].index].count;
+        if (i && n != count)
+            return FAIL(c, "%s: attribute %s counts %llu vertices, %s %llu", where, gp->attributes[i].name,
+                        (unsigned long long)n, gp->attributes[0].name, (unsigned long long)count);
+        count = n;
+    }
+    for (size_t i = 0; i < gp->target_begin[gp->target_count]; ++i)
+        if (v->accessors[gp->target_attributes[i].index].count != count)
+            return FAIL(c, "%s: a morph target's %s does not count the primitive's %llu vertices", where,
+                        gp->target_attributes[i].name, (unsigned long long)count);
+
+    resurfi_draco_mesh *dm = NULL;
+    resurf_status status = decode_draco(c, gp, where, &dm);
+    if (status != RESURF_OK || out->info.kind == RESURF_PRIMITIVE_OTHER) {
+        resurfi_draco_mesh_free(dm);
+        return status;
+    }
+
+    /* A triangle primitive: its mesh. */
+    size_t position = gp->attribute_count;
+    for (size_t i = 0; i < gp->attribute_count; ++i)
+        if (!strcmp(gp->attributes[i].name, "POSITION"))
+            position = i;
+    if (position == gp->attribute_count) {
+        resurfi_draco_mesh_free(dm);
+        return FAIL(c, "%s: a triangle primitive without POSITION", where);
+    }
+    if (count > UINT32_MAX - 1) {
+        resurfi_draco_mesh_free(dm);
+        return resurfi_fail(c->error, RESURF_ERR_LIMIT, c->path, 0, -1, "%s: more than 2^32 - 2 vertices", where);
+    }
+    size_t n = (size_t)count;
+    attr_values *attrs = resurfi_calloc_array(gp->attribute_count, sizeof *attrs);
+    double *index_values = NULL;
+    uint32_t *triangles = NULL;
+    size_t triangle_count = 0, index_count = 0;
+    resurf_mesh *mesh = NULL;
+    if (!attrs) {
+        status = oom(c);
+        goto done;
+    }
+    for (size_t i = 0; i < gp->attribute_count; ++i) {
+        attr_values *a = &attrs[i];
+        a->name = gp->attributes[i].name;
+        a->accessor = &v->accessors[gp->attributes[i].index];
+        const resurfi_draco_attribute *da = NULL;
+        for (size_t k = 0; dm && k < gp->draco_attribute_count; ++k)
+            if (!strcmp(gp->draco_attributes[k].name, a->name))
+                for (size_t j = 0; j < dm->attribute_count; ++j)
+                    if (dm->attributes[j].unique_id == gp->draco_attributes[k].index)
+                        da = &dm->attributes[j];
+        if (!da && a->accessor->buffer_view == RESURFI_GLTF_NONE && !a->accessor->sparse)
+            status = FAIL(c, "%s: %s has neither data nor Draco compression", where, a->name);
+        else if (!da && a->accessor->buffer_view == RESURFI_GLTF_NONE && a->accessor->count > c->buffer_bytes + 4096)
+            status = resurfi_fail(c->error, RESURF_ERR_LIMIT, c->path, 0, -1,
+                                  "%s: %s claims %llu zero vertices, more than the file's size can justify", where,
+                                  a->name, (unsigned long long)a->accessor->count);
+        if (status != RESURF_OK)
+            goto done;
+        size_t comps = (size_t)a->accessor->components;
+        if (!(a->values = resurfi_alloc_array(n, comps * sizeof(double)))) {
+            status = oom(c);
+            goto done;
+        }
+        if (da) {
+            for (size_t k = 0; k < n * comps; ++k) {
+                double x = da->values[k];
+                a->values[k] = a->accessor->normalized ? normalize(x, a->accessor->component_type) : x;
+            }
+        } else {
+            read_accessor(v, a->accessor, a->values);
+        }
+    }
+    if (dm && dm->face_count) {
+        index_count = 3 * dm->face_count;
+        if (!(index_values = resurfi_alloc_array(index_count, sizeof *index_values))) {
+            status = oom(c);
+            goto done;
+        }
+        for (size_t i = 0; i < index_count; ++i)
+            index_values[i] = dm->faces[i];
+    } else if (gp->indices != RESURFI_GLTF_NONE) {
+        const resurfi_gltf_accessor *ia = &v->accessors[gp->indices];
+        if (ia->buffer_view == RESURFI_GLTF_NONE && !ia->sparse) {
+            status = FAIL(c, "%s: the indices accessor has no data", where);
+            goto done;
+        }
+        if (ia->buffer_view == RESURFI_GLTF_NONE && ia->count > c->buffer_bytes + 4096) {
+            status = resurfi_fail(c->error, RESURF_ERR_LIMIT, c->path, 0, -1,
+                                  "%s: the indices claim %llu zeros, more than the file's size can justify", where,
+                                  (unsigned long long)ia->count);
+            goto done;
+        }
+        index_count = (size_t)ia->count;
+        if (!(index_values = resurfi_alloc_array(index_count, sizeof *index_values))) {
+            status = oom(c);
+            goto done;
+        }
+        read_accessor(v, ia, index_values);
+    } else {
+        index_count = n;
+        if (!(index_values = resurfi_alloc_array(n, sizeof *index_values))) {
+            status = oom(c);
+            goto done;
+        }
+        for (size_t i = 0; i < n; ++i)
+            index_values[i] = (double)i;
+    }
+    status = build_triangles(c, where, gp->mode, index_values, index_count, n, &triangles, &triangle_count);
+    if (status != RESURF_OK)
+        goto done;
+    c->triangles += triangle_count;
+    if (c->max_triangles && c->triangles > c->max_triangles) {
+        status = resurfi_fail(c->error, RESURF_ERR_LIMIT, c->path, 0, -1,
+                              "more than %zu triangles (the max_triangles limit)", c->max_triangles);
+        goto done;
+    }
+    if (resurf_mesh_create(n, triangle_count, 0, &mesh, NULL) != RESURF_OK) {
+        status = oom(c);
+        goto done;
+    }
+    memcpy(mesh->indices, triangles, triangle_count * 3 * sizeof *triangles);
+    if (!(out->formats = resurfi_calloc_array(gp->attribute_count, sizeof *out->formats))) {
+        status = oom(c);
+        goto done;
+    }
+    /* POSITION first, then the texture coordinate sets in order (so TEXCOORD_1 never lands before TEXCOORD_0),
+     * then everything else. */
+    for (int pass = 0; pass < 3 && status == RESURF_OK; ++pass)
+        for (size_t i = 0; i < gp->attribute_count && status == RESURF_OK; ++i) {
+            int is_pos = i == position, is_tex = !strncmp(attrs[i].name, "TEXCOORD_", 9);
+            if ((pass == 0) != is_pos || (pass == 1) != (is_tex && !is_pos))
+                continue;
+            status = store_attribute(c, where, mesh, &attrs[i]);
+            resurfi_scene_format *f = &out->formats[out->format_count++];
+            snprintf(f->name, sizeof f->name, "%s", attrs[i].name);
+            f->component_type = attrs[i].accessor->component_type;
+            f->normalized = attrs[i].accessor->normalized;
+            f->components = attrs[i].accessor->components;
+        }
+    if (status == RESURF_OK) {
+        out->mesh = mesh;
+        mesh = NULL;
+    }
+done:
+    if (attrs)
+        for (size_t i = 0; i < gp->attribute_count; ++i)
+            free(attrs[i].values);
+    free(attrs);
+    free(index_values);
+    free(triangles);
+    resurf_mesh_free(mesh);
+    resurfi_draco_mesh_free(dm);
+    return status;
+}
+
+/* Everything about a parsed document, then its primitives. */
+static resurf_status build_scene(load_ctx *c, resurfi_gltf_doc *doc, resurf_scene **out)
+{
+    const resurfi_gltf_view *v = resurfi_gltf_doc_view(doc);
+    c->v = v;
+    if (v->nonfinite_count)
+        return FAIL(c, "%zu numbers of the JSON are not finite (the first at %s)", v->nonfinite_count,
+                    v->first_nonfinite);
+    for (size_t i = 0; i < v->extension_required_count; ++i)
+        if (!extension_known(v->extensions_required[i]))
+            return resurfi_fail(c->error, RESURF_ERR_UNSUPPORTED, c->path, 0, -1,
+                                "the document requires the extension %s, which resurf does not support",
+                                v->extensions_required[i]);
+    for (size_t i = 0; i < v->buffer_count; ++i)
+        c->buffer_bytes += v->buffers[i].size;
+    resurf_status status = check_buffer_views(c);
+    for (size_t i = 0; i < v->accessor_count && status == RESURF_OK; ++i)
+        status = check_accessor(c, i);
+    for (size_t i = 0; i < v->ref_count && status == RESURF_OK; ++i)
+        if (v->refs[i].index < 0 || (uint64_t)v->refs[i].index >= v->refs[i].limit)
+            status = FAIL(c, "%s: %lld does not exist (%zu to choose from)", v->refs[i].where, v->refs[i].index,
+                          v->refs[i].limit);
+    if (status != RESURF_OK)
+        return status;
+
+    size_t prim_count = 0;
+    for (size_t m = 0; m < v->mesh_count; ++m)
+        prim_count += v->meshes[m].primitive_count;
+    resurf_scene *s = scene_new(v->mesh_count, prim_count);
+    if (!s)
+        return oom(c);
+    s->view = v;
+    for (size_t i = 0; i < v->extension_used_count; ++i) {
+        if (!strcmp(v->extensions_used[i], "KHR_mesh_quantization"))
+            s->quantized = 1;
+        if (!extension_known(v->extensions_used[i]))
+            s->unknown_extensions = 1;
+    }
+    status = check_nodes(c, s);
+    size_t k = 0;
+    for (size_t m = 0; m < v->mesh_count && status == RESURF_OK; ++m) {
+        s->mesh_first[m] = k;
+        size_t instances = 0;
+        for (size_t n = 0; n < v->node_count; ++n)
+            instances += v->nodes[n].mesh == (long long)m;
+        for (size_t p = 0; p < v->meshes[m].primitive_count && status == RESURF_OK; ++p, ++k) {
+            s->prims[k].info.instances = instances;
+            status = decode_primitive(c, m, p, &s->prims[k]);
+            if (status == RESURF_OK && resurfi_progress(c->progress, "load", (double)(k + 1) / (double)(prim_count + 1)))
+                status = resurfi_fail(c->error, RESURF_ERR_CANCELLED, c->path, 0, -1, "cancelled by the progress callback");
+        }
+    }
+    s->mesh_first[v->mesh_count] = prim_count;
+    for (size_t i = 0; i < v->warning_count && status == RESURF_OK; ++i)
+        if (add_warning(s, v->warnings[i]) != RESURF_OK)
+            status = oom(c);
+    if (status != RESURF_OK) {
+        resurf_scene_free(s);
+        return status;
+    }
+    s->doc = doc;
+    *out = s;
+    return RESURF_OK;
+}
+
+/* A .drc file: one mesh (POSITION, NORMAL, TEX_COORD, COLOR; other attributes as extras "_GENERICk"). */
+static resurf_status load_drc(const unsigned char *data, size_t size, load_ctx *c, resurf_scene **out)
+{
+    resurfi_draco_mesh *dm = NULL;
+    resurf_error derr;
+    resurf_status status = resurfi_draco_decode(data, size, &dm, &derr);
+    if (status != RESURF_OK)
+        return resurfi_fail(c->error, status, c->path, 0, -1, "%s", derr.message);
+    resurf_mesh *m = NULL;
+    if (dm->face_count == 0)
+        status = resurfi_fail(c->error, RESURF_ERR_UNSUPPORTED, c->path, 0, -1, "the Draco data is a point cloud");
+    else if (c->max_triangles && dm->face_count > c->max_triangles)
+        status = resurfi_fail(c->error, RESURF_ERR_LIMIT, c->path, 0, -1,
+                              "more than %zu triangles (the max_triangles limit)", c->max_triangles);
+    else if (resurf_mesh_create(dm->point_count, dm->face_count, 0, &m, NULL) != RESURF_OK)
+        status = oom(c);
+    size_t n = dm->point_count, generic = 0;
+    int has_position = 0;
+    for (size_t i = 0; i < dm->attribute_count && status == RESURF_OK; ++i) {
+        const resurfi_draco_attribute *a = &dm->attributes[i];
+        size_t comps = (size_t)a->components;
+        double scale = a->integer && a->type != RESURFI_DRACO_GENERIC ? a->integer_max : 1.0;
+        double *dst = NULL;
+        if (a->type == RESURFI_DRACO_POSITION && comps == 3 && !has_position) {
+            dst = m->positions;
+            has_position = 1;
+            scale = 1.0;
+        } else if (a->type == RESURFI_DRACO_NORMAL && comps == 3 && !m->normals) {
+            dst = m->normals = resurfi_alloc_array(n, 3 * sizeof(double));
+        } else if (a->type == RESURFI_DRACO_TEX_COORD && comps == 2 && m->texcoord_count < RESURF_MAX_TEXCOORD_SETS) {
+            dst = m->texcoords[m->texcoord_count++] = resurfi_alloc_array(n, 2 * sizeof(double));
+        } else if (a->type == RESURFI_DRACO_COLOR && (comps == 3 || comps == 4) && !m->colors) {
+            if ((m->colors = resurfi_alloc_array(n, 4 * sizeof(double))))
+                for (size_t v = 0; v < n; ++v)
+                    for (size_t k = 0; k < 4; ++k)
+                        m->colors[4 * v + k] = k < comps ? a->values[comps * v + k] / scale : 1.0;
+            m->color_components = (unsigned)comps;
+            if (!m->colors)
+                status = oom(c);
+            continue;
+        } else if (comps <= 16) {
+            char name[32];
+            snprintf(name, sizeof name, "_GENERIC%zu", generic++);
+            resurf_attribute *x = NULL;
+            if (resurf_mesh_add_extra(m, name, (unsigned)comps, &x, NULL) != RESURF_OK)
+                status = oom(c);
+            else
+                for (size_t k = 0; k < n * comps; ++k)
+                    x->data[k] = (float)a->values[k];
+            continue;
+        } else {
+            continue;
+        }
+        if (!dst) {
+            status = oom(c);
+            break;
+        }
+        for (size_t k = 0; k < n * comps; ++k) {
+            dst[k] = a->values[k] / scale;
+            if (!isfinite(dst[k]))
+                status = FAIL(c, "the Draco data has a non-finite value in attribute %d", a->unique_id);
+        }
+    }
+    if (status == RESURF_OK && !has_position)
+        status = FAIL(c, "the Draco data has no POSITION attribute");
+    if (status == RESURF_OK)
+        for (size_t i = 0; i < 3 * dm->face_count; ++i)
+            m->indices[i] = dm->faces[i];
+    resurfi_draco_mesh_free(dm);
+    if (status != RESURF_OK) {
+        resurf_mesh_free(m);
+        return status;
+    }
+    return scene_of_mesh(m, out, c->error);
+}
+
+/* ---- public calls -------------------------------------------------------------------------------------------- */
+
+resurf_status resurf_scene_from_mesh(const resurf_mesh *mesh, resurf_scene **out_scene, resurf_error *error)
+{
+    if (!mesh || !out_scene)
+        return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "mesh or out_scene is NULL");
+    *out_scene = NULL;
+    resurf_mesh *copy = NULL;
+    resurf_status status = resurf_mesh_clone(mesh, &copy, error);
+    if (status != RESURF_OK)
+        return status;
+    status = scene_of_mesh(copy, out_scene, error);
+    if (status == RESURF_OK)
+        resurfi_clear_error(error);
+    return status;
+}
+
+resurf_status resurf_scene_load(const char *path, const resurf_load_options *options, resurf_scene **out_scene,
+                                resurf_error *error)
+{
+    if (!path || !out_scene)
+        return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "path or out_scene is NULL");
+    *out_scene = NULL;
+    RESURFI_CHECK_OPTIONS(options, resurf_load_options, error);
+    resurf_load_options opts = options ? *options : resurf_load_options_default();
+    if ((unsigned)opts.format >= RESURF_FORMAT_COUNT)
+        return resurfi_error(error, RESURF_ERR_INVALID_OPTIONS, "unknown format %d", (int)opts.format);
+
+    enum { KIND_MESH, KIND_GLTF, KIND_GLB, KIND_DRC } kind = KIND_MESH;
+    if (opts.format == RESURF_FORMAT_AUTO) {
+        if (resurfi_ends_with_nocase(path, ".gltf"))
+            kind = KIND_GLTF;
+        else if (resurfi_ends_with_nocase(path, ".glb"))
+            kind = KIND_GLB;
+        else if (resurfi_ends_with_nocase(path, ".drc"))
+            kind = KIND_DRC;
+        else if (resurf_format_from_path(path) == RESURF_FORMAT_AUTO) {
+            /* No known extension: glTF and Draco by their first bytes, anything else as a mesh file. */
+            unsigned char head[8] = {0};
+            FILE *f = fopen(path, "rb");
+            size_t got = f ? fread(head, 1, sizeof head, f) : 0;
+            if (f)
+                fclose(f);
+            size_t i = 0;
+            while (i < got && (head[i] == ' ' || head[i] == '\n' || head[i] == '\r' || head[i] == '\t'))
+                ++i;
+            if (got >= 4 && !memcmp(head, "glTF", 4))
+                kind = KIND_GLB;
+            else if (got >= 5 && !memcmp(head, "DRACO", 5))
+                kind = KIND_DRC;
+            else if (i < got && head[i] == '{')
+                kind = KIND_GLTF;
+        }
+    }
+    if (kind == KIND_MESH) {
+        resurf_mesh *mesh = NULL;
+        resurf_status status = resurf_mesh_load(path, &opts, &mesh, error);
+        if (status == RESURF_OK)
+            status = scene_of_mesh(mesh, out_scene, error);
+        return status;
+    }
+
+    unsigned char *data = NULL;
+    size_t size = 0;
+    resurf_status status = read_whole(path, (uint64_t)1 << 32, &data, &size, error);
+    if (status != RESURF_OK)
+        return status;
+    load_ctx c = {.path = path, .error = error, .max_triangles = opts.max_triangles, .progress = &opts.progress};
+    if (kind == KIND_DRC) {
+        status = load_drc(data, size, &c, out_scene);
+        free(data);
+        if (status == RESURF_OK)
+            resurfi_clear_error(error);
+        return status;
+    }
+
+    /* The JSON, and a .glb's BIN chunk (glTF 2.0 4.4: header, then chunks of length, type and data). */
+    const char *json = (const char *)data;
+    size_t json_size = size, json_offset = 0;
+    const unsigned char *bin = NULL;
+    size_t bin_size = 0;
+    if (kind == KIND_GLB) {
+        if (size < 20 || memcmp(data, "glTF", 4))
+            status = resurfi_fail(error, RESURF_ERR_PARSE, path, 0, 0, "not a .glb file (no glTF header)");
+        else if (get_u32le(data + 4) != 2)
+            status = resurfi_fail(error, RESURF_ERR_UNSUPPORTED, path, 0, 4, "glTF binary version %u (resurf reads 2)",
+                                  get_u32le(data + 4));
+        else if (get_u32le(data + 8) > size || get_u32le(data + 8) < 20)
+            status = resurfi_fail(error, RESURF_ERR_PARSE, path, 0, 8, "the header says %u bytes, the file has %zu",
+                                  get_u32le(data + 8), size);
+        else {
+            size_t total = get_u32le(data + 8), length = get_u32le(data + 12);
+            if (get_u32le(data + 16) != 0x4E4F534Au)
+                status = resurfi_fail(error, RESURF_ERR_PARSE, path, 0, 16, "the first chunk is not JSON");
+            else if (length > total - 20)
+                status = resurfi_fail(error, RESURF_ERR_PARSE, path, 0, 12, "the JSON chunk (%zu bytes) runs past the end",
+                                      length);
+            else {
+                json = (const char *)data + 20;
+                json_size = length;
+                json_offset = 20;
+                size_t at = 20 + ((length + 3) & ~(size_t)3);
+                if (at + 8 <= total && get_u32le(data + at + 4) == 0x004E4942u) {
+                    size_t bin_length = get_u32le(data + at);
+                    if (bin_length > total - at - 8)
+                        status = resurfi_fail(error, RESURF_ERR_PARSE, path, 0, (long long)at,
+                                              "the BIN chunk (%zu bytes) runs past the end", bin_length);
+                    bin = data + at + 8;
+                    bin_size = bin_length;
+                }
+            }
+        }
+    }
+    long long deep = status == RESURF_OK ? json_too_deep(json, json_size) : -1;
+    if (deep >= 0)
+        status = resurfi_fail(error, RESURF_ERR_PARSE, path, 0, deep + (long long)json_offset,
+                              "the JSON nests deeper than %d levels", MAX_JSON_DEPTH);
+    resurfi_gltf_doc *doc = NULL;
+    if (status == RESURF_OK) {
+        /* External files are relative to the document's folder. */
+        const char *slash = strrchr(path, '/');
+        size_t dir_len = slash ? (size_t)(slash - path) + 1 : 0;
+        char *dir = malloc(dir_len + 1);
+        if (!dir)
+            status = resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
+        else {
+            memcpy(dir, path, dir_len);
+            dir[dir_len] = 0;
+            status = resurfi_gltf_parse(json, json_size, bin, bin_size, kind == KIND_GLB, dir, path,
+                                        (uint64_t)1 << 32, &doc, error);
+            if (status != RESURF_OK && error && error->offset >= 0)
+                error->offset += (long long)json_offset;
+            free(dir);
+        }
+    }
+    free(data);
+    if (status == RESURF_OK) {
+        status = build_scene(&c, doc, out_scene);
+        if (status != RESURF_OK)
+            resurfi_gltf_doc_free(doc);
+    }
+    if (status == RESURF_OK)
+        resurfi_clear_error(error);
+    return status;
+}
+
+size_t resurf_scene_mesh_count(const resurf_scene *scene) { return scene ? scene->mesh_count : 0; }
+
+size_t resurf_scene_primitive_count(const resurf_scene *scene) { return scene ? scene->prim_count : 0; }
+
+resurf_status resurf_scene_primitive_info(const resurf_scene *scene, size_t index, resurf_scene_primitive *out,
+                                          resurf_error *error)
+{
+    if (!scene || !out)
+        return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "scene or out is NULL");
+    if (index >= scene->prim_count)
+        return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "primitive %zu of %zu", index, scene->prim_count);
+    *out = scene->prims[index].info;
+    out->lod_count = scene->prims[index].lod_count;
+    return RESURF_OK;
+}
+
+const resurf_mesh *resurf_scene_primitive_mesh(const resurf_scene *scene, size_t index)
+{
+    return scene && index < scene->prim_count ? scene->prims[index].mesh : NULL;
+}
+
+/* Can a level stand in for the primitive's mesh? Indices in range, finite positions, the same attributes. */
+static resurf_status check_level(const resurfi_scene_prim *p, const resurf_mesh *m, size_t level, resurf_error *error)
+{
+    const char *name = p->info.name;
+    if (!m || (m->vertex_count && !m->positions) || (m->triangle_count && !m->indices))
+        return resurfi_error(error, RESURF_ERR_INVALID_MESH, "%s: level %zu is NULL or has no data", name, level);
+    if (m->vertex_count > UINT32_MAX - 1 || m->triangle_count > UINT32_MAX)
+        return resurfi_error(error, RESURF_ERR_INVALID_MESH, "%s: level %zu is too large", name, level);
+    for (size_t i = 0; i < 3 * m->triangle_count; ++i)
+        if (m->indices[i] >= m->vertex_count)
+            return resurfi_error(error, RESURF_ERR_INVALID_MESH, "%s: level %zu: triangle %zu refers to vertex %u of %zu",
+                                 name, level, i / 3, m->indices[i], m->vertex_count);
+    for (size_t i = 0; i < 3 * m->vertex_count; ++i)
+        if (!isfinite(m->positions[i]))
+            return resurfi_error(error, RESURF_ERR_INVALID_MESH, "%s: level %zu: vertex %zu is not finite", name, level,
+                                 i / 3);
+    const resurf_mesh *src = p->mesh;
+    if (!!src->normals != !!m->normals || src->texcoord_count != m->texcoord_count || !!src->colors != !!m->colors)
+        return resurfi_error(error, RESURF_ERR_INVALID_MESH,
+                             "%s: level %zu does not carry the same normals, texcoords and colors as the primitive",
+                             name, level);
+    for (unsigned k = 0; k < m->texcoord_count; ++k)
+        if (!m->texcoords[k])
+            return resurfi_error(error, RESURF_ERR_INVALID_MESH, "%s: level %zu lacks texcoord set %u", name, level, k);
+    for (size_t i = 0; i < src->extra_count; ++i) {
+        size_t k = 0;
+        while (k < m->extra_count && strcmp(m->extras[k].name, src->extras[i].name))
+            ++k;
+        if (k == m->extra_count || m->extras[k].components != src->extras[i].components || !m->extras[k].data)
+            return resurfi_error(error, RESURF_ERR_INVALID_MESH, "%s: level %zu lacks the attribute %s", name, level,
+                                 src->extras[i].name);
+    }
+    return RESURF_OK;
+}
+
+resurf_status resurf_scene_set_lods(resurf_scene *scene, size_t index, const resurf_mesh *const *lods,
+                                    size_t lod_count, resurf_error *error)
+{
+    if (!scene || (lod_count && !lods))
+        return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "scene or lods is NULL");
+    if (index >= scene->prim_count)
+        return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "primitive %zu of %zu", index, scene->prim_count);
+    if (lod_count > RESURF_SCENE_MAX_LEVELS - 1)
+        return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "%zu levels of detail (at most %d)", lod_count,
+                             RESURF_SCENE_MAX_LEVELS - 1);
+    resurfi_scene_prim *p = &scene->prims[index];
+    if (p->info.kind == RESURF_PRIMITIVE_MORPHED)
+        return resurfi_error(error, RESURF_ERR_UNSUPPORTED, "%s has morph targets: it stays at full detail",
+                             p->info.name);
+    if (p->info.kind == RESURF_PRIMITIVE_OTHER)
+        return resurfi_error(error, RESURF_ERR_UNSUPPORTED, "%s is not made of triangles: it stays as it is",
+                             p->info.name);
+    for (size_t k = 0; k < lod_count; ++k) {
+        resurf_status status = check_level(p, lods[k], k + 1, error);
+        if (status != RESURF_OK)
+            return status;
+    }
+    resurf_mesh **copies = lod_count ? resurfi_calloc_array(lod_count, sizeof *copies) : NULL;
+    if (lod_count && !copies)
+        return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory copying levels of detail");
+    for (size_t k = 0; k < lod_count; ++k) {
+        resurf_status status = resurf_mesh_clone(lods[k], &copies[k], error);
+        if (status != RESURF_OK) {
+            for (size_t j = 0; j < k; ++j)
+                resurf_mesh_free(copies[j]);
+            free(copies);
+            return status;
+        }
+    }
+    for (size_t k = 0; k < p->lod_count; ++k)
+        resurf_mesh_free(p->lods[k]);
+    free(p->lods);
+    p->lods = copies;
+    p->lod_count = lod_count;
+    resurfi_clear_error(error);
+    return RESURF_OK;
+}
+
+resurf_status resurf_scene_set_screen_coverage(resurf_scene *scene, size_t mesh, const double *coverage,
+                                               size_t count, resurf_error *error)
+{
+    if (!scene || (count && !coverage))
+        return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "scene or coverage is NULL");
+    if (mesh >= scene->mesh_count)
+        return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "mesh %zu of %zu", mesh, scene->mesh_count);
+    if (count > RESURF_SCENE_MAX_LEVELS)
+        return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "%zu coverage values (at most %d)", count,
+                             RESURF_SCENE_MAX_LEVELS);
+    for (size_t k = 0; k < count; ++k)
+        if (!(coverage[k] >= 0 && coverage[k] <= 1) || (k && coverage[k] > coverage[k - 1]))
+            return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT,
+                                 "coverage[%zu] = %g: values must lie in [0, 1] and never increase", k, coverage[k]);
+    double *copy = NULL;
+    if (count) {
+        if (!(copy = resurfi_alloc_array(count, sizeof *copy)))
+            return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
+        memcpy(copy, coverage, count * sizeof *copy);
+    }
+    free(scene->coverage[mesh]);
+    scene->coverage[mesh] = copy;
+    scene->coverage_count[mesh] = count;
+    resurfi_clear_error(error);
+    return RESURF_OK;
+}
+
+size_t resurf_scene_warning_count(const resurf_scene *scene) { return scene ? scene->warning_count : 0; }
+
+const char *resurf_scene_warning(const resurf_scene *scene, size_t index)
+{
+    return scene && index < scene->warning_count ? scene->warnings[index] : NULL;
+}

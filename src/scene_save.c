@@ -1,0 +1,968 @@
+/* Saving scenes: packs each triangle primitive at each level into glTF accessors or a Draco payload, checks every
+ * payload by decoding it again, plans the output document (layouts of levels: MSFT_lod, one file per level, side
+ * by side) for io/gltf_write.cpp, and writes the files atomically (temporary files renamed into place only when
+ * all of them are complete).
+ *
+ * Follows glTF 2.0 (3.6-3.7: accessor types, min/max of POSITION, unit normals and tangents), KHR_draco_mesh_
+ * compression (accessors of a compressed primitive describe the decoded data and have no bufferView) and the
+ * Microsoft MSFT_lod extension. Draco quantization: a float attribute of range R stored in b bits is within
+ * R / (2^b - 1) of its input after decoding; that bound is what the decode check enforces for positions. */
+#include <errno.h>
+#include <fcntl.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "scene_internal.h"
+
+#ifndef O_CLOEXEC
+#define O_CLOEXEC 0
+#endif
+
+resurf_scene_save_options resurf_scene_save_options_default(void)
+{
+    resurf_scene_save_options o;
+    memset(&o, 0, sizeof o);
+    o.struct_size = sizeof o;
+    o.draco = 0;
+    o.position_bits = 14;
+    o.normal_bits = 10;
+    o.texcoord_bits = 12;
+    o.color_bits = 8;
+    o.generic_bits = 12;
+    o.compression_level = 7;
+    o.embed_buffers = 0;
+    o.layout = RESURF_LOD_MSFT_LOD;
+    o.spacing_rel = 0.25;
+    o.level = -1;
+    return o;
+}
+
+size_t resurf_scene_level_path(char *dst, size_t dst_size, const char *path, unsigned level)
+{
+    char empty = 0;
+    if (!dst || dst_size == 0) {
+        dst = &empty;
+        dst_size = 1;
+    }
+    if (!path)
+        path = "";
+    const char *slash = strrchr(path, '/');
+    const char *base = slash ? slash + 1 : path;
+    const char *dot = strrchr(base, '.');
+    size_t stem = dot && dot != base ? (size_t)(dot - path) : strlen(path);
+    int n = snprintf(dst, dst_size, "%.*s_lod%u%s", (int)stem, path, level, path + stem);
+    return n < 0 ? 0 : (size_t)n;
+}
+
+/* ---- the save context: an arena of allocations freed together, and the plan's growing arrays ---------------- */
+
+/* One primitive at one level, packed (cached: a level shown by several output meshes is packed once). */
+typedef struct packed {
+    int done, empty;
+    size_t attribute_count;
+    resurfi_gltf_named *attributes; /* name → plan accessor */
+    long long indices;
+    unsigned char *draco;
+    size_t draco_size;
+    resurfi_gltf_named *draco_ids;
+    size_t bytes;
+} packed;
+
+typedef struct save_ctx {
+    const resurf_scene *s;
+    const resurf_scene_save_options *o;
+    const char *path;
+    resurf_error *error;
+    void **owned;
+    size_t owned_count, owned_cap;
+    resurfi_gltf_out_accessor *acc;
+    size_t acc_count, acc_cap;
+    packed *cache;          /* prim_count × RESURF_SCENE_MAX_LEVELS */
+    int draco_used, verbatim_any;
+    size_t level_bytes[RESURF_SCENE_MAX_LEVELS];
+} save_ctx;
+
+static resurf_status oom(save_ctx *c)
+{
+    return resurfi_fail(c->error, RESURF_ERR_OUT_OF_MEMORY, c->path, 0, -1, "out of memory writing the scene");
+}
+
+/* Remembers p for freeing at the end; NULL stays NULL (and frees p when the list cannot grow). */
+static void *own(save_ctx *c, void *p)
+{
+    if (!p)
+        return NULL;
+    if (c->owned_count == c->owned_cap) {
+        size_t cap = c->owned_cap ? 2 * c->owned_cap : 64;
+        void **list = resurfi_realloc_array(c->owned, cap, sizeof *list);
+        if (!list) {
+            free(p);
+            return NULL;
+        }
+        c->owned = list;
+        c->owned_cap = cap;
+    }
+    return c->owned[c->owned_count++] = p;
+}
+
+static void free_owned(save_ctx *c)
+{
+    for (size_t i = 0; i < c->owned_count; ++i)
+        free(c->owned[i]);
+    free(c->owned);
+    free(c->acc);
+    free(c->cache);
+}
+
+static char *own_string(save_ctx *c, const char *s)
+{
+    size_t n = strlen(s) + 1;
+    char *p = own(c, malloc(n));
+    if (p)
+        memcpy(p, s, n);
+    return p;
+}
+
+static long long add_accessor(save_ctx *c, const resurfi_gltf_out_accessor *a)
+{
+    if (c->acc_count == c->acc_cap) {
+        size_t cap = c->acc_cap ? 2 * c->acc_cap : 64;
+        resurfi_gltf_out_accessor *list = resurfi_realloc_array(c->acc, cap, sizeof *list);
+        if (!list)
+            return -1;
+        c->acc = list;
+        c->acc_cap = cap;
+    }
+    c->acc[c->acc_count] = *a;
+    return (long long)c->acc_count++;
+}
+
+/* ---- packing attributes -------------------------------------------------------------------------------------- */
+
+/* One attribute as it is written: where its values come from and in which glTF and Draco form. */
+typedef struct out_attr {
+    char name[64];
+    int component_type, normalized, components;
+    int draco_type, bits;
+    const double *d;        /* double source: value (v, k) = d[v * stride + k] */
+    const float *f;         /* or float source (extras) */
+    size_t stride;
+    int unit_vector;        /* NORMAL, TANGENT: xyz made unit length (tangent w made ±1) */
+    int clamp01;            /* COLOR_0 */
+} out_attr;
+
+static int is_semantic(const char *name)
+{
+    static const char *const prefixes[] = {"TEXCOORD_", "COLOR_", "JOINTS_", "WEIGHTS_"};
+    if (name[0] == '_' || !strcmp(name, "TANGENT"))
+        return 1;
+    for (size_t i = 0; i < sizeof prefixes / sizeof *prefixes; ++i) {
+        size_t n = strlen(prefixes[i]);
+        if (!strncmp(name, prefixes[i], n) && name[n]) {
+            const char *p = name + n;
+            while (*p >= '0' && *p <= '9')
+                ++p;
+            if (!*p)
+                return 1;
+        }
+    }
+    return 0;
+}
+
+static int draco_data_type(int component_type)
+{
+    switch (component_type) {
+    case RESURFI_GLTF_UNSIGNED_BYTE: return RESURFI_DRACO_U8;
+    case RESURFI_GLTF_UNSIGNED_SHORT: return RESURFI_DRACO_U16;
+    case RESURFI_GLTF_UNSIGNED_INT: return RESURFI_DRACO_U32;
+    case RESURFI_GLTF_BYTE: return RESURFI_DRACO_I8;
+    case RESURFI_GLTF_SHORT: return RESURFI_DRACO_I16;
+    default: return RESURFI_DRACO_F32;
+    }
+}
+
+/* The attributes of mesh m as written for primitive p. */
+static size_t list_attributes(const save_ctx *c, const resurfi_scene_prim *p, const resurf_mesh *m, out_attr *out)
+{
+    const resurf_scene_save_options *o = c->o;
+    size_t n = 0;
+    out_attr *a = &out[n++];
+    memset(a, 0, sizeof *a);
+    snprintf(a->name, sizeof a->name, "POSITION");
+    a->component_type = RESURFI_GLTF_FLOAT, a->components = 3, a->d = m->positions, a->stride = 3;
+    a->draco_type = RESURFI_DRACO_POSITION, a->bits = o->position_bits;
+    if (m->normals) {
+        a = &out[n++];
+        memset(a, 0, sizeof *a);
+        snprintf(a->name, sizeof a->name, "NORMAL");
+        a->component_type = RESURFI_GLTF_FLOAT, a->components = 3, a->d = m->normals, a->stride = 3;
+        a->draco_type = RESURFI_DRACO_NORMAL, a->bits = o->normal_bits, a->unit_vector = 1;
+    }
+    for (unsigned k = 0; k < m->texcoord_count; ++k) {
+        a = &out[n++];
+        memset(a, 0, sizeof *a);
+        snprintf(a->name, sizeof a->name, "TEXCOORD_%u", k);
+        a->component_type = RESURFI_GLTF_FLOAT, a->components = 2, a->d = m->texcoords[k], a->stride = 2;
+        a->draco_type = RESURFI_DRACO_TEX_COORD, a->bits = o->texcoord_bits;
+    }
+    if (m->colors) {
+        a = &out[n++];
+        memset(a, 0, sizeof *a);
+        snprintf(a->name, sizeof a->name, "COLOR_0");
+        a->component_type = RESURFI_GLTF_FLOAT, a->components = m->color_components == 3 ? 3 : 4;
+        a->d = m->colors, a->stride = 4, a->clamp01 = 1;
+        a->draco_type = RESURFI_DRACO_COLOR, a->bits = o->color_bits;
+    }
+    for (size_t i = 0; i < m->extra_count; ++i) {
+        const resurf_attribute *x = &m->extras[i];
+        if (x->components < 1 || x->components > 4)
+            continue; /* glTF vertex attributes are SCALAR or VECn */
+        a = &out[n++];
+        memset(a, 0, sizeof *a);
+        if (is_semantic(x->name))
+            snprintf(a->name, sizeof a->name, "%s", x->name);
+        else {
+            /* A custom attribute: "_" + the name in capitals, other bytes as '_'. */
+            a->name[0] = '_';
+            size_t k = 0;
+            for (; x->name[k] && k + 2 < sizeof a->name; ++k) {
+                char ch = x->name[k];
+                if (ch >= 'a' && ch <= 'z')
+                    ch = (char)(ch - 'a' + 'A');
+                else if (!((ch >= 'A' && ch <= 'Z') || (ch >= '0' && ch <= '9')))
+                    ch = '_';
+                a->name[k + 1] = ch;
+            }
+            a->name[k + 1] = 0;
+        }
+        a->components = (int)x->components;
+        a->f = x->data, a->stride = x->components;
+        a->component_type = !strncmp(x->name, "JOINTS_", 7) ? RESURFI_GLTF_UNSIGNED_SHORT : RESURFI_GLTF_FLOAT;
+        for (size_t k = 0; k < p->format_count; ++k)
+            if (!strcmp(p->formats[k].name, x->name) && p->formats[k].components == a->components) {
+                a->component_type = p->formats[k].component_type;
+                a->normalized = p->formats[k].normalized;
+            }
+        a->unit_vector = !strcmp(a->name, "TANGENT") && a->components == 4 &&
+                         a->component_type == RESURFI_GLTF_FLOAT;
+        a->draco_type = RESURFI_DRACO_GENERIC, a->bits = o->generic_bits;
+    }
+    return n;
+}
+
+static void put_value(unsigned char *p, int type, int normalized, double x)
+{
+    double lo = 0, hi = 0;
+    switch (type) {
+    case RESURFI_GLTF_FLOAT: {
+        float f = (float)x;
+        uint32_t bits;
+        memcpy(&bits, &f, 4);
+        for (int i = 0; i < 4; ++i)
+            p[i] = (unsigned char)(bits >> (8 * i));
+        return;
+    }
+    case RESURFI_GLTF_BYTE: lo = -128, hi = 127; break;
+    case RESURFI_GLTF_UNSIGNED_BYTE: hi = 255; break;
+    case RESURFI_GLTF_SHORT: lo = -32768, hi = 32767; break;
+    case RESURFI_GLTF_UNSIGNED_SHORT: hi = 65535; break;
+    default: hi = 4294967295.0; break;
+    }
+    if (normalized)
+        x *= hi;
+    x = isfinite(x) ? round(x) : 0;
+    x = x < lo ? lo : x > hi ? hi : x;
+    int64_t v = (int64_t)x;
+    size_t size = resurfi_gltf_component_size(type);
+    for (size_t i = 0; i < size; ++i)
+        p[i] = (unsigned char)((uint64_t)v >> (8 * i));
+}
+
+/* Packs one attribute of n vertices in its component type (malloc'ed, owned by c). bounds (may be NULL) receive
+ * min/max of the values as written. */
+static unsigned char *pack_attribute(save_ctx *c, const out_attr *a, size_t n, double *min, double *max)
+{
+    size_t csize = resurfi_gltf_component_size(a->component_type), comps = (size_t)a->components;
+    unsigned char *data = own(c, resurfi_alloc_array(n, comps * csize));
+    if (!data)
+        return NULL;
+    for (size_t k = 0; k < comps && min; ++k)
+        min[k] = INFINITY, max[k] = -INFINITY;
+    for (size_t v = 0; v < n; ++v) {
+        double x[4];
+        for (size_t k = 0; k < comps; ++k)
+            x[k] = a->d ? a->d[v * a->stride + k] : (double)a->f[v * a->stride + k];
+        if (a->unit_vector) {
+            double l = sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
+            if (l > 0 && isfinite(l))
+                x[0] /= l, x[1] /= l, x[2] /= l;
+            else
+                x[0] = 0, x[1] = 0, x[2] = 1;
+            if (comps == 4)
+                x[3] = x[3] < 0 ? -1.0 : 1.0;
+        }
+        for (size_t k = 0; k < comps; ++k) {
+            if (a->clamp01)
+                x[k] = x[k] < 0 ? 0 : x[k] > 1 ? 1 : x[k];
+            put_value(data + (v * comps + k) * csize, a->component_type, a->normalized, x[k]);
+            if (min) {
+                double w = a->component_type == RESURFI_GLTF_FLOAT ? (double)(float)x[k] : x[k];
+                min[k] = fmin(min[k], w), max[k] = fmax(max[k], w);
+            }
+        }
+    }
+    return data;
+}
+
+/* Draco: encodes, decodes again and checks what came back against what was meant. */
+static resurf_status pack_draco(save_ctx *c, const resurfi_scene_prim *p, size_t level, const resurf_mesh *m,
+                                const out_attr *attrs, size_t attr_count, unsigned char **values, packed *out)
+{
+    resurfi_draco_input_attribute in_attrs[32];
+    if (attr_count > 32)
+        return resurfi_fail(c->error, RESURF_ERR_UNSUPPORTED, c->path, 0, -1, "%s: more than 32 attributes for Draco",
+                            p->info.name);
+    for (size_t i = 0; i < attr_count; ++i) {
+        in_attrs[i].type = attrs[i].draco_type;
+        in_attrs[i].data_type = draco_data_type(attrs[i].component_type);
+        in_attrs[i].components = attrs[i].components;
+        in_attrs[i].normalized = attrs[i].normalized;
+        in_attrs[i].values = values[i];
+        in_attrs[i].quantization_bits = attrs[i].bits;
+    }
+    resurfi_draco_input in = {
+        .vertex_count = m->vertex_count,
+        .triangle_count = m->triangle_count,
+        .indices = m->indices,
+        .attribute_count = attr_count,
+        .attributes = in_attrs,
+        .compression_level = c->o->compression_level,
+    };
+    resurfi_draco_output enc;
+    resurf_error derr;
+    resurf_status status = resurfi_draco_encode(&in, &enc, &derr);
+    if (status != RESURF_OK)
+        return resurfi_fail(c->error, status, c->path, 0, -1, "%s level %zu: %s", p->info.name, level, derr.message);
+    own(c, enc.data);
+    if (!enc.data)
+        return oom(c);
+    resurfi_draco_mesh *dm = NULL;
+    status = resurfi_draco_decode(enc.data, enc.size, &dm, &derr);
+    if (status != RESURF_OK)
+        return resurfi_fail(c->error, RESURF_ERR_INTERNAL, c->path, 0, -1,
+                            "%s level %zu: the Draco payload just written does not decode: %s", p->info.name, level,
+                            derr.message);
+    char problem[160] = "";
+    if (dm->point_count != enc.encoded_points || dm->face_count != enc.encoded_faces || dm->point_count == 0 ||
+        dm->face_count == 0)
+        snprintf(problem, sizeof problem, "decodes to %zu points and %zu triangles, the encoder wrote %zu and %zu",
+                 dm->point_count, dm->face_count, enc.encoded_points, enc.encoded_faces);
+    const resurfi_draco_attribute *found[32] = {0};
+    for (size_t i = 0; i < attr_count && !problem[0]; ++i) {
+        for (size_t k = 0; k < dm->attribute_count; ++k)
+            if (dm->attributes[k].unique_id == enc.unique_ids[i])
+                found[i] = &dm->attributes[k];
+        if (!found[i] || found[i]->components != attrs[i].components ||
+            found[i]->integer != (attrs[i].component_type != RESURFI_GLTF_FLOAT))
+            snprintf(problem, sizeof problem, "lost or changed attribute %s", attrs[i].name);
+    }
+    double lo[3], hi[3], dlo[3] = {INFINITY, INFINITY, INFINITY}, dhi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    if (!problem[0]) {
+        /* Positions: the decoded box lies within one quantization step of the input's box. */
+        resurf_mesh_bounds(m, lo, hi);
+        for (size_t v = 0; v < m->vertex_count; ++v)
+            for (int k = 0; k < 3; ++k)
+                lo[k] = fmin(lo[k], (float)m->positions[3 * v + k]), hi[k] = fmax(hi[k], (float)m->positions[3 * v + k]);
+        double range = fmax(hi[0] - lo[0], fmax(hi[1] - lo[1], hi[2] - lo[2]));
+        double step = range / (double)((1u << c->o->position_bits) - 1) + 1e-6 * range + 1e-30;
+        for (size_t v = 0; v < dm->point_count; ++v)
+            for (int k = 0; k < 3; ++k) {
+                double x = found[0]->values[3 * v + (size_t)k];
+                dlo[k] = fmin(dlo[k], x), dhi[k] = fmax(dhi[k], x);
+            }
+        for (int k = 0; k < 3 && !problem[0]; ++k)
+            if (!(dlo[k] >= lo[k] - step && dhi[k] <= hi[k] + step))
+                snprintf(problem, sizeof problem, "positions decode outside the input's bounds by more than a "
+                                                  "quantization step (axis %d)", k);
+    }
+    size_t points = dm->point_count, faces = dm->face_count;
+    resurfi_draco_mesh_free(dm);
+    if (problem[0])
+        return resurfi_fail(c->error, RESURF_ERR_INTERNAL, c->path, 0, -1, "%s level %zu: the Draco payload %s",
+                            p->info.name, level, problem);
+
+    out->draco = enc.data;
+    out->draco_size = enc.size;
+    out->attributes = own(c, resurfi_alloc_array(attr_count, sizeof *out->attributes));
+    out->draco_ids = own(c, resurfi_alloc_array(attr_count, sizeof *out->draco_ids));
+    if (!out->attributes || !out->draco_ids)
+        return oom(c);
+    for (size_t i = 0; i < attr_count; ++i) {
+        resurfi_gltf_out_accessor a;
+        memset(&a, 0, sizeof a);
+        a.component_type = attrs[i].component_type;
+        a.normalized = attrs[i].normalized;
+        a.components = attrs[i].components;
+        a.count = points;
+        if (i == 0) {
+            a.has_bounds = 1;
+            for (int k = 0; k < 3; ++k)
+                a.min[k] = dlo[k], a.max[k] = dhi[k];
+        }
+        const char *name = own_string(c, attrs[i].name);
+        long long index = name ? add_accessor(c, &a) : -1;
+        if (index < 0)
+            return oom(c);
+        out->attributes[i] = (resurfi_gltf_named){name, index};
+        out->draco_ids[i] = (resurfi_gltf_named){name, enc.unique_ids[i]};
+    }
+    resurfi_gltf_out_accessor ia;
+    memset(&ia, 0, sizeof ia);
+    ia.component_type = points <= 65535 ? RESURFI_GLTF_UNSIGNED_SHORT : RESURFI_GLTF_UNSIGNED_INT;
+    ia.components = 1;
+    ia.count = 3 * (uint64_t)faces;
+    if ((out->indices = add_accessor(c, &ia)) < 0)
+        return oom(c);
+    out->attribute_count = attr_count;
+    out->bytes = enc.size;
+    return RESURF_OK;
+}
+
+/* The level whose mesh primitive p shows at `level` (its last one when it has fewer). */
+static size_t effective_level(const resurfi_scene_prim *p, size_t level)
+{
+    return level < p->lod_count ? level : p->lod_count;
+}
+
+/* Packs primitive `prim` at `level` (cached by the level it really shows). */
+static resurf_status pack(save_ctx *c, size_t prim, size_t level, packed **out)
+{
+    const resurfi_scene_prim *p = &c->s->prims[prim];
+    level = effective_level(p, level);
+    packed *pk = &c->cache[prim * RESURF_SCENE_MAX_LEVELS + level];
+    *out = pk;
+    if (pk->done)
+        return RESURF_OK;
+    const resurf_mesh *m = resurfi_scene_level_mesh(p, level);
+    pk->done = 1;
+    if (m->vertex_count == 0 || m->triangle_count == 0) {
+        pk->empty = 1; /* glTF accessors cannot be empty: the primitive is left out at this level */
+        return RESURF_OK;
+    }
+    out_attr attrs[4 + RESURF_MAX_TEXCOORD_SETS + 64];
+    if (m->extra_count > 64)
+        return resurfi_fail(c->error, RESURF_ERR_UNSUPPORTED, c->path, 0, -1, "%s: more than 64 extra attributes",
+                            p->info.name);
+    size_t n = list_attributes(c, p, m, attrs);
+    unsigned char *values[sizeof attrs / sizeof *attrs];
+    double min[4], max[4];
+    for (size_t i = 0; i < n; ++i)
+        if (!(values[i] = pack_attribute(c, &attrs[i], m->vertex_count, i == 0 ? min : NULL, i == 0 ? max : NULL)))
+            return oom(c);
+    if (c->o->draco)
+        return pack_draco(c, p, level, m, attrs, n, values, pk);
+
+    pk->attributes = own(c, resurfi_alloc_array(n, sizeof *pk->attributes));
+    if (!pk->attributes)
+        return oom(c);
+    for (size_t i = 0; i < n; ++i) {
+        resurfi_gltf_out_accessor a;
+        memset(&a, 0, sizeof a);
+        a.component_type = attrs[i].component_type;
+        a.normalized = attrs[i].normalized;
+        a.components = attrs[i].components;
+        a.count = m->vertex_count;
+        a.data = values[i];
+        a.data_size = m->vertex_count * (size_t)a.components * resurfi_gltf_component_size(a.component_type);
+        a.target = RESURFI_GLTF_ARRAY_BUFFER;
+        if (i == 0) {
+            a.has_bounds = 1;
+            for (int k = 0; k < 3; ++k)
+                a.min[k] = min[k], a.max[k] = max[k];
+        }
+        const char *name = own_string(c, attrs[i].name);
+        long long index = name ? add_accessor(c, &a) : -1;
+        if (index < 0)
+            return oom(c);
+        pk->attributes[i] = (resurfi_gltf_named){name, index};
+        pk->bytes += a.data_size;
+    }
+    /* Unsigned short indices while they fit: 65535 itself is the primitive-restart value, never an index. */
+    int wide = m->vertex_count > 65535;
+    size_t isize = wide ? 4 : 2;
+    unsigned char *idx = own(c, resurfi_alloc_array(3 * m->triangle_count, isize));
+    if (!idx)
+        return oom(c);
+    for (size_t i = 0; i < 3 * m->triangle_count; ++i)
+        put_value(idx + i * isize, wide ? RESURFI_GLTF_UNSIGNED_INT : RESURFI_GLTF_UNSIGNED_SHORT, 0, m->indices[i]);
+    resurfi_gltf_out_accessor ia;
+    memset(&ia, 0, sizeof ia);
+    ia.component_type = wide ? RESURFI_GLTF_UNSIGNED_INT : RESURFI_GLTF_UNSIGNED_SHORT;
+    ia.components = 1;
+    ia.count = 3 * (uint64_t)m->triangle_count;
+    ia.data = idx;
+    ia.data_size = 3 * m->triangle_count * isize;
+    ia.target = RESURFI_GLTF_ELEMENT_ARRAY_BUFFER;
+    if ((pk->indices = add_accessor(c, &ia)) < 0)
+        return oom(c);
+    pk->attribute_count = n;
+    pk->bytes += ia.data_size;
+    return RESURF_OK;
+}
+
+/* ---- planning a document ------------------------------------------------------------------------------------- */
+
+/* The number of levels of mesh m: 1 + the most levels of its primitives. */
+static size_t mesh_levels(const resurf_scene *s, size_t m)
+{
+    size_t levels = 1;
+    for (size_t i = s->mesh_first[m]; i < s->mesh_first[m + 1]; ++i)
+        if (s->prims[i].lod_count + 1 > levels)
+            levels = s->prims[i].lod_count + 1;
+    return levels;
+}
+
+/* Output mesh (mesh m at level k): its primitives, packed or verbatim. */
+static resurf_status plan_mesh(save_ctx *c, size_t m, size_t level, resurfi_gltf_out_mesh *out)
+{
+    const resurf_scene *s = c->s;
+    size_t first = s->mesh_first[m], count = s->mesh_first[m + 1] - first;
+    resurfi_gltf_out_primitive *prims = own(c, resurfi_calloc_array(count, sizeof *prims));
+    if (!prims)
+        return oom(c);
+    size_t n = 0;
+    for (size_t i = 0; i < count; ++i) {
+        const resurfi_scene_prim *p = &s->prims[first + i];
+        resurfi_gltf_out_primitive *o = &prims[n];
+        o->source_mesh = s->doc ? m : SIZE_MAX;
+        o->source_primitive = p->info.primitive;
+        o->indices = -1;
+        if (p->info.kind != RESURF_PRIMITIVE_TRIANGLES) {
+            /* Morphed primitives (their targets stay aligned with the vertices) and points and lines are
+             * written from the source document as they are. */
+            o->verbatim = 1;
+            c->verbatim_any = 1;
+            c->draco_used |= p->info.draco;
+            ++n;
+            continue;
+        }
+        packed *pk;
+        resurf_status status = pack(c, first + i, level, &pk);
+        if (status != RESURF_OK)
+            return status;
+        if (resurfi_progress(&c->o->progress, "save", 0.5))
+            return resurfi_fail(c->error, RESURF_ERR_CANCELLED, c->path, 0, -1, "cancelled by the progress callback");
+        if (pk->empty)
+            continue;
+        o->attribute_count = pk->attribute_count;
+        o->attributes = pk->attributes;
+        o->indices = pk->indices;
+        o->draco = pk->draco;
+        o->draco_size = pk->draco_size;
+        o->draco_ids = pk->draco_ids;
+        c->draco_used |= pk->draco != NULL;
+        ++n;
+    }
+    if (n == 0)
+        return resurfi_fail(c->error, RESURF_ERR_INVALID_MESH, c->path, 0, -1,
+                            "meshes[%zu] has no triangles left at level %zu", m, level);
+    out->source_mesh = m;
+    out->level = (unsigned)level;
+    out->primitive_count = n;
+    out->primitives = prims;
+    return RESURF_OK;
+}
+
+/* x extent of the scene (world space, level 0), for spacing the side-by-side copies. */
+static double scene_width(const resurf_scene *s)
+{
+    double lo = INFINITY, hi = -INFINITY, extent = 0;
+    for (size_t node = 0; node < (s->doc ? s->view->node_count : 1); ++node) {
+        long long mesh = s->doc ? s->view->nodes[node].mesh : 0;
+        if (mesh < 0)
+            continue;
+        static const double identity[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+        const double *w = s->doc ? s->world[node] : identity;
+        for (size_t i = s->mesh_first[mesh]; i < s->mesh_first[mesh + 1]; ++i) {
+            const resurf_mesh *m = s->prims[i].mesh;
+            if (!m || m->vertex_count == 0)
+                continue;
+            double bmin[3], bmax[3];
+            extent = fmax(extent, resurf_mesh_bounds(m, bmin, bmax));
+            for (int corner = 0; corner < 8; ++corner) {
+                double p[3] = {corner & 1 ? bmax[0] : bmin[0], corner & 2 ? bmax[1] : bmin[1],
+                               corner & 4 ? bmax[2] : bmin[2]};
+                double x = w[0] * p[0] + w[4] * p[1] + w[8] * p[2] + w[12];
+                lo = fmin(lo, x), hi = fmax(hi, x);
+            }
+        }
+    }
+    double width = hi - lo;
+    return width > 0 && isfinite(width) ? width : extent > 0 ? extent : 1.0;
+}
+
+/* Builds the plan of one document: `level` >= 0 writes that level alone (PLAIN), else all levels in `layout`. */
+static resurf_status build_plan(save_ctx *c, int level, resurfi_gltf_layout layout, resurfi_gltf_plan *plan)
+{
+    const resurf_scene *s = c->s;
+    size_t meshes = s->mesh_count;
+    size_t levels = 1;
+    for (size_t m = 0; m < meshes; ++m)
+        if (mesh_levels(s, m) > levels)
+            levels = mesh_levels(s, m);
+    if (level >= 0 || layout == RESURFI_GLTF_PLAIN)
+        levels = 1;
+    memset(plan, 0, sizeof *plan);
+    plan->layout = levels > 1 ? layout : RESURFI_GLTF_PLAIN;
+    plan->source_mesh_count = meshes;
+    plan->level_count = levels;
+    long long *table = own(c, resurfi_alloc_array(levels * meshes + 1, sizeof *table));
+    resurfi_gltf_out_mesh *out = own(c, resurfi_calloc_array(levels * meshes + 1, sizeof *out));
+    double *coverage = own(c, resurfi_calloc_array(levels * meshes + 1, sizeof *coverage));
+    if (!table || !out || !coverage)
+        return oom(c);
+    size_t n = 0;
+    for (size_t k = 0; k < levels; ++k)
+        for (size_t m = 0; m < meshes; ++m) {
+            size_t own_levels = mesh_levels(s, m);
+            table[k * meshes + m] = RESURFI_GLTF_NONE;
+            if (k == 0 || k < own_levels) {
+                resurf_status status = plan_mesh(c, m, level >= 0 ? (size_t)level : k, &out[n]);
+                if (status != RESURF_OK)
+                    return status;
+                table[k * meshes + m] = (long long)n++;
+            } else if (layout == RESURFI_GLTF_SIDE_BY_SIDE) {
+                table[k * meshes + m] = table[(own_levels - 1) * meshes + m]; /* shown at its last level */
+            }
+        }
+    for (size_t m = 0; m < meshes && plan->layout == RESURFI_GLTF_MSFT_LOD; ++m) {
+        size_t own_levels = mesh_levels(s, m);
+        if (own_levels < 2)
+            continue;
+        if (s->coverage[m] && s->coverage_count[m] != own_levels)
+            return resurfi_fail(c->error, RESURF_ERR_INVALID_ARGUMENT, c->path, 0, -1,
+                                "meshes[%zu] has %zu levels but %zu screen coverage values", m, own_levels,
+                                s->coverage_count[m]);
+        for (size_t k = 0; k < own_levels; ++k)
+            coverage[m * levels + k] = s->coverage[m] ? s->coverage[m][k]
+                                       : k + 1 < own_levels ? ldexp(1.0, -(int)(k + 1))
+                                                            : 0.0;
+    }
+    if (s->doc) {
+        unsigned char *restructure = own(c, resurfi_calloc_array(s->view->node_count + 1, 1));
+        if (!restructure)
+            return oom(c);
+        for (size_t i = 0; i < s->view->node_count; ++i)
+            restructure[i] = s->view->nodes[i].child_count > 0 || s->view->nodes[i].animated;
+        plan->restructure = restructure;
+    }
+    if (plan->layout == RESURFI_GLTF_SIDE_BY_SIDE)
+        plan->level_offset[0] = scene_width(s) * (1.0 + c->o->spacing_rel);
+    plan->mesh_count = n;
+    plan->meshes = out;
+    plan->level_mesh = table;
+    plan->coverage = coverage;
+    plan->accessor_count = c->acc_count;
+    plan->accessors = c->acc;
+    plan->keep_all_source_data = s->unknown_extensions;
+    plan->draco_used = c->draco_used;
+    plan->quantization_used = s->quantized && c->verbatim_any;
+    plan->synthesize_graph = s->doc == NULL;
+    plan->generator = "resurf " RESURF_VERSION_STRING;
+    return RESURF_OK;
+}
+
+/* ---- files --------------------------------------------------------------------------------------------------- */
+
+typedef struct pending {
+    char *path, *tmp;
+} pending;
+
+typedef struct pending_list {
+    pending items[2 * RESURF_SCENE_MAX_LEVELS];
+    size_t count;
+} pending_list;
+
+static uint64_t mix64(uint64_t h)
+{
+    h ^= h >> 31;
+    h *= 0x9e3779b97f4a7c15ull;
+    h ^= h >> 29;
+    h *= 0xbf58476d1ce4e5b9ull;
+    return h ^ (h >> 32);
+}
+
+/* Writes data to a new temporary file beside path ("<dir>/.<name>.tmp-XXXXXX", O_EXCL) and records it. */
+static resurf_status write_temp(save_ctx *c, pending_list *list, const char *path, const void *data, size_t size)
+{
+    if (list->count == sizeof list->items / sizeof *list->items)
+        return resurfi_fail(c->error, RESURF_ERR_INTERNAL, path, 0, -1, "too many output files");
+    const char *slash = strrchr(path, '/');
+    int dir_len = slash ? (int)(slash - path) + 1 : 0;
+    size_t tmp_size = strlen(path) + 32;
+    char *tmp = malloc(tmp_size), *copy = malloc(strlen(path) + 1);
+    if (!tmp || !copy) {
+        free(tmp);
+        free(copy);
+        return oom(c);
+    }
+    strcpy(copy, path);
+    struct timespec now;
+    clock_gettime(CLOCK_REALTIME, &now);
+    uint64_t seed = mix64((uint64_t)now.tv_nsec ^ (uint64_t)now.tv_sec << 32 ^ (uint64_t)getpid() ^
+                          (uint64_t)(uintptr_t)tmp);
+    static const char alphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789";
+    int fd = -1;
+    for (int attempt = 0; attempt < 100 && fd < 0; ++attempt) {
+        uint64_t r = mix64(seed + (uint64_t)attempt * 0x9e3779b97f4a7c15ull);
+        char suffix[7];
+        for (int i = 0; i < 6; ++i, r /= 62)
+            suffix[i] = alphabet[r % 62];
+        suffix[6] = 0;
+        snprintf(tmp, tmp_size, "%.*s.%s.tmp-%s", dir_len, path, path + dir_len, suffix);
+        fd = open(tmp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+        if (fd < 0 && errno != EEXIST)
+            break;
+    }
+    if (fd < 0) {
+        int e = errno;
+        free(tmp);
+        free(copy);
+        return resurfi_fail(c->error, RESURF_ERR_IO, path, 0, -1, "cannot create a temporary file: %s", strerror(e));
+    }
+    const unsigned char *p = data;
+    size_t done = 0;
+    int err = 0;
+    while (done < size && !err) {
+        ssize_t w = write(fd, p + done, size - done);
+        if (w < 0 && errno == EINTR)
+            continue;
+        if (w <= 0)
+            err = w < 0 ? errno : EIO;
+        else
+            done += (size_t)w;
+    }
+    if (close(fd) != 0 && !err)
+        err = errno ? errno : EIO;
+    if (err) {
+        unlink(tmp);
+        free(tmp);
+        free(copy);
+        return resurfi_fail(c->error, RESURF_ERR_IO, path, 0, -1, "cannot write: %s", strerror(err));
+    }
+    list->items[list->count].path = copy;
+    list->items[list->count].tmp = tmp;
+    list->count++;
+    return RESURF_OK;
+}
+
+/* Renames every temporary file into place, or (commit 0, or a failed rename) removes those not yet renamed.
+ * Last written first: a .bin goes into place before the .gltf that names it. */
+static resurf_status finish_files(save_ctx *c, pending_list *list, int commit)
+{
+    resurf_status status = RESURF_OK;
+    for (size_t i = list->count; i-- > 0;) {
+        int renamed = 0;
+        if (commit && status == RESURF_OK) {
+            renamed = rename(list->items[i].tmp, list->items[i].path) == 0;
+            if (!renamed)
+                status = resurfi_fail(c->error, RESURF_ERR_IO, list->items[i].path, 0, -1,
+                                      "cannot replace the file: %s", strerror(errno));
+        }
+        if (!renamed)
+            unlink(list->items[i].tmp);
+        free(list->items[i].tmp);
+        free(list->items[i].path);
+    }
+    list->count = 0;
+    return status;
+}
+
+/* The name of a .gltf's .bin, as a URI (percent-encoded) and as a path beside the .gltf. */
+static void bin_names(const char *gltf_path, char *uri, size_t uri_size, char *path, size_t path_size)
+{
+    const char *slash = strrchr(gltf_path, '/');
+    const char *base = slash ? slash + 1 : gltf_path;
+    const char *dot = strrchr(base, '.');
+    size_t stem = dot && dot != base ? (size_t)(dot - base) : strlen(base);
+    snprintf(path, path_size, "%.*s%.*s.bin", (int)(base - gltf_path), gltf_path, (int)stem, base);
+    size_t n = 0;
+    static const char hex[] = "0123456789ABCDEF";
+    for (size_t i = 0; i < stem && n + 4 < uri_size; ++i) {
+        unsigned char ch = (unsigned char)base[i];
+        if ((ch >= 'A' && ch <= 'Z') || (ch >= 'a' && ch <= 'z') || (ch >= '0' && ch <= '9') || strchr("-._~", ch))
+            uri[n++] = (char)ch;
+        else
+            uri[n++] = '%', uri[n++] = hex[ch >> 4], uri[n++] = hex[ch & 15];
+    }
+    snprintf(uri + n, uri_size - n, ".bin");
+}
+
+typedef enum out_format { OUT_GLTF, OUT_GLB, OUT_DRC } out_format;
+
+/* Plans, serialises and writes (to temporary files) one glTF document. */
+static resurf_status write_document(save_ctx *c, pending_list *files, const char *path, out_format format, int level,
+                                    resurfi_gltf_layout layout, resurf_scene_save_report *report)
+{
+    c->acc_count = 0;
+    c->draco_used = c->verbatim_any = 0;
+    memset(c->cache, 0, c->s->prim_count * RESURF_SCENE_MAX_LEVELS * sizeof *c->cache);
+    resurfi_gltf_plan plan;
+    resurf_status status = build_plan(c, level, layout, &plan);
+    if (status != RESURF_OK)
+        return status;
+    char uri[1024], bin_path[4096];
+    bin_names(path, uri, sizeof uri, bin_path, sizeof bin_path);
+    plan.container = format == OUT_GLB ? RESURFI_GLTF_GLB : c->o->embed_buffers ? RESURFI_GLTF_EMBEDDED
+                                                                                : RESURFI_GLTF_SEPARATE;
+    plan.bin_uri = uri;
+    unsigned char *json = NULL, *bin = NULL;
+    size_t json_size = 0, bin_size = 0;
+    resurf_error werr;
+    status = resurfi_gltf_write(c->s->doc, &plan, &json, &json_size, &bin, &bin_size, &werr);
+    if (status != RESURF_OK)
+        return resurfi_fail(c->error, status, path, 0, -1, "%s", werr.message);
+    status = write_temp(c, files, path, json, json_size);
+    if (status == RESURF_OK && bin)
+        status = write_temp(c, files, bin_path, bin, bin_size);
+    if (status == RESURF_OK) {
+        report->files += 1 + (bin != NULL);
+        report->total_bytes += json_size + bin_size;
+        /* Geometry bytes per level: each primitive's packed data at each level it appears in. */
+        for (size_t k = 0; k < plan.level_count; ++k)
+            for (size_t i = 0; i < c->s->prim_count; ++i) {
+                const resurfi_scene_prim *p = &c->s->prims[i];
+                size_t lv = level >= 0 ? (size_t)level : k;
+                size_t own_levels = mesh_levels(c->s, p->info.mesh);
+                if (level < 0 && k >= own_levels)
+                    continue;
+                const packed *pk = &c->cache[i * RESURF_SCENE_MAX_LEVELS + effective_level(p, lv)];
+                if (pk->done && !pk->empty)
+                    report->level_bytes[lv] += pk->bytes;
+            }
+    }
+    free(json);
+    free(bin);
+    return status;
+}
+
+/* A .drc: the one triangle primitive at `level`. */
+static resurf_status write_drc(save_ctx *c, pending_list *files, const char *path, size_t level,
+                               resurf_scene_save_report *report)
+{
+    const resurf_scene *s = c->s;
+    size_t prim = SIZE_MAX, with_mesh = 0;
+    for (size_t i = 0; i < s->prim_count; ++i)
+        if (s->prims[i].mesh) {
+            prim = i;
+            ++with_mesh;
+        }
+    if (with_mesh != 1 || s->prim_count != 1)
+        return resurfi_fail(c->error, RESURF_ERR_UNSUPPORTED, path, 0, -1,
+                            "a .drc file holds one triangle mesh; the scene has %zu primitives", s->prim_count);
+    memset(c->cache, 0, s->prim_count * RESURF_SCENE_MAX_LEVELS * sizeof *c->cache);
+    packed *pk;
+    resurf_status status = pack(c, prim, level, &pk);
+    if (status != RESURF_OK)
+        return status;
+    if (pk->empty)
+        return resurfi_fail(c->error, RESURF_ERR_INVALID_MESH, path, 0, -1, "level %zu has no triangles", level);
+    status = write_temp(c, files, path, pk->draco, pk->draco_size);
+    if (status == RESURF_OK) {
+        report->files++;
+        report->total_bytes += pk->draco_size;
+        report->level_bytes[level] += pk->draco_size;
+    }
+    return status;
+}
+
+resurf_status resurf_scene_save(const resurf_scene *scene, const char *path, const resurf_scene_save_options *options,
+                                resurf_scene_save_report *out_report, resurf_error *error)
+{
+    if (!scene || !path || !*path)
+        return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "scene or path is NULL or empty");
+    RESURFI_CHECK_OPTIONS(options, resurf_scene_save_options, error);
+    resurf_scene_save_options o = options ? *options : resurf_scene_save_options_default();
+    int bits[5] = {o.position_bits, o.normal_bits, o.texcoord_bits, o.color_bits, o.generic_bits};
+    for (int i = 0; i < 5; ++i)
+        if (bits[i] < 1 || bits[i] > 30)
+            return resurfi_error(error, RESURF_ERR_INVALID_OPTIONS, "quantization bits must be in 1..30 (got %d)",
+                                 bits[i]);
+    if (o.compression_level < 0 || o.compression_level > 10)
+        return resurfi_error(error, RESURF_ERR_INVALID_OPTIONS, "compression_level must be in 0..10");
+    if ((unsigned)o.layout >= RESURF_LOD_LAYOUT_COUNT)
+        return resurfi_error(error, RESURF_ERR_INVALID_OPTIONS, "unknown layout %d", (int)o.layout);
+    if (!(o.spacing_rel >= 0) || !isfinite(o.spacing_rel))
+        return resurfi_error(error, RESURF_ERR_INVALID_OPTIONS, "spacing_rel must be finite and >= 0");
+    out_format format;
+    if (resurfi_ends_with_nocase(path, ".gltf"))
+        format = OUT_GLTF;
+    else if (resurfi_ends_with_nocase(path, ".glb"))
+        format = OUT_GLB;
+    else if (resurfi_ends_with_nocase(path, ".drc"))
+        format = OUT_DRC, o.draco = 1;
+    else
+        return resurfi_fail(error, RESURF_ERR_UNSUPPORTED, path, 0, -1,
+                            "cannot tell the format from the name (use .gltf, .glb or .drc)");
+    size_t levels = 1;
+    for (size_t i = 0; i < scene->prim_count; ++i)
+        if (scene->prims[i].lod_count + 1 > levels)
+            levels = scene->prims[i].lod_count + 1;
+    if (o.level < -1 || o.level >= (int)levels)
+        return resurfi_error(error, RESURF_ERR_INVALID_OPTIONS, "level %d: the scene has levels 0..%zu", o.level,
+                             levels - 1);
+    int per_file = o.level < 0 && levels > 1 && o.layout == RESURF_LOD_FILES;
+    if (format == OUT_DRC && o.level < 0 && levels > 1 && !per_file)
+        return resurfi_fail(error, RESURF_ERR_UNSUPPORTED, path, 0, -1,
+                            "a .drc file holds one level: choose one or use the files layout");
+
+    save_ctx c = {.s = scene, .o = &o, .path = path, .error = error};
+    c.cache = resurfi_alloc_array(scene->prim_count * RESURF_SCENE_MAX_LEVELS + 1, sizeof *c.cache);
+    if (!c.cache)
+        return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
+    resurf_scene_save_report report;
+    memset(&report, 0, sizeof report);
+    report.levels = levels;
+    pending_list *files = calloc(1, sizeof *files);
+    resurf_status status = files ? RESURF_OK : oom(&c);
+    resurfi_gltf_layout layout = o.layout == RESURF_LOD_SIDE_BY_SIDE ? RESURFI_GLTF_SIDE_BY_SIDE
+                                                                     : RESURFI_GLTF_MSFT_LOD;
+    for (size_t k = 0; k < (per_file ? levels : 1) && status == RESURF_OK; ++k) {
+        size_t name_size = resurf_scene_level_path(NULL, 0, path, (unsigned)k) + 1;
+        char *name = malloc(name_size);
+        if (!name) {
+            status = oom(&c);
+            break;
+        }
+        if (per_file)
+            resurf_scene_level_path(name, name_size, path, (unsigned)k);
+        else
+            snprintf(name, name_size, "%s", path);
+        int level = per_file ? (int)k : o.level;
+        if (format == OUT_DRC)
+            status = write_drc(&c, files, name, level < 0 ? 0 : (size_t)level, &report);
+        else
+            status = write_document(&c, files, name, format, level, layout, &report);
+        free(name);
+    }
+    /* Triangles per level, each mesh once. */
+    for (size_t k = 0; k < levels; ++k)
+        for (size_t i = 0; i < scene->prim_count; ++i)
+            if (scene->prims[i].mesh)
+                report.level_triangles[k] += resurfi_scene_level_mesh(&scene->prims[i], k)->triangle_count;
+    if (files)
+        status = finish_files(&c, files, status == RESURF_OK) == RESURF_OK ? status : RESURF_ERR_IO;
+    free(files);
+    free_owned(&c);
+    if (status == RESURF_OK) {
+        (void)resurfi_progress(&o.progress, "save", 1.0);
+        if (out_report)
+            *out_report = report;
+        resurfi_clear_error(error);
+    }
+    return status;
+}

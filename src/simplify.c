@@ -1,0 +1,2110 @@
+/* Edge-collapse simplification with the new vertices restored onto the smooth surface of the ORIGINAL mesh.
+ *
+ * Sources: Garland & Heckbert, "Surface Simplification Using Quadric Error Metrics" (SIGGRAPH 1997) for the costs
+ * and the placement (quadric.c); Hoppe, "New quadric metric for simplifying meshes with appearance attributes"
+ * (1999) for wedges (attribute vertices that share a position); Dey, Edelsbrunner, Guha & Nekhayev, "Topology
+ * preserving edge contraction" (1999) for the link condition; Semenova, Savchenko & Hagiwara, "Reconstruction of
+ * Shapes Based on Normals Analysis", §4.2, for restoring every new vertex onto S as an intermediate step
+ * (notes/restoring.md §8–§9).
+ *
+ * Phases (one function each, in this order):
+ *   prepare_mesh      weld positions exactly, merge attribute vertices with equal attributes into wedges, drop
+ *                     triangles with a repeated position, thread each position's corners into a list;
+ *   analyse_position  per position (in parallel): border, seam, non-manifold flags and the quadric (area-weighted
+ *                     triangle planes, plus planes through border and seam edges perpendicular to their triangles);
+ *   seed_heap         every edge's candidate collapse and cost (in parallel), then one heapify;
+ *   collapse_until    pop the cheapest candidate; stale ones (version stamps) are dropped, the rest are planned
+ *                     again, checked (link condition, flips and folds, minimum angle), restored, applied;
+ *   build_output      the result: wedges become vertices, attributes are interpolated from the input, vertices
+ *                     straddle S by the sag offset, the distance to the input is measured.
+ *
+ * Collapses work on welded positions. A triangle corner keeps its wedge (the id of an input attribute vertex); when
+ * a position disappears, each corner takes the wedge of the surviving position on its side of any seam, which is
+ * why a seam vertex may only collapse along its seam (the rule table is in plan_collapse).
+ * The heap holds (cost, edge, stamp) with stamp = version(a) + version(b); a version only grows, so an entry is
+ * current exactly when the sum still matches. Nothing here depends on the thread count: parallel phases write
+ * per-element results only and the collapse loop is sequential. */
+#include <float.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "internal.h"
+
+#define NONE UINT32_MAX
+
+enum {
+    PROGRESS_COLLAPSES = 1 << 13, /* collapses between two progress calls */
+    BLOCK_POSITIONS = 1024,       /* parallel block sizes */
+    BLOCK_SAMPLES = 4096,
+    SMALL_SORT = 24,              /* fans up to this size are insertion-sorted */
+    BATCH = 128,                  /* inline restoration: candidates taken from the heap and restored together */
+};
+
+/* Per-position flags. */
+enum {
+    POS_DEAD = 1,          /* collapsed away */
+    POS_LOCKED = 2,        /* non-manifold or inconsistently oriented in the input: never moves */
+    POS_LOCKED_BORDER = 4, /* on a border with lock_border */
+    POS_BORDER = 8,        /* on an edge with one triangle */
+    POS_SEAM = 16,         /* exactly two wedges, split by exactly two seam edges, not on a border */
+    POS_COMPLEX = 32,      /* any other wedge arrangement (seam junctions, seams ending on a border): never moves */
+    POS_BLOCKED = 64,      /* a collapse at it failed a geometric guard: retry once its neighbourhood changes */
+    POS_RENEW = 128,       /* transient, in collapse_until: its candidates are being pushed again */
+};
+
+/* Why a candidate collapse cannot be done. */
+enum {
+    BLOCK_NONE = 0,
+    BLOCK_STALE,       /* not an edge any more */
+    BLOCK_SEAM,
+    BLOCK_BORDER,
+    BLOCK_NONMANIFOLD, /* most severe last: when both directions fail, the larger reason is reported */
+};
+
+typedef struct heap_entry {
+    float cost;
+    uint32_t a, b, stamp;
+} heap_entry;
+
+typedef struct u32vec {
+    uint32_t *data;
+    size_t count, cap;
+} u32vec;
+
+/* A corner of a position's fan, sorted by the neighbour it leads to: the unit of the per-position analyses. */
+typedef struct fan_pair {
+    uint32_t x;    /* the neighbour position */
+    uint32_t slot; /* index of the corner in the fan, times 2, plus 1 when x precedes the position in the face */
+} fan_pair;
+
+typedef struct scratch {
+    u32vec fan;
+    fan_pair *pairs;
+    uint32_t *uf;
+    size_t pairs_cap;
+    size_t blocked[5]; /* candidates refused while seeding, by BLOCK_* reason */
+} scratch;
+
+/* A planned collapse of edge (a, b). */
+typedef struct plan {
+    int block;               /* BLOCK_*; the rest is valid for BLOCK_NONE only */
+    int a_removable, b_removable;
+    int pinned;              /* 1: the position is that of the surviving end, already where it should be */
+    uint32_t shared[2];      /* the triangles on the edge */
+    int shared_count;
+    vec3 p;
+    double cost;
+} plan;
+
+/* A working triangle: its corners 3t..3t+2 (corner c is triangle c / 3, slot c % 3). The arrays of one triangle
+ * and of one position sit together: the collapse loop visits them at random and each miss then brings the rest. */
+typedef struct work_tri {
+    uint32_t v[3];    /* position of each corner */
+    uint32_t w[3];    /* wedge of each corner: the lowest input vertex with the same position and attributes */
+    uint32_t next[3]; /* next corner of the same position, NONE at the end */
+    uint32_t dead;
+} work_tri;
+
+/* 128 bytes, allocated on a 64-byte boundary: the first cache line holds what every visit reads (flags, version,
+ * position, list head), the quadric follows. */
+typedef struct work_pos {
+    vec3 p;
+    uint32_t head;    /* first corner */
+    uint32_t version;
+    uint8_t flags;
+    resurfi_quadric q;
+} work_pos;
+
+#define TV(c) (s->tri[(c) / 3].v[(c) % 3])
+#define TW(c) (s->tri[(c) / 3].w[(c) % 3])
+#define TNEXT(c) (s->tri[(c) / 3].next[(c) % 3])
+
+/* A candidate taken from the heap ahead of time, with its placement restored (inline restoration). */
+typedef struct pending {
+    heap_entry e;
+    vec3 p, restored;
+    uint8_t restore, left;
+} pending;
+
+typedef struct simplifier {
+    const resurf_mesh *in;
+    resurf_simplify_options opt;
+    unsigned threads;
+    double diagonal, max_error;
+    vec3 origin;         /* the bounding box's centre: quadrics are built around it, where their expanded form
+                            xᵀAx + 2bᵀx + c loses the fewest digits to cancellation */
+
+    size_t tri_count, alive_tris;
+    work_tri *tri;
+    uint32_t *src;     /* input triangle of each working triangle */
+    size_t pos_count, alive_positions;
+    work_pos *P;
+    uint32_t *mark;    /* scratch stamps, see next_stamp */
+    uint32_t stamp;
+
+    /* attribute sides (only when the input has attributes and seams): chart of each input triangle and wedge */
+    uint32_t *chart_of_input_tri;
+    uint32_t *chart_of_wedge;
+
+    heap_entry *heap;       /* inside heap_mem, aligned as heap_sift_down wants */
+    void *heap_mem;
+    size_t heap_count, heap_cap;
+    size_t heap_stale;      /* estimated stale entries (each bumped version makes its position's entries stale) */
+
+    resurfi_restorer *restorer;
+    resurfi_bvh *own_bvh;       /* when there is no restorer */
+    const resurfi_bvh *bvh;     /* over the input's triangles, input triangle ids */
+
+    u32vec fan_a, fan_b, fan_c, touched;
+    pending *pend;
+    size_t pend_count, pend_next;
+    resurf_simplify_report rep;
+    int oom;
+} simplifier;
+
+/* ---- small helpers ------------------------------------------------------------------------------------------- */
+
+static int vec_push(u32vec *v, uint32_t x)
+{
+    if (v->count == v->cap) {
+        size_t cap = v->cap ? 2 * v->cap : 32;
+        uint32_t *d = resurfi_realloc_array(v->data, cap, sizeof *d);
+        if (!d)
+            return 0;
+        v->data = d;
+        v->cap = cap;
+    }
+    v->data[v->count++] = x;
+    return 1;
+}
+
+static void scratch_free(scratch *s)
+{
+    free(s->fan.data);
+    free(s->pairs);
+    free(s->uf);
+}
+
+/* A fresh stamp for the mark array: a position is "marked" when mark[p] equals it. */
+static uint32_t next_stamp(simplifier *s)
+{
+    if (s->stamp >= UINT32_MAX - 4) {
+        memset(s->mark, 0, s->pos_count * sizeof *s->mark);
+        s->stamp = 0;
+    }
+    s->stamp += 2;
+    return s->stamp;
+}
+
+static uint32_t corner_next(uint32_t c) { return c - c % 3 + (c % 3 + 1) % 3; }
+static uint32_t corner_prev(uint32_t c) { return c - c % 3 + (c % 3 + 2) % 3; }
+
+/* The corners of live triangles at position v, in list order. With unlink, dead triangles' corners are dropped
+ * from the list on the way (only the sequential collapse loop may do that). Returns 0 when out of memory. */
+static int gather_fan(simplifier *s, uint32_t v, u32vec *out, int unlink)
+{
+    out->count = 0;
+    uint32_t prev = NONE;
+    for (uint32_t c = s->P[v].head; c != NONE;) {
+        uint32_t next = TNEXT(c);
+        if (s->tri[c / 3].dead) {
+            if (unlink) {
+                if (prev == NONE)
+                    s->P[v].head = next;
+                else
+                    TNEXT(prev) = next;
+            } else {
+                prev = c;
+            }
+        } else {
+            if (!vec_push(out, c))
+                return 0;
+            prev = c;
+        }
+        c = next;
+    }
+    return 1;
+}
+
+static int pair_less(fan_pair p, fan_pair q) { return p.x < q.x || (p.x == q.x && p.slot < q.slot); }
+
+static int pair_cmp(const void *a, const void *b)
+{
+    const fan_pair *p = a, *q = b;
+    return pair_less(*p, *q) ? -1 : pair_less(*q, *p) ? 1 : 0;
+}
+
+/* The (neighbour, corner) pairs of fan `fan` of position v, sorted by neighbour: a run of length 1 is a border edge,
+ * 2 a manifold edge, 3 or more a non-manifold edge. Returns the pair count, or SIZE_MAX when out of memory. */
+static size_t fan_pairs(const simplifier *s, const u32vec *fan, scratch *sc)
+{
+    size_t n = 2 * fan->count;
+    if (n > sc->pairs_cap) {
+        fan_pair *p = resurfi_realloc_array(sc->pairs, n, sizeof *p);
+        uint32_t *uf = resurfi_realloc_array(sc->uf, fan->count, sizeof *uf);
+        if (p)
+            sc->pairs = p;
+        if (uf)
+            sc->uf = uf;
+        if (!p || !uf)
+            return SIZE_MAX;
+        sc->pairs_cap = n;
+    }
+    for (size_t i = 0; i < fan->count; ++i) {
+        uint32_t c = fan->data[i];
+        sc->pairs[2 * i] = (fan_pair){TV(corner_next(c)), (uint32_t)(2 * i)};
+        sc->pairs[2 * i + 1] = (fan_pair){TV(corner_prev(c)), (uint32_t)(2 * i + 1)};
+    }
+    if (n <= SMALL_SORT) {
+        for (size_t i = 1; i < n; ++i) {
+            fan_pair p = sc->pairs[i];
+            size_t j = i;
+            for (; j > 0 && pair_less(p, sc->pairs[j - 1]); --j)
+                sc->pairs[j] = sc->pairs[j - 1];
+            sc->pairs[j] = p;
+        }
+    } else {
+        qsort(sc->pairs, n, sizeof *sc->pairs, pair_cmp);
+    }
+    return n;
+}
+
+static uint32_t uf_find(uint32_t *parent, uint32_t x)
+{
+    while (parent[x] != x) {
+        parent[x] = parent[parent[x]];
+        x = parent[x];
+    }
+    return x;
+}
+
+/* The corner of triangle t at position v, or NONE. */
+static uint32_t corner_at(const simplifier *s, uint32_t t, uint32_t v)
+{
+    for (uint32_t k = 0; k < 3; ++k)
+        if (TV(3 * t + k) == v)
+            return 3 * t + k;
+    return NONE;
+}
+
+/* ---- phase 1: the working mesh ------------------------------------------------------------------------------- */
+
+/* Do input vertices u and v carry the same attributes (bit for bit)? */
+static int same_attributes(const resurf_mesh *m, uint32_t u, uint32_t v)
+{
+    if (m->normals && memcmp(m->normals + 3 * (size_t)u, m->normals + 3 * (size_t)v, 3 * sizeof(double)))
+        return 0;
+    for (unsigned k = 0; k < m->texcoord_count && k < RESURF_MAX_TEXCOORD_SETS; ++k)
+        if (m->texcoords[k] &&
+            memcmp(m->texcoords[k] + 2 * (size_t)u, m->texcoords[k] + 2 * (size_t)v, 2 * sizeof(double)))
+            return 0;
+    if (m->colors && memcmp(m->colors + 4 * (size_t)u, m->colors + 4 * (size_t)v, 4 * sizeof(double)))
+        return 0;
+    for (size_t e = 0; e < m->extra_count; ++e) {
+        const resurf_attribute *a = &m->extras[e];
+        if (a->data && memcmp(a->data + (size_t)a->components * u, a->data + (size_t)a->components * v,
+                              a->components * sizeof(float)))
+            return 0;
+    }
+    return 1;
+}
+
+static int has_attributes(const resurf_mesh *m)
+{
+    if (m->normals || m->colors || m->extra_count)
+        return 1;
+    for (unsigned k = 0; k < m->texcoord_count && k < RESURF_MAX_TEXCOORD_SETS; ++k)
+        if (m->texcoords[k])
+            return 1;
+    return 0;
+}
+
+static resurf_status check_input(const resurf_mesh *in, resurf_error *error)
+{
+    if (in->triangle_count && !in->indices)
+        return resurfi_error(error, RESURF_ERR_INVALID_MESH, "the mesh has triangles but no indices");
+    if (in->vertex_count && !in->positions)
+        return resurfi_error(error, RESURF_ERR_INVALID_MESH, "the mesh has vertices but no positions");
+    if (in->triangle_count > (UINT32_MAX - 3) / 3 || in->vertex_count >= UINT32_MAX)
+        return resurfi_error(error, RESURF_ERR_LIMIT, "%zu triangles and %zu vertices: simplification handles up to "
+                             "%u triangles", in->triangle_count, in->vertex_count, (UINT32_MAX - 3) / 3);
+    for (size_t t = 0; t < in->triangle_count; ++t)
+        for (int k = 0; k < 3; ++k) {
+            uint32_t v = in->indices[3 * t + k];
+            if (v >= in->vertex_count)
+                return resurfi_error(error, RESURF_ERR_INVALID_MESH, "triangle %zu refers to vertex %u of %zu", t, v,
+                                     in->vertex_count);
+            if (!v3_finite(resurfi_position(in, v)))
+                return resurfi_error(error, RESURF_ERR_INVALID_MESH, "vertex %u has a non-finite position", v);
+        }
+    if (in->triangle_groups)
+        for (size_t t = 0; t < in->triangle_count; ++t)
+            if (in->triangle_groups[t] >= in->group_count && in->group_count)
+                return resurfi_error(error, RESURF_ERR_INVALID_MESH, "triangle %zu is in group %u of %zu", t,
+                                     in->triangle_groups[t], in->group_count);
+    return RESURF_OK;
+}
+
+static resurf_status prepare_mesh(simplifier *s, resurf_error *error)
+{
+    const resurf_mesh *in = s->in;
+    size_t nv = in->vertex_count;
+    uint32_t *remap = resurfi_alloc_array(nv, sizeof *remap);
+    uint32_t *rep = resurfi_alloc_array(nv, sizeof *rep);
+    uint32_t *first = NULL, *chain = NULL;
+    resurf_status st = RESURF_ERR_OUT_OF_MEMORY;
+    if (!remap || !rep)
+        goto done;
+    size_t pc = 0;
+    if ((st = resurfi_weld_exact(in->positions, nv, remap, &pc)) != RESURF_OK)
+        goto done;
+    st = RESURF_ERR_OUT_OF_MEMORY;
+    s->pos_count = pc;
+
+    /* Wedges: at each position, a vertex joins the lowest earlier vertex with equal attributes. Positions hold few
+     * vertices, so the pairwise test is cheap. */
+    if (!(first = resurfi_alloc_array(pc, sizeof *first)) || !(chain = resurfi_alloc_array(nv, sizeof *chain)))
+        goto done;
+    memset(first, 0xff, pc * sizeof *first);
+    int attrs = has_attributes(in);
+    for (size_t v = nv; v-- > 0;) {
+        chain[v] = first[remap[v]];
+        first[remap[v]] = (uint32_t)v;
+    }
+    for (size_t v = 0; v < nv; ++v) {
+        rep[v] = (uint32_t)v;
+        if (!attrs) {
+            rep[v] = first[remap[v]];
+            continue;
+        }
+        for (uint32_t u = first[remap[v]]; u < v; u = chain[u])
+            if (same_attributes(in, u, (uint32_t)v)) {
+                rep[v] = rep[u];
+                break;
+            }
+    }
+
+    size_t nt = 0;
+    for (size_t t = 0; t < in->triangle_count; ++t) {
+        const uint32_t *i = in->indices + 3 * t;
+        uint32_t a = remap[i[0]], b = remap[i[1]], c = remap[i[2]];
+        nt += a != b && b != c && a != c;
+    }
+    s->tri_count = s->alive_tris = nt;
+    s->tri = resurfi_calloc_array(nt, sizeof *s->tri);
+    s->src = resurfi_alloc_array(nt, sizeof *s->src);
+    if (pc <= SIZE_MAX / sizeof *s->P && posix_memalign((void **)&s->P, 64, (pc ? pc : 1) * sizeof *s->P) == 0)
+        memset(s->P, 0, pc * sizeof *s->P);
+    else
+        s->P = NULL;
+    s->mark = resurfi_calloc_array(pc, sizeof *s->mark);
+    if (!s->tri || !s->src || !s->P || !s->mark)
+        goto done;
+    nt = 0;
+    for (size_t t = 0; t < in->triangle_count; ++t) {
+        const uint32_t *i = in->indices + 3 * t;
+        uint32_t a = remap[i[0]], b = remap[i[1]], c = remap[i[2]];
+        if (a == b || b == c || a == c)
+            continue;
+        for (int k = 0; k < 3; ++k) {
+            TV(3 * nt + k) = remap[i[k]];
+            TW(3 * nt + k) = rep[i[k]];
+        }
+        s->src[nt++] = (uint32_t)t;
+    }
+    for (size_t v = 0; v < nv; ++v)
+        s->P[remap[v]].p = resurfi_position(in, (uint32_t)v);
+    /* Lists in increasing triangle order: insert from the back. */
+    for (size_t p = 0; p < pc; ++p)
+        s->P[p].head = NONE;
+    for (size_t c = 3 * nt; c-- > 0;) {
+        TNEXT(c) = s->P[TV(c)].head;
+        s->P[TV(c)].head = (uint32_t)c;
+    }
+    for (size_t p = 0; p < pc; ++p) {
+        if (s->P[p].head == NONE)
+            s->P[p].flags = POS_DEAD;
+        else
+            s->alive_positions++;
+    }
+    st = RESURF_OK;
+done:
+    free(remap);
+    free(rep);
+    free(first);
+    free(chain);
+    if (st == RESURF_ERR_OUT_OF_MEMORY)
+        return resurfi_error(error, st, "out of memory preparing %zu triangles for simplification",
+                             in->triangle_count);
+    if (st != RESURF_OK)
+        return resurfi_error(error, st, "cannot weld the mesh's positions");
+    return RESURF_OK;
+}
+
+/* ---- phase 2: flags and quadrics per position ---------------------------------------------------------------- */
+
+/* The plane through edge (p, q) perpendicular to triangle normal n (unit), as a quadric of weight w. */
+static resurfi_quadric edge_plane(vec3 p, vec3 q, vec3 n, double w)
+{
+    vec3 m = v3_normalize(v3_cross(v3_sub(q, p), n));
+    return resurfi_quadric_plane(m, -v3_dot(m, p), w);
+}
+
+/* Classifies position a from its fan (see POS_*); with out_q, also its quadric, with out_up the number of its
+ * neighbours above a (its edges in the first heap). Returns 0 when out of memory. */
+static int analyse_position(simplifier *s, uint32_t a, scratch *sc, uint8_t *out_flags, resurfi_quadric *out_q,
+                            uint32_t *out_up)
+{
+    if (!gather_fan(s, a, &sc->fan, 0))
+        return 0;
+    const u32vec *fan = &sc->fan;
+    size_t n = fan_pairs(s, fan, sc);
+    if (n == SIZE_MAX)
+        return 0;
+    uint8_t f = 0;
+    for (size_t i = 0; i < fan->count; ++i)
+        sc->uf[i] = (uint32_t)i;
+    int seam_edges = 0;
+    uint32_t wedges[3];
+    int wedge_count = 0;
+    for (size_t i = 0; i < fan->count && wedge_count < 3; ++i) {
+        uint32_t w = TW(fan->data[i]);
+        int seen = 0;
+        for (int k = 0; k < wedge_count; ++k)
+            seen |= wedges[k] == w;
+        if (!seen)
+            wedges[wedge_count++] = w;
+    }
+    resurfi_quadric q = {{0, 0, 0, 0, 0, 0}, {0, 0, 0}, 0, 0};
+    if (out_q)
+        for (size_t i = 0; i < fan->count; ++i) {
+            uint32_t t = fan->data[i] / 3;
+            resurfi_quadric tq = resurfi_quadric_triangle(v3_sub(s->P[TV(3 * t)].p, s->origin),
+                                                          v3_sub(s->P[TV(3 * t + 1)].p, s->origin),
+                                                          v3_sub(s->P[TV(3 * t + 2)].p, s->origin));
+            resurfi_quadric_add(&q, &tq);
+        }
+    vec3 pa = s->P[a].p;
+    uint32_t up = 0;
+    for (size_t i = 0; i < n;) {
+        size_t j = i + 1;
+        while (j < n && sc->pairs[j].x == sc->pairs[i].x)
+            ++j;
+        uint32_t x = sc->pairs[i].x;
+        up += x > a;
+        if (j - i == 1) {
+            f |= POS_BORDER;
+            if (out_q) {
+                uint32_t c = fan->data[sc->pairs[i].slot / 2];
+                uint32_t t = c / 3;
+                vec3 n0 = v3_normalize(
+                    v3_tri_cross(s->P[TV(3 * t)].p, s->P[TV(3 * t + 1)].p, s->P[TV(3 * t + 2)].p));
+                double len2 = v3_dist2(pa, s->P[x].p);
+                resurfi_quadric eq = edge_plane(v3_sub(pa, s->origin), v3_sub(s->P[x].p, s->origin), n0,
+                                                s->opt.border_weight * len2);
+                resurfi_quadric_add(&q, &eq);
+            }
+        } else if (j - i == 2) {
+            uint32_t si = sc->pairs[i].slot, sj = sc->pairs[i + 1].slot;
+            if ((si & 1) == (sj & 1))
+                f |= POS_LOCKED; /* the edge is used twice in the same direction: orientation flips here */
+            uint32_t ci = fan->data[si / 2], cj = fan->data[sj / 2];
+            uint32_t ti = ci / 3, tj = cj / 3;
+            uint32_t ra = uf_find(sc->uf, si / 2), rb = uf_find(sc->uf, sj / 2);
+            if (ra != rb)
+                sc->uf[ra < rb ? rb : ra] = ra < rb ? ra : rb;
+            int seam_here = TW(ci) != TW(cj);
+            int seam_there = TW(corner_at(s, ti, x)) != TW(corner_at(s, tj, x));
+            seam_edges += seam_here;
+            if (out_q && (seam_here || seam_there)) {
+                /* Each side's triangle adds its own perpendicular plane, at half weight. */
+                double len2 = v3_dist2(pa, s->P[x].p);
+                for (int side = 0; side < 2; ++side) {
+                    uint32_t t = side ? tj : ti;
+                    vec3 n0 = v3_normalize(
+                        v3_tri_cross(s->P[TV(3 * t)].p, s->P[TV(3 * t + 1)].p, s->P[TV(3 * t + 2)].p));
+                    resurfi_quadric eq = edge_plane(v3_sub(pa, s->origin), v3_sub(s->P[x].p, s->origin), n0,
+                                                    0.5 * s->opt.border_weight * len2);
+                    resurfi_quadric_add(&q, &eq);
+                }
+            }
+        } else {
+            f |= POS_LOCKED;
+        }
+        i = j;
+    }
+    /* More than one fan of triangles around a (a bow tie): non-manifold. */
+    for (size_t i = 1; i < fan->count; ++i)
+        if (uf_find(sc->uf, (uint32_t)i) != uf_find(sc->uf, 0))
+            f |= POS_LOCKED;
+    if (wedge_count == 2 && seam_edges == 2 && !(f & POS_BORDER))
+        f |= POS_SEAM;
+    else if (wedge_count >= 2)
+        f |= POS_COMPLEX;
+    if ((f & POS_BORDER) && s->opt.lock_border)
+        f |= POS_LOCKED_BORDER;
+    *out_flags = f;
+    if (out_q)
+        *out_q = q;
+    if (out_up)
+        *out_up = up;
+    return 1;
+}
+
+typedef struct analyse_job {
+    simplifier *s;
+    scratch *scratch; /* one per worker */
+    uint32_t *up;     /* per position: neighbours above it */
+} analyse_job;
+
+static int analyse_block(void *ctx, size_t begin, size_t end, unsigned worker)
+{
+    analyse_job *j = ctx;
+    simplifier *s = j->s;
+    for (size_t p = begin; p < end; ++p) {
+        if (s->P[p].flags & POS_DEAD)
+            continue;
+        uint8_t f;
+        if (!analyse_position(s, (uint32_t)p, &j->scratch[worker], &f, &s->P[p].q, &j->up[p]))
+            return 1;
+        s->P[p].flags = f;
+    }
+    return 0;
+}
+
+/* Charts: triangles connected across edges whose ends have the same wedges on both sides. A result vertex takes
+ * its attributes from the closest input triangle of its wedge's chart, so texcoords never come from across a seam. */
+static resurf_status find_charts(simplifier *s, scratch *sc)
+{
+    uint32_t *parent = resurfi_alloc_array(s->tri_count, sizeof *parent);
+    s->chart_of_input_tri = resurfi_alloc_array(s->in->triangle_count, sizeof *s->chart_of_input_tri);
+    s->chart_of_wedge = resurfi_alloc_array(s->in->vertex_count, sizeof *s->chart_of_wedge);
+    if (!parent || !s->chart_of_input_tri || !s->chart_of_wedge) {
+        free(parent);
+        return RESURF_ERR_OUT_OF_MEMORY;
+    }
+    for (size_t t = 0; t < s->tri_count; ++t)
+        parent[t] = (uint32_t)t;
+    for (size_t a = 0; a < s->pos_count; ++a) {
+        if (s->P[a].flags & POS_DEAD)
+            continue;
+        if (!gather_fan(s, (uint32_t)a, &sc->fan, 0)) {
+            free(parent);
+            return RESURF_ERR_OUT_OF_MEMORY;
+        }
+        size_t n = fan_pairs(s, &sc->fan, sc);
+        if (n == SIZE_MAX) {
+            free(parent);
+            return RESURF_ERR_OUT_OF_MEMORY;
+        }
+        for (size_t i = 0; i + 1 < n; ++i) {
+            if (sc->pairs[i].x != sc->pairs[i + 1].x || sc->pairs[i].x < a ||
+                (i + 2 < n && sc->pairs[i + 2].x == sc->pairs[i].x) || (i > 0 && sc->pairs[i - 1].x == sc->pairs[i].x))
+                continue;
+            uint32_t x = sc->pairs[i].x;
+            uint32_t ci = sc->fan.data[sc->pairs[i].slot / 2], cj = sc->fan.data[sc->pairs[i + 1].slot / 2];
+            uint32_t ti = ci / 3, tj = cj / 3;
+            if (TW(ci) == TW(cj) && TW(corner_at(s, ti, x)) == TW(corner_at(s, tj, x))) {
+                uint32_t ra = uf_find(parent, ti), rb = uf_find(parent, tj);
+                if (ra != rb)
+                    parent[ra < rb ? rb : ra] = ra < rb ? ra : rb;
+            }
+        }
+    }
+    memset(s->chart_of_input_tri, 0xff, s->in->triangle_count * sizeof *s->chart_of_input_tri);
+    memset(s->chart_of_wedge, 0xff, s->in->vertex_count * sizeof *s->chart_of_wedge);
+    for (size_t t = 0; t < s->tri_count; ++t) {
+        uint32_t c = uf_find(parent, (uint32_t)t);
+        s->chart_of_input_tri[s->src[t]] = c;
+        for (int k = 0; k < 3; ++k)
+            if (s->chart_of_wedge[TW(3 * t + k)] == NONE)
+                s->chart_of_wedge[TW(3 * t + k)] = c;
+    }
+    free(parent);
+    return RESURF_OK;
+}
+
+/* ---- planning one collapse ----------------------------------------------------------------------------------- */
+
+/* Q(p) for a quadric built around s->origin. */
+static double qeval(const simplifier *s, const resurfi_quadric *q, vec3 p)
+{
+    return resurfi_quadric_eval(q, v3_sub(p, s->origin));
+}
+
+/* Counts a refused candidate in the report. */
+static void count_block(resurf_simplify_report *r, int reason)
+{
+    if (reason == BLOCK_SEAM)
+        r->blocked_seam++;
+    else if (reason == BLOCK_BORDER)
+        r->blocked_border++;
+    else if (reason == BLOCK_NONMANIFOLD)
+        r->blocked_nonmanifold++;
+}
+
+/* Where the free vertex of edge (a, b) goes. A seam edge keeps it on the segment (the minimiser of Q there): the
+ * seam is a curve the restorer does not know, and off it the two sides' attributes would no longer meet. */
+static vec3 free_placement(const simplifier *s, const resurfi_quadric *q, vec3 pa, vec3 pb, int on_segment)
+{
+    vec3 mid = v3_scale(v3_add(pa, pb), 0.5);
+    if (s->opt.placement == RESURF_PLACEMENT_MIDPOINT)
+        return mid;
+    if (on_segment) {
+        vec3 d = v3_sub(pb, pa), a0 = v3_sub(pa, s->origin);
+        vec3 ad = v3(q->a[0] * d.x + q->a[1] * d.y + q->a[2] * d.z, q->a[1] * d.x + q->a[3] * d.y + q->a[4] * d.z,
+                     q->a[2] * d.x + q->a[4] * d.y + q->a[5] * d.z);
+        double dad = v3_dot(d, ad);
+        if (!(dad > 0))
+            return mid;
+        double t = -(v3_dot(ad, a0) + q->b[0] * d.x + q->b[1] * d.y + q->b[2] * d.z) / dad;
+        t = t < 0 ? 0 : t > 1 ? 1 : t;
+        return t == 0 ? pa : t == 1 ? pb : v3_lerp(pa, pb, t);
+    }
+    vec3 x;
+    if (resurfi_quadric_optimum(q, v3_sub(mid, s->origin), &x)) {
+        x = v3_add(x, s->origin);
+        if (v3_dist2(x, mid) <= v3_dist2(pa, pb))
+            return x;
+    }
+    /* Singular, or the optimum lies outside the edge's neighbourhood (a nearly flat quadric extrapolating): the
+     * best of the three obvious points. */
+    double ea = qeval(s, q, pa), eb = qeval(s, q, pb), em = qeval(s, q, mid);
+    return em <= ea && em <= eb ? mid : ea <= eb ? pa : pb;
+}
+
+/* Plans collapsing edge (a, b), given a's fan (live corners). The rules, for removing x into y:
+ *   x LOCKED / LOCKED_BORDER / COMPLEX        never
+ *   x on a border                             only along a border edge (so y is on the same border)
+ *   x a seam vertex (two wedges)              only along a seam edge whose triangles differ at y too, so each of
+ *                                             x's wedges maps to its own wedge of y
+ *   x with one wedge                          only if the edge's triangles share y's wedge (x's triangles then
+ *                                             all take that wedge)
+ * If both ends may go, the position is free (quadric or midpoint); if only x may go and y is held by one of the
+ * rules above (y cannot leave its border, seam or place), the position is y's. */
+static void plan_collapse(const simplifier *s, uint32_t a, uint32_t b, const u32vec *fan_a, plan *pl)
+{
+    memset(pl, 0, sizeof *pl);
+    int n = 0;
+    for (size_t i = 0; i < fan_a->count; ++i) {
+        uint32_t c = fan_a->data[i];
+        if (TV(corner_next(c)) == b || TV(corner_prev(c)) == b) {
+            if (n < 2)
+                pl->shared[n] = c / 3;
+            ++n;
+        }
+    }
+    pl->shared_count = n;
+    if (n == 0) {
+        pl->block = BLOCK_STALE;
+        return;
+    }
+    if (n > 2) {
+        pl->block = BLOCK_NONMANIFOLD;
+        return;
+    }
+    int border_edge = n == 1;
+    int seam_a = 0, seam_b = 0;
+    if (n == 2) {
+        seam_a = TW(corner_at(s, pl->shared[0], a)) != TW(corner_at(s, pl->shared[1], a));
+        seam_b = TW(corner_at(s, pl->shared[0], b)) != TW(corner_at(s, pl->shared[1], b));
+    }
+    uint8_t fa = s->P[a].flags, fb = s->P[b].flags;
+    /* held: the end cannot move off its place along this edge */
+    int reason_a = fa & POS_LOCKED ? BLOCK_NONMANIFOLD
+                 : fa & POS_LOCKED_BORDER ? BLOCK_BORDER
+                 : (fa & POS_BORDER) && !border_edge ? BLOCK_BORDER
+                 : fa & POS_COMPLEX ? BLOCK_SEAM
+                 : (fa & POS_SEAM) && !seam_a ? BLOCK_SEAM
+                                              : BLOCK_NONE;
+    int reason_b = fb & POS_LOCKED ? BLOCK_NONMANIFOLD
+                 : fb & POS_LOCKED_BORDER ? BLOCK_BORDER
+                 : (fb & POS_BORDER) && !border_edge ? BLOCK_BORDER
+                 : fb & POS_COMPLEX ? BLOCK_SEAM
+                 : (fb & POS_SEAM) && !seam_b ? BLOCK_SEAM
+                                              : BLOCK_NONE;
+    /* wedge maps: a seam end needs distinct images, a single-wedge end a single image */
+    int map_a = (fa & POS_SEAM) ? seam_b : !seam_b;
+    int map_b = (fb & POS_SEAM) ? seam_a : !seam_a;
+    pl->a_removable = reason_a == BLOCK_NONE && map_a;
+    pl->b_removable = reason_b == BLOCK_NONE && map_b;
+    if (!pl->a_removable && !pl->b_removable) {
+        int ra = reason_a != BLOCK_NONE ? reason_a : BLOCK_SEAM;
+        int rb = reason_b != BLOCK_NONE ? reason_b : BLOCK_SEAM;
+        pl->block = ra > rb ? ra : rb;
+        return;
+    }
+    resurfi_quadric q = s->P[a].q;
+    resurfi_quadric_add(&q, &s->P[b].q);
+    vec3 pa = s->P[a].p, pb = s->P[b].p;
+    int seam_edge = seam_a || seam_b;
+    if (pl->a_removable && pl->b_removable) {
+        pl->p = free_placement(s, &q, pa, pb, seam_edge);
+    } else if (pl->a_removable) {
+        pl->pinned = reason_b != BLOCK_NONE;
+        pl->p = pl->pinned ? pb : free_placement(s, &q, pa, pb, seam_edge);
+    } else {
+        pl->pinned = reason_a != BLOCK_NONE;
+        pl->p = pl->pinned ? pa : free_placement(s, &q, pa, pb, seam_edge);
+    }
+    pl->cost = qeval(s, &q, pl->p);
+}
+
+/* Restores p onto S of the original (INLINE); *left is set when the restorer left it where it was. */
+static vec3 restore_point(const simplifier *s, vec3 p, int *left)
+{
+    vec3 q;
+    resurfi_restore_outcome o = resurfi_restorer_point(s->restorer, p, &q, NULL, NULL);
+    *left = o >= RESURFI_LEFT_FAR;
+    return q;
+}
+
+/* The cost that ranks a planned collapse in the heap. */
+static float rank_cost(const simplifier *s, uint32_t a, uint32_t b, const plan *pl)
+{
+    double cost = pl->cost;
+    if (s->opt.cost_at_restored && s->restorer && !pl->pinned) {
+        int left;
+        vec3 r = restore_point(s, pl->p, &left);
+        resurfi_quadric q = s->P[a].q;
+        resurfi_quadric_add(&q, &s->P[b].q);
+        cost = qeval(s, &q, r);
+    }
+    /* Costs are squared lengths times areas: divide by diagonal⁴ so that floats neither underflow nor overflow. */
+    double d2 = s->diagonal * s->diagonal;
+    double scaled = d2 > 0 ? cost / (d2 * d2) : cost;
+    return scaled < FLT_MAX ? (float)scaled : FLT_MAX;
+}
+
+/* ---- the heap ------------------------------------------------------------------------------------------------ */
+
+/* A 4-ary heap: the four 16-byte children of a node share one 64-byte cache line (the array is offset so that
+ * children 4i+1..4i+4 start on a line), which halves the depth and the cache misses of a binary heap. */
+static void heap_sift_down(heap_entry *h, size_t n, size_t i)
+{
+    heap_entry e = h[i];
+    for (;;) {
+        size_t c = 4 * i + 1;
+        if (c >= n)
+            break;
+        size_t best = c;
+        size_t last = c + 4 < n ? c + 4 : n;
+        for (size_t k = c + 1; k < last; ++k)
+            if (h[k].cost < h[best].cost)
+                best = k;
+        if (!(h[best].cost < e.cost))
+            break;
+        h[i] = h[best];
+        i = best;
+    }
+    h[i] = e;
+}
+
+static void heap_sift_up(heap_entry *h, size_t i)
+{
+    heap_entry e = h[i];
+    while (i > 0) {
+        size_t p = (i - 1) / 4;
+        if (!(e.cost < h[p].cost))
+            break;
+        h[i] = h[p];
+        i = p;
+    }
+    h[i] = e;
+}
+
+/* (Re)allocates the heap for cap entries, keeping the first `keep`; 0 when out of memory. */
+static int heap_reserve(simplifier *s, size_t cap, size_t keep)
+{
+    void *mem = resurfi_alloc_array(cap + 4, sizeof(heap_entry));
+    if (!mem)
+        return 0;
+    uintptr_t base = (uintptr_t)mem, first = (base + sizeof(heap_entry) + 63) & ~(uintptr_t)63;
+    heap_entry *h = (heap_entry *)(first - sizeof(heap_entry));
+    if (keep)
+        memcpy(h, s->heap, keep * sizeof *h);
+    free(s->heap_mem);
+    s->heap_mem = mem;
+    s->heap = h;
+    s->heap_cap = cap;
+    return 1;
+}
+
+static int entry_current(const simplifier *s, const heap_entry *e)
+{
+    return !(s->P[e->a].flags & POS_DEAD) && !(s->P[e->b].flags & POS_DEAD) &&
+           e->stamp == s->P[e->a].version + s->P[e->b].version;
+}
+
+static void heapify(simplifier *s)
+{
+    for (size_t i = s->heap_count / 4 + 1; i-- > 0;)
+        heap_sift_down(s->heap, s->heap_count, i);
+}
+
+/* Drops the stale entries: a linear pass and a heapify cost less than popping them one by one, each pop being a
+ * walk down the heap that misses the cache at every level. */
+static void heap_compact(simplifier *s)
+{
+    size_t n = 0;
+    for (size_t i = 0; i < s->heap_count; ++i)
+        if (entry_current(s, &s->heap[i]))
+            s->heap[n++] = s->heap[i];
+    s->heap_count = n;
+    s->heap_stale = 0;
+    heapify(s);
+}
+
+/* Makes room for one more entry: drops stale entries when the heap is full, grows it when that does not free a
+ * quarter of it. */
+static int heap_make_room(simplifier *s)
+{
+    if (s->heap_count < s->heap_cap)
+        return 1;
+    heap_compact(s);
+    size_t n = s->heap_count;
+    if (n > s->heap_cap - s->heap_cap / 4) {
+        if (!heap_reserve(s, s->heap_cap + s->heap_cap / 2 + 64, n))
+            return 0;
+    }
+    return 1;
+}
+
+static int heap_push(simplifier *s, heap_entry e)
+{
+    if (!heap_make_room(s))
+        return 0;
+    s->heap[s->heap_count] = e;
+    heap_sift_up(s->heap, s->heap_count++);
+    return 1;
+}
+
+static heap_entry heap_pop(simplifier *s)
+{
+    heap_entry top = s->heap[0];
+    s->heap[0] = s->heap[--s->heap_count];
+    if (s->heap_count)
+        heap_sift_down(s->heap, s->heap_count, 0);
+    return top;
+}
+
+/* ---- phase 3: the first candidates --------------------------------------------------------------------------- */
+
+typedef struct seed_job {
+    simplifier *s;
+    scratch *scratch;
+    const size_t *offset; /* per position: its slots in the heap array */
+} seed_job;
+
+static int seed_block(void *ctx, size_t begin, size_t end, unsigned worker)
+{
+    seed_job *j = ctx;
+    simplifier *s = j->s;
+    scratch *sc = &j->scratch[worker];
+    for (size_t a = begin; a < end; ++a) {
+        heap_entry *slot = s->heap + j->offset[a];
+        size_t room = j->offset[a + 1] - j->offset[a], used = 0;
+        if (!(s->P[a].flags & POS_DEAD)) {
+            if (!gather_fan(s, (uint32_t)a, &sc->fan, 0))
+                return 1;
+            size_t n = fan_pairs(s, &sc->fan, sc);
+            if (n == SIZE_MAX)
+                return 1;
+            for (size_t i = 0; i < n; ++i) {
+                uint32_t b = sc->pairs[i].x;
+                if (b <= a || (i > 0 && sc->pairs[i - 1].x == b))
+                    continue;
+                plan pl;
+                plan_collapse(s, (uint32_t)a, b, &sc->fan, &pl);
+                if (pl.block != BLOCK_NONE) {
+                    sc->blocked[pl.block]++;
+                    continue;
+                }
+                slot[used++] = (heap_entry){rank_cost(s, (uint32_t)a, b, &pl), (uint32_t)a, b, 0};
+            }
+        }
+        for (; used < room; ++used)
+            slot[used].a = NONE;
+    }
+    return 0;
+}
+
+/* up: per position, its neighbours above it (from analyse_position): the slots of its edges. */
+static resurf_status seed_heap(simplifier *s, scratch *scratch, const uint32_t *up)
+{
+    size_t *offset = resurfi_alloc_array(s->pos_count + 1, sizeof *offset);
+    if (!offset)
+        return RESURF_ERR_OUT_OF_MEMORY;
+    size_t total = 0;
+    for (size_t p = 0; p < s->pos_count; ++p) {
+        offset[p] = total;
+        total += s->P[p].flags & POS_DEAD ? 0 : up[p];
+    }
+    offset[s->pos_count] = total;
+    /* room for the first collapses' candidates before stale entries are dropped (heap_make_room) */
+    if (!heap_reserve(s, total + total / 2 + 64, 0)) {
+        free(offset);
+        return RESURF_ERR_OUT_OF_MEMORY;
+    }
+    seed_job job = {s, scratch, offset};
+    if (resurfi_parallel_for(s->pos_count, BLOCK_POSITIONS, s->threads, seed_block, &job)) {
+        free(offset);
+        return RESURF_ERR_OUT_OF_MEMORY;
+    }
+    free(offset);
+    for (unsigned w = 0; w < s->threads; ++w)
+        for (int reason = 0; reason < 5; ++reason) {
+            size_t n = scratch[w].blocked[reason];
+            s->rep.blocked_seam += reason == BLOCK_SEAM ? n : 0;
+            s->rep.blocked_border += reason == BLOCK_BORDER ? n : 0;
+            s->rep.blocked_nonmanifold += reason == BLOCK_NONMANIFOLD ? n : 0;
+        }
+    size_t n = 0;
+    for (size_t i = 0; i < total; ++i)
+        if (s->heap[i].a != NONE)
+            s->heap[n++] = s->heap[i];
+    s->heap_count = n;
+    heapify(s);
+    return RESURF_OK;
+}
+
+/* ---- phase 4: collapsing ------------------------------------------------------------------------------------- */
+
+/* Does collapsing (a, b) keep the mesh a manifold? The link condition: the positions adjacent to both a and b must
+ * be exactly the third corners of the edge's triangles. Also refused: collapses that leave a double-sided sheet
+ * (both ends also share a triangle with those two corners: a tetrahedron) or no triangle at all. */
+static int link_ok(simplifier *s, const u32vec *fan_a, const u32vec *fan_b, uint32_t a, uint32_t b, const plan *pl)
+{
+    if (fan_a->count + fan_b->count <= 2 * (size_t)pl->shared_count)
+        return 0;
+    uint32_t st = next_stamp(s);
+    for (size_t i = 0; i < fan_a->count; ++i) {
+        uint32_t c = fan_a->data[i];
+        s->mark[TV(corner_next(c))] = st;
+        s->mark[TV(corner_prev(c))] = st;
+    }
+    int common = 0;
+    for (size_t i = 0; i < fan_b->count; ++i) {
+        uint32_t c = fan_b->data[i];
+        uint32_t xs[2] = {TV(corner_next(c)), TV(corner_prev(c))};
+        for (int k = 0; k < 2; ++k)
+            if (xs[k] != a && s->mark[xs[k]] == st) {
+                s->mark[xs[k]] = st + 1; /* count once */
+                ++common;
+            }
+    }
+    if (common != pl->shared_count)
+        return 0;
+    if (pl->shared_count == 2) {
+        uint32_t o[2] = {NONE, NONE};
+        for (int k = 0; k < 2; ++k) {
+            uint32_t t = pl->shared[k];
+            for (int i = 0; i < 3; ++i)
+                if (TV(3 * t + i) != a && TV(3 * t + i) != b)
+                    o[k] = TV(3 * t + i);
+        }
+        int has[2] = {0, 0};
+        const u32vec *fans[2] = {fan_a, fan_b};
+        for (int side = 0; side < 2; ++side)
+            for (size_t i = 0; i < fans[side]->count; ++i) {
+                uint32_t c = fans[side]->data[i];
+                uint32_t x = TV(corner_next(c)), y = TV(corner_prev(c));
+                if ((x == o[0] && y == o[1]) || (x == o[1] && y == o[0]))
+                    has[side] = 1;
+            }
+        if (has[0] && has[1])
+            return 0;
+    }
+    return 1;
+}
+
+/* The smallest angle of a triangle, in degrees (0 for a degenerate one). */
+static double min_angle_deg(vec3 p0, vec3 p1, vec3 p2)
+{
+    vec3 p[3] = {p0, p1, p2};
+    double best = 180;
+    for (int k = 0; k < 3; ++k) {
+        vec3 u = v3_sub(p[(k + 1) % 3], p[k]), v = v3_sub(p[(k + 2) % 3], p[k]);
+        double ang = atan2(v3_len(v3_cross(u, v)), v3_dot(u, v)) * (180.0 / M_PI);
+        best = ang < best ? ang : best;
+    }
+    return best;
+}
+
+/* Checks every triangle that changes (those of a and b except the edge's): no flip or fold beyond
+ * max_normal_change_deg, no collapse to zero area, and the minimum-angle guard. Returns BLOCK_NONE (0), 1 for a
+ * flip, 2 for an angle. */
+static int geometry_ok(const simplifier *s, const u32vec *fan_a, const u32vec *fan_b, uint32_t a, uint32_t b,
+                       vec3 p, const plan *pl)
+{
+    double cos_max = cos(s->opt.max_normal_change_deg * (M_PI / 180.0));
+    const u32vec *fans[2] = {fan_a, fan_b};
+    for (int side = 0; side < 2; ++side)
+        for (size_t i = 0; i < fans[side]->count; ++i) {
+            uint32_t c = fans[side]->data[i], t = c / 3;
+            if (t == pl->shared[0] || (pl->shared_count == 2 && t == pl->shared[1]))
+                continue;
+            vec3 old[3], neu[3];
+            for (int k = 0; k < 3; ++k) {
+                uint32_t v = TV(3 * t + k);
+                old[k] = s->P[v].p;
+                neu[k] = v == a || v == b ? p : old[k];
+            }
+            vec3 n0 = v3_tri_cross(old[0], old[1], old[2]), n1 = v3_tri_cross(neu[0], neu[1], neu[2]);
+            double l0 = v3_len(n0), l1 = v3_len(n1);
+            double longest = fmax(fmax(v3_dist2(neu[0], neu[1]), v3_dist2(neu[1], neu[2])), v3_dist2(neu[2], neu[0]));
+            if (!(l1 > 1e-12 * longest))
+                return 1;
+            if (l0 > 0 && v3_dot(n0, n1) < cos_max * l0 * l1)
+                return 1;
+            if (s->opt.min_angle_deg > 0) {
+                double after = min_angle_deg(neu[0], neu[1], neu[2]);
+                if (after < s->opt.min_angle_deg && after < min_angle_deg(old[0], old[1], old[2]))
+                    return 2;
+            }
+        }
+    return 0;
+}
+
+/* Pushes the candidates of position a (fan given) to every neighbour except `except` and those flagged
+ * POS_RENEW (which push their own). */
+static int push_edges(simplifier *s, uint32_t a, const u32vec *fan, uint32_t except)
+{
+    uint32_t st = next_stamp(s);
+    for (size_t i = 0; i < fan->count; ++i) {
+        uint32_t c = fan->data[i];
+        uint32_t xs[2] = {TV(corner_next(c)), TV(corner_prev(c))};
+        for (int k = 0; k < 2; ++k) {
+            uint32_t x = xs[k];
+            if (s->mark[x] == st || x == except || (s->P[x].flags & POS_RENEW))
+                continue;
+            s->mark[x] = st;
+            plan pl;
+            plan_collapse(s, a, x, fan, &pl);
+            if (pl.block != BLOCK_NONE) {
+                count_block(&s->rep, pl.block);
+                continue;
+            }
+            heap_entry e = {rank_cost(s, a, x, &pl), a, x, s->P[a].version + s->P[x].version};
+            if (!heap_push(s, e))
+                return 0;
+        }
+    }
+    return 1;
+}
+
+/* Removes `gone` into `keep` at p, with the wedge map read from the edge's triangles. fan_keep and fan_gone are
+ * the ends' fans before the collapse; s->fan_c receives keep's fan after it, s->touched the neighbours whose
+ * flags must be recomputed (seam positions next to the edge) or whose blocked candidates are worth another try.
+ * *refresh_keep is set when keep's flags must be recomputed from its fan. */
+static int apply_collapse(simplifier *s, uint32_t keep, uint32_t gone, vec3 p, const plan *pl, const u32vec *fan_keep,
+                          const u32vec *fan_gone, int *refresh_keep)
+{
+    uint32_t from[2], to[2];
+    int maps = pl->shared_count;
+    for (int k = 0; k < maps; ++k) {
+        from[k] = TW(corner_at(s, pl->shared[k], gone));
+        to[k] = TW(corner_at(s, pl->shared[k], keep));
+    }
+    uint32_t opposite[2] = {NONE, NONE};
+    for (int k = 0; k < maps; ++k) {
+        uint32_t t = pl->shared[k];
+        for (int i = 0; i < 3; ++i)
+            if (TV(3 * t + i) != keep && TV(3 * t + i) != gone)
+                opposite[k] = TV(3 * t + i);
+        s->tri[t].dead = 1;
+    }
+    s->alive_tris -= (size_t)maps;
+    /* Re-label gone's corners (dropping dead ones from the list) and splice its list in front of keep's. */
+    uint32_t prev = NONE;
+    for (uint32_t c = s->P[gone].head; c != NONE;) {
+        uint32_t next = TNEXT(c);
+        if (s->tri[c / 3].dead) {
+            if (prev == NONE)
+                s->P[gone].head = next;
+            else
+                TNEXT(prev) = next;
+        } else {
+            TV(c) = keep;
+            uint32_t w = TW(c);
+            TW(c) = maps == 1 || w == from[0] ? to[0] : w == from[1] ? to[1] : to[0];
+            prev = c;
+        }
+        c = next;
+    }
+    if (prev != NONE) {
+        TNEXT(prev) = s->P[keep].head;
+        s->P[keep].head = s->P[gone].head;
+    }
+    s->P[gone].head = NONE;
+    s->P[keep].p = p;
+    resurfi_quadric_add(&s->P[keep].q, &s->P[gone].q);
+    /* Only wedges can change a position's flags here: the link condition keeps the mesh a manifold, a border vertex
+     * goes only along its border (so keep was or becomes a border vertex) and the opposite corners keep their
+     * border edges. Seam positions are analysed again. */
+    uint8_t fk = s->P[keep].flags, fg = s->P[gone].flags;
+    *refresh_keep = ((fk | fg) & (POS_SEAM | POS_COMPLEX)) != 0;
+    s->P[keep].flags = (uint8_t)(fk | (fg & POS_BORDER));
+    s->P[gone].flags = POS_DEAD;
+    s->alive_positions--;
+    s->P[keep].version++;
+    s->P[gone].version++;
+
+    /* Flags that may have changed: keep's, and the opposite corners' (they lost a triangle). A changed flag changes
+     * that position's candidates: bump its version and push them again, like those of blocked neighbours. */
+    s->touched.count = 0;
+    s->fan_c.count = 0;
+    const u32vec *fans[2] = {fan_gone, fan_keep};
+    for (int side = 0; side < 2; ++side)
+        for (size_t i = 0; i < fans[side]->count; ++i) {
+            uint32_t c = fans[side]->data[i];
+            if (!s->tri[c / 3].dead && !vec_push(&s->fan_c, c))
+                return 0;
+        }
+    uint32_t st = next_stamp(s);
+    for (size_t i = 0; i < s->fan_c.count; ++i) {
+        uint32_t c = s->fan_c.data[i];
+        uint32_t xs[2] = {TV(corner_next(c)), TV(corner_prev(c))};
+        for (int k = 0; k < 2; ++k) {
+            uint32_t x = xs[k];
+            if (s->mark[x] == st)
+                continue;
+            s->mark[x] = st;
+            int again = (s->P[x].flags & POS_BLOCKED) != 0;
+            if ((x == opposite[0] || x == opposite[1]) && (s->P[x].flags & (POS_SEAM | POS_COMPLEX)))
+                again = 1;
+            if (again && !vec_push(&s->touched, x))
+                return 0;
+        }
+    }
+    return 1;
+}
+
+/* Recomputes the flags of `v` (static locks are kept). Returns 0 when out of memory, else 1; *changed is set when
+ * the flags differ. */
+static int refresh_flags(simplifier *s, uint32_t v, scratch *sc, int *changed)
+{
+    uint8_t f;
+    if (!analyse_position(s, v, sc, &f, NULL, NULL))
+        return 0;
+    uint8_t old = s->P[v].flags;
+    uint8_t keep = old & (POS_LOCKED | POS_LOCKED_BORDER | POS_BLOCKED);
+    /* lock_border freezes the input's borders only: a border created later (none: collapses keep borders) would
+     * otherwise be locked as well. */
+    f = (uint8_t)((f & ~POS_LOCKED_BORDER) | keep);
+    s->P[v].flags = f;
+    *changed = (f & ~POS_BLOCKED) != (old & ~POS_BLOCKED);
+    return 1;
+}
+
+static int restore_pending_block(void *ctx, size_t begin, size_t end, unsigned worker)
+{
+    (void)worker;
+    simplifier *s = ctx;
+    for (size_t i = begin; i < end; ++i) {
+        pending *q = &s->pend[i];
+        if (q->restore) {
+            int left;
+            q->restored = restore_point(s, q->p, &left);
+            q->left = (uint8_t)left;
+        }
+    }
+    return 0;
+}
+
+/* Inline restoration is the bulk of the work per collapse, and collapses must happen one after the other. So the
+ * BATCH cheapest plannable candidates are taken from the heap together and their placements restored on all
+ * threads; they are then collapsed in order, each checked again. A candidate whose ends an earlier one changed
+ * is stale (its version moved) and dropped: the earlier collapse pushed its successor. One that stays current
+ * has the same placement (which depends only on its ends), so the restored point is still right. New candidates
+ * cheaper than the rest of the batch wait for the next batch: a small, fixed departure from strict greedy order
+ * that does not depend on the thread count. Returns 0 when out of memory. */
+static int fill_batch(simplifier *s)
+{
+    s->pend_count = s->pend_next = 0;
+    while (s->pend_count < BATCH && s->heap_count) {
+        heap_entry e = heap_pop(s);
+        if (!entry_current(s, &e)) {
+            s->heap_stale -= s->heap_stale > 0;
+            continue;
+        }
+        if (!gather_fan(s, e.a, &s->fan_a, 1))
+            return 0;
+        plan pl;
+        plan_collapse(s, e.a, e.b, &s->fan_a, &pl);
+        if (pl.block != BLOCK_NONE) {
+            count_block(&s->rep, pl.block);
+            continue;
+        }
+        float now = rank_cost(s, e.a, e.b, &pl);
+        if (now > e.cost * 1.000001f + FLT_MIN) {
+            if (!heap_push(s, (heap_entry){now, e.a, e.b, e.stamp}))
+                return 0;
+            continue;
+        }
+        s->pend[s->pend_count++] = (pending){e, pl.p, pl.p, (uint8_t)!pl.pinned, 0};
+    }
+    resurfi_parallel_for(s->pend_count, BATCH / 8, s->threads, restore_pending_block, s);
+    return 1;
+}
+
+/* Collapses until at most `target` triangles are left or nothing can be collapsed. */
+static resurf_status collapse_until(simplifier *s, size_t target, scratch *sc, resurf_error *error)
+{
+    size_t start = s->alive_tris;
+    size_t since_progress = 0;
+    int skipped_error = 0;
+    resurf_simplify_report *r = &s->rep;
+    s->rep.stop = RESURF_STOP_TARGET;
+    int batched = s->opt.restore == RESURF_RESTORE_INLINE && s->restorer;
+    while (s->alive_tris > target) {
+        heap_entry e;
+        const pending *ahead = NULL;
+        if (batched) {
+            if (s->pend_next == s->pend_count && !fill_batch(s))
+                goto oom;
+            if (s->pend_next == s->pend_count) {
+                r->stop = skipped_error ? RESURF_STOP_ERROR : RESURF_STOP_BLOCKED;
+                break;
+            }
+            ahead = &s->pend[s->pend_next++];
+            e = ahead->e;
+        } else {
+            if (s->heap_count == 0) {
+                r->stop = skipped_error ? RESURF_STOP_ERROR : RESURF_STOP_BLOCKED;
+                break;
+            }
+            e = heap_pop(s);
+        }
+        if (!entry_current(s, &e)) {
+            s->heap_stale -= s->heap_stale > 0;
+            continue;
+        }
+        uint32_t a = e.a, b = e.b;
+        if (!gather_fan(s, a, &s->fan_a, 1) || !gather_fan(s, b, &s->fan_b, 1))
+            goto oom;
+        plan pl;
+        plan_collapse(s, a, b, &s->fan_a, &pl);
+        if (pl.block != BLOCK_NONE) {
+            count_block(r, pl.block);
+            continue;
+        }
+        /* The flags of an end may have changed since the entry was pushed (a neighbour's collapse): requeue with
+         * the current cost rather than collapse out of order. */
+        float now = rank_cost(s, a, b, &pl);
+        if (now > e.cost * 1.000001f + FLT_MIN) {
+            if (!heap_push(s, (heap_entry){now, a, b, e.stamp}))
+                goto oom;
+            continue;
+        }
+        if (!link_ok(s, &s->fan_a, &s->fan_b, a, b, &pl)) {
+            r->blocked_link++;
+            s->P[a].flags |= POS_BLOCKED;
+            s->P[b].flags |= POS_BLOCKED;
+            continue;
+        }
+        /* Restored before the error and geometry checks: they judge the position the vertex will have. */
+        resurfi_quadric q = s->P[a].q;
+        resurfi_quadric_add(&q, &s->P[b].q);
+        vec3 p = pl.p;
+        int restored = 0, left = 0;
+        if (batched && !pl.pinned) {
+            if (ahead->restore && v3_dist2(ahead->p, pl.p) == 0) {
+                p = ahead->restored;
+                left = ahead->left;
+            } else {
+                p = restore_point(s, pl.p, &left);
+            }
+            restored = 1;
+        }
+        double err = q.w > 0 ? sqrt(qeval(s, &q, p) / q.w) : 0;
+        if (err > s->max_error) {
+            r->skipped_error++;
+            skipped_error = 1;
+            continue;
+        }
+        int g = geometry_ok(s, &s->fan_a, &s->fan_b, a, b, p, &pl);
+        if (g) {
+            if (g == 1)
+                r->blocked_flip++;
+            else
+                r->blocked_min_angle++;
+            s->P[a].flags |= POS_BLOCKED;
+            s->P[b].flags |= POS_BLOCKED;
+            continue;
+        }
+        /* Which end survives: the one that must (held in place or not removable), else the one with more
+         * triangles (fewer corners to relabel), else the lower id. */
+        uint32_t keep, gone;
+        if (!pl.a_removable)
+            keep = a, gone = b;
+        else if (!pl.b_removable)
+            keep = b, gone = a;
+        else if (s->fan_b.count > s->fan_a.count)
+            keep = b, gone = a;
+        else
+            keep = a, gone = b;
+        r->restored += (size_t)restored;
+        r->restore_left += (size_t)left;
+        if (err > r->max_error_estimate)
+            r->max_error_estimate = err;
+        r->collapses++;
+        s->P[keep].flags &= (uint8_t)~POS_BLOCKED;
+        s->heap_stale += s->fan_a.count + s->fan_b.count;
+        int refresh_keep, changed = 0;
+        if (!apply_collapse(s, keep, gone, p, &pl, keep == a ? &s->fan_a : &s->fan_b,
+                            keep == a ? &s->fan_b : &s->fan_a, &refresh_keep))
+            goto oom;
+        if (refresh_keep && !refresh_flags(s, keep, sc, &changed))
+            goto oom;
+        size_t renew = 0;
+        for (size_t i = 0; i < s->touched.count; ++i) {
+            uint32_t x = s->touched.data[i];
+            changed = 0;
+            if ((s->P[x].flags & (POS_SEAM | POS_COMPLEX)) && !refresh_flags(s, x, sc, &changed))
+                goto oom;
+            if (changed || (s->P[x].flags & POS_BLOCKED)) {
+                s->P[x].flags &= (uint8_t)~POS_BLOCKED;
+                s->P[x].version++;
+                s->touched.data[renew++] = x;
+            }
+        }
+        /* keep's candidates first (they reach every neighbour), then those of renewed neighbours to the rest;
+         * each edge between two renewed neighbours is pushed by the later one. */
+        if (!push_edges(s, keep, &s->fan_c, NONE))
+            goto oom;
+        for (size_t i = 0; i < renew; ++i)
+            s->P[s->touched.data[i]].flags |= POS_RENEW;
+        for (size_t i = 0; i < renew; ++i) {
+            uint32_t x = s->touched.data[i];
+            s->P[x].flags &= (uint8_t)~POS_RENEW;
+            if (!gather_fan(s, x, &s->fan_b, 1) || !push_edges(s, x, &s->fan_b, keep)) {
+                for (size_t k = i; k < renew; ++k)
+                    s->P[s->touched.data[k]].flags &= (uint8_t)~POS_RENEW;
+                goto oom;
+            }
+            s->heap_stale += s->fan_b.count;
+        }
+        if (2 * s->heap_stale > s->heap_count)
+            heap_compact(s);
+        if (++since_progress >= PROGRESS_COLLAPSES) {
+            since_progress = 0;
+            double done = start > target ? (double)(start - s->alive_tris) / (double)(start - target) : 1;
+            if (resurfi_progress(&s->opt.progress, "simplify", done))
+                return resurfi_error(error, RESURF_ERR_CANCELLED, "simplification cancelled");
+        }
+    }
+    return RESURF_OK;
+oom:
+    return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory while simplifying");
+}
+
+/* ---- phase 5: the result ------------------------------------------------------------------------------------- */
+
+/* One snapshot of the working mesh turned into a resurf_mesh. Used positions are numbered u = 0.. in order of
+ * first use; output vertices are (position, wedge) pairs. */
+typedef struct output {
+    size_t nt, nu, nv;
+    uint32_t *tris;       /* nt working triangles, in order */
+    uint32_t *pos_index;  /* per position: its u, or NONE */
+    uint32_t *upos;       /* per u: the position */
+    uint32_t *ufirst;     /* per u: its first output vertex */
+    uint32_t *ov_next, *ov_u, *ov_wedge; /* per output vertex */
+    uint32_t *corner_ov;  /* 3 nt */
+    vec3 *base;           /* per u: the position before the sag offset (on S with restoration) */
+    vec3 *final;          /* per u: the output position */
+    vec3 *normal;         /* per u: S's normal at base (sag offset only) */
+    double *sag_sum;      /* per u */
+    double *len;          /* per u: longest incident edge */
+    uint32_t *sag_count;
+    uint8_t *outcome;     /* per u: POST restoration left it (1) */
+    double *area_prefix;  /* nt + 1 */
+    double *block_max, *block_sum; /* per measurement block */
+    size_t samples;
+} output;
+
+static void output_free(output *o)
+{
+    free(o->tris);
+    free(o->pos_index);
+    free(o->upos);
+    free(o->ufirst);
+    free(o->ov_next);
+    free(o->ov_u);
+    free(o->ov_wedge);
+    free(o->corner_ov);
+    free(o->base);
+    free(o->final);
+    free(o->normal);
+    free(o->sag_sum);
+    free(o->len);
+    free(o->sag_count);
+    free(o->outcome);
+    free(o->area_prefix);
+    free(o->block_max);
+    free(o->block_sum);
+}
+
+typedef struct output_job {
+    simplifier *s;
+    output *o;
+    resurf_mesh *m;
+} output_job;
+
+static int post_restore_block(void *ctx, size_t begin, size_t end, unsigned worker)
+{
+    (void)worker;
+    output_job *j = ctx;
+    for (size_t u = begin; u < end; ++u) {
+        vec3 q;
+        resurfi_restore_outcome oc = resurfi_restorer_point(j->s->restorer, j->o->base[u], &q, NULL, NULL);
+        j->o->outcome[u] = oc >= RESURFI_LEFT_FAR;
+        j->o->base[u] = q;
+    }
+    return 0;
+}
+
+static int normal_block(void *ctx, size_t begin, size_t end, unsigned worker)
+{
+    (void)worker;
+    output_job *j = ctx;
+    for (size_t u = begin; u < end; ++u) {
+        double bary[3];
+        uint32_t t = resurfi_bvh_closest(j->s->bvh, j->o->base[u], INFINITY, NULL, bary, NULL);
+        j->o->normal[u] = t == NONE ? v3(0, 0, 0) : resurfi_restorer_normal(j->s->restorer, t, bary);
+    }
+    return 0;
+}
+
+typedef struct chart_search {
+    const uint32_t *chart_of_tri;
+    uint32_t chart;
+    uint32_t best;
+    double best_d2;
+    double bary[3];
+} chart_search;
+
+static int chart_visit(void *ctx, uint32_t t, vec3 point, const double bary[3], double d2)
+{
+    (void)point;
+    chart_search *cs = ctx;
+    if (cs->chart_of_tri[t] != cs->chart)
+        return 0;
+    if (d2 < cs->best_d2 || (d2 == cs->best_d2 && t < cs->best)) {
+        cs->best = t;
+        cs->best_d2 = d2;
+        memcpy(cs->bary, bary, sizeof cs->bary);
+    }
+    return 0;
+}
+
+/* The input triangle that gives output vertex ov its attributes, with barycentrics: the closest one on the
+ * vertex's side of any seam (its wedge's chart), else the closest one. */
+static uint32_t attribute_source(const simplifier *s, const output *o, uint32_t ov, double bary[3])
+{
+    uint32_t u = o->ov_u[ov];
+    vec3 p = o->base[u];
+    double d2;
+    uint32_t t = resurfi_bvh_closest(s->bvh, p, INFINITY, NULL, bary, &d2);
+    if (t == NONE || !s->chart_of_wedge)
+        return t;
+    uint32_t chart = s->chart_of_wedge[o->ov_wedge[ov]];
+    if (chart == NONE || s->chart_of_input_tri[t] == chart)
+        return t;
+    double reach = sqrt(d2) + o->len[u];
+    chart_search cs = {s->chart_of_input_tri, chart, NONE, INFINITY, {0, 0, 0}};
+    resurfi_bvh_within(s->bvh, p, reach * reach, chart_visit, &cs);
+    if (cs.best == NONE)
+        return t;
+    memcpy(bary, cs.bary, sizeof cs.bary);
+    return cs.best;
+}
+
+static int attribute_block(void *ctx, size_t begin, size_t end, unsigned worker)
+{
+    (void)worker;
+    output_job *j = ctx;
+    const simplifier *s = j->s;
+    const resurf_mesh *in = s->in;
+    resurf_mesh *m = j->m;
+    for (size_t ov = begin; ov < end; ++ov) {
+        double b[3];
+        uint32_t t = attribute_source(s, j->o, (uint32_t)ov, b);
+        uint32_t w = j->o->ov_wedge[ov];
+        const uint32_t *idx = t == NONE ? NULL : in->indices + 3 * (size_t)t;
+        if (m->normals) {
+            vec3 n = v3(0, 0, 0);
+            if (idx && s->restorer)
+                n = resurfi_restorer_normal(s->restorer, t, b);
+            else if (idx)
+                for (int k = 0; k < 3; ++k)
+                    n = v3_madd(n, v3_load(in->normals + 3 * (size_t)idx[k]), b[k]);
+            n = v3_normalize(n);
+            if (v3_len2(n) == 0)
+                n = v3_load(in->normals + 3 * (size_t)w);
+            v3_store(m->normals + 3 * ov, n);
+        }
+        for (unsigned k = 0; k < m->texcoord_count; ++k) {
+            if (!m->texcoords[k])
+                continue;
+            const double *src = in->texcoords[k];
+            for (int c = 0; c < 2; ++c) {
+                double v = 0;
+                if (idx)
+                    for (int i = 0; i < 3; ++i)
+                        v += b[i] * src[2 * (size_t)idx[i] + c];
+                else
+                    v = src[2 * (size_t)w + c];
+                m->texcoords[k][2 * ov + c] = v;
+            }
+        }
+        if (m->colors)
+            for (int c = 0; c < 4; ++c) {
+                double v = 0;
+                if (idx)
+                    for (int i = 0; i < 3; ++i)
+                        v += b[i] * in->colors[4 * (size_t)idx[i] + c];
+                else
+                    v = in->colors[4 * (size_t)w + c];
+                m->colors[4 * ov + c] = v;
+            }
+        for (size_t e = 0; e < m->extra_count; ++e) {
+            const resurf_attribute *a = &in->extras[e];
+            unsigned nc = a->components;
+            for (unsigned c = 0; c < nc; ++c) {
+                double v = 0;
+                if (!a->data)
+                    break;
+                if (idx)
+                    for (int i = 0; i < 3; ++i)
+                        v += b[i] * (double)a->data[(size_t)nc * idx[i] + c];
+                else
+                    v = a->data[(size_t)nc * w + c];
+                m->extras[e].data[(size_t)nc * ov + c] = (float)v;
+            }
+        }
+    }
+    return 0;
+}
+
+/* A deterministic uniform number in [0, 1) for sample i, stream k. */
+static double sample_unit(uint64_t i, uint64_t k)
+{
+    uint64_t z = i * 0x9e3779b97f4a7c15ull + k * 0xd1b54a32d192ed03ull + 0x632be59bd9b4e019ull;
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    z ^= z >> 31;
+    return (double)(z >> 11) * 0x1.0p-53;
+}
+
+/* Blocks of area-uniform samples (stratified over the cumulative area), then the vertices. */
+static int measure_block(void *ctx, size_t begin, size_t end, unsigned worker)
+{
+    (void)worker;
+    output_job *j = ctx;
+    const simplifier *s = j->s;
+    const output *o = j->o;
+    double mx = 0, sum = 0;
+    double total = o->area_prefix[o->nt];
+    for (size_t i = begin; i < end; ++i) {
+        vec3 p;
+        int is_sample = i < o->samples;
+        if (is_sample) {
+            double target = ((double)i + sample_unit(i, 0)) / (double)o->samples * total;
+            size_t lo = 0, hi = o->nt - 1;
+            while (lo < hi) { /* first triangle whose prefix end exceeds target */
+                size_t mid = (lo + hi) / 2;
+                if (o->area_prefix[mid + 1] > target)
+                    hi = mid;
+                else
+                    lo = mid + 1;
+            }
+            const uint32_t *c = o->corner_ov + 3 * lo;
+            vec3 p0 = o->final[o->ov_u[c[0]]], p1 = o->final[o->ov_u[c[1]]], p2 = o->final[o->ov_u[c[2]]];
+            double r1 = sqrt(sample_unit(i, 1)), r2 = sample_unit(i, 2);
+            p = v3_add(v3_add(v3_scale(p0, 1 - r1), v3_scale(p1, r1 * (1 - r2))), v3_scale(p2, r1 * r2));
+        } else {
+            p = o->final[i - o->samples];
+        }
+        double d2 = 0;
+        if (resurfi_bvh_closest(s->bvh, p, INFINITY, NULL, NULL, &d2) == NONE)
+            d2 = INFINITY;
+        double d = sqrt(d2);
+        mx = d > mx ? d : mx;
+        if (is_sample)
+            sum += d;
+    }
+    size_t block = begin / BLOCK_SAMPLES;
+    o->block_max[block] = mx;
+    o->block_sum[block] = sum;
+    return 0;
+}
+
+/* Numbers the output vertices and positions of the current working mesh. */
+static resurf_status number_output(simplifier *s, output *o)
+{
+    size_t nt = s->alive_tris;
+    o->nt = nt;
+    o->tris = resurfi_alloc_array(nt, sizeof *o->tris);
+    o->pos_index = resurfi_alloc_array(s->pos_count, sizeof *o->pos_index);
+    size_t cap_u = 3 * nt < s->pos_count ? 3 * nt : s->pos_count;
+    o->upos = resurfi_alloc_array(cap_u, sizeof *o->upos);
+    o->ufirst = resurfi_alloc_array(cap_u, sizeof *o->ufirst);
+    o->ov_next = resurfi_alloc_array(3 * nt, sizeof *o->ov_next);
+    o->ov_u = resurfi_alloc_array(3 * nt, sizeof *o->ov_u);
+    o->ov_wedge = resurfi_alloc_array(3 * nt, sizeof *o->ov_wedge);
+    o->corner_ov = resurfi_alloc_array(3 * nt, sizeof *o->corner_ov);
+    if (!o->tris || !o->pos_index || !o->upos || !o->ufirst || !o->ov_next || !o->ov_u || !o->ov_wedge ||
+        !o->corner_ov)
+        return RESURF_ERR_OUT_OF_MEMORY;
+    memset(o->pos_index, 0xff, s->pos_count * sizeof *o->pos_index);
+    size_t k = 0;
+    for (size_t t = 0; t < s->tri_count; ++t)
+        if (!s->tri[t].dead)
+            o->tris[k++] = (uint32_t)t;
+    for (size_t i = 0; i < nt; ++i)
+        for (int c = 0; c < 3; ++c) {
+            uint32_t p = TV(3 * o->tris[i] + c), w = TW(3 * o->tris[i] + c);
+            uint32_t u = o->pos_index[p];
+            if (u == NONE) {
+                u = o->pos_index[p] = (uint32_t)o->nu++;
+                o->upos[u] = p;
+                o->ufirst[u] = NONE;
+            }
+            uint32_t ov = o->ufirst[u];
+            while (ov != NONE && o->ov_wedge[ov] != w)
+                ov = o->ov_next[ov];
+            if (ov == NONE) {
+                ov = (uint32_t)o->nv++;
+                o->ov_u[ov] = u;
+                o->ov_wedge[ov] = w;
+                o->ov_next[ov] = o->ufirst[u];
+                o->ufirst[u] = ov;
+            }
+            o->corner_ov[3 * i + c] = ov;
+        }
+    return RESURF_OK;
+}
+
+/* Final positions: POST restoration, then the sag offset: each vertex moves along S's normal by sag_offset × the
+ * mean over its incident triangle corners of −n·(p_w − p_v)/4. For a vertex on S and a neighbour w at chord
+ * length h where S bends by κ, −n·(p_w − p_v) ≈ h²κ/2, so the term is the chord's sag h²κ/8. */
+static resurf_status place_output(simplifier *s, output *o)
+{
+    size_t nu = o->nu;
+    o->base = resurfi_alloc_array(nu, sizeof *o->base);
+    o->final = resurfi_alloc_array(nu, sizeof *o->final);
+    o->len = resurfi_calloc_array(nu, sizeof *o->len);
+    if (!o->base || !o->final || !o->len)
+        return RESURF_ERR_OUT_OF_MEMORY;
+    for (size_t u = 0; u < nu; ++u)
+        o->base[u] = s->P[o->upos[u]].p;
+    output_job job = {s, o, NULL};
+    if (s->opt.restore == RESURF_RESTORE_POST && s->restorer) {
+        if (!(o->outcome = resurfi_alloc_array(nu, 1)))
+            return RESURF_ERR_OUT_OF_MEMORY;
+        resurfi_parallel_for(nu, BLOCK_POSITIONS, s->threads, post_restore_block, &job);
+        s->rep.restored += nu;
+        for (size_t u = 0; u < nu; ++u)
+            s->rep.restore_left += o->outcome[u];
+    }
+    int offset = s->restorer && s->opt.restore != RESURF_RESTORE_NONE && s->opt.sag_offset > 0;
+    if (offset) {
+        o->normal = resurfi_alloc_array(nu, sizeof *o->normal);
+        o->sag_sum = resurfi_calloc_array(nu, sizeof *o->sag_sum);
+        o->sag_count = resurfi_calloc_array(nu, sizeof *o->sag_count);
+        if (!o->normal || !o->sag_sum || !o->sag_count)
+            return RESURF_ERR_OUT_OF_MEMORY;
+        resurfi_parallel_for(nu, BLOCK_POSITIONS, s->threads, normal_block, &job);
+    }
+    for (size_t i = 0; i < o->nt; ++i) {
+        uint32_t u[3];
+        for (int c = 0; c < 3; ++c)
+            u[c] = o->ov_u[o->corner_ov[3 * i + c]];
+        for (int c = 0; c < 3; ++c) {
+            vec3 pv = o->base[u[c]];
+            for (int d = 1; d < 3; ++d) {
+                vec3 pw = o->base[u[(c + d) % 3]];
+                double l = v3_dist(pv, pw);
+                o->len[u[c]] = l > o->len[u[c]] ? l : o->len[u[c]];
+                if (offset) {
+                    o->sag_sum[u[c]] -= v3_dot(o->normal[u[c]], v3_sub(pw, pv));
+                    o->sag_count[u[c]]++;
+                }
+            }
+        }
+    }
+    for (size_t u = 0; u < nu; ++u) {
+        o->final[u] = o->base[u];
+        if (!offset || !o->sag_count[u])
+            continue;
+        double sag = s->opt.sag_offset * o->sag_sum[u] / (4.0 * o->sag_count[u]);
+        double cap = 0.25 * o->len[u]; /* a fold or a spike, not a sag */
+        sag = sag > cap ? cap : sag < -cap ? -cap : sag;
+        o->final[u] = v3_madd(o->base[u], o->normal[u], sag);
+    }
+    return RESURF_OK;
+}
+
+static resurf_status measure_output(simplifier *s, output *o, resurf_simplify_report *rep)
+{
+    rep->max_distance = rep->mean_distance = rep->max_distance_rel = rep->mean_distance_rel = NAN;
+    if (!s->opt.measure_samples || o->nt == 0 || !s->bvh)
+        return RESURF_OK;
+    o->area_prefix = resurfi_alloc_array(o->nt + 1, sizeof *o->area_prefix);
+    if (!o->area_prefix)
+        return RESURF_ERR_OUT_OF_MEMORY;
+    o->area_prefix[0] = 0;
+    for (size_t i = 0; i < o->nt; ++i) {
+        const uint32_t *c = o->corner_ov + 3 * i;
+        double a = 0.5 * v3_len(v3_tri_cross(o->final[o->ov_u[c[0]]], o->final[o->ov_u[c[1]]],
+                                             o->final[o->ov_u[c[2]]]));
+        o->area_prefix[i + 1] = o->area_prefix[i] + a;
+    }
+    o->samples = o->area_prefix[o->nt] > 0 ? s->opt.measure_samples : 0;
+    size_t total = o->samples + o->nu;
+    size_t blocks = (total + BLOCK_SAMPLES - 1) / BLOCK_SAMPLES;
+    o->block_max = resurfi_alloc_array(blocks, sizeof *o->block_max);
+    o->block_sum = resurfi_alloc_array(blocks, sizeof *o->block_sum);
+    if (!o->block_max || !o->block_sum)
+        return RESURF_ERR_OUT_OF_MEMORY;
+    output_job job = {s, o, NULL};
+    resurfi_parallel_for(total, BLOCK_SAMPLES, s->threads, measure_block, &job);
+    double mx = 0, sum = 0;
+    for (size_t b = 0; b < blocks; ++b) {
+        mx = o->block_max[b] > mx ? o->block_max[b] : mx;
+        sum += o->block_sum[b];
+    }
+    rep->max_distance = mx;
+    rep->mean_distance = o->samples ? sum / (double)o->samples : NAN;
+    if (s->diagonal > 0) {
+        rep->max_distance_rel = rep->max_distance / s->diagonal;
+        rep->mean_distance_rel = rep->mean_distance / s->diagonal;
+    }
+    return RESURF_OK;
+}
+
+/* An empty mesh (or one of the given counts) with the input's attribute layout. */
+static resurf_status create_like(const resurf_mesh *in, size_t nv, size_t nt, resurf_mesh **out, resurf_error *error)
+{
+    unsigned attrs = 0;
+    if (in->normals)
+        attrs |= RESURF_ATTR_NORMALS;
+    if (in->colors)
+        attrs |= RESURF_ATTR_COLORS;
+    for (unsigned k = 0; k < in->texcoord_count && k < RESURF_MAX_TEXCOORD_SETS; ++k)
+        if (in->texcoords[k])
+            attrs |= RESURF_ATTR_TEXCOORD0 << k;
+    resurf_status st = resurf_mesh_create(nv, nt, attrs, out, error);
+    if (st != RESURF_OK)
+        return st;
+    resurf_mesh *m = *out;
+    m->texcoord_count = in->texcoord_count;
+    if (in->colors)
+        m->color_components = in->color_components;
+    for (size_t e = 0; e < in->extra_count; ++e) {
+        if ((st = resurf_mesh_add_extra(m, in->extras[e].name, in->extras[e].components, NULL, error)) != RESURF_OK)
+            break;
+    }
+    if (st == RESURF_OK && in->triangle_groups && in->group_count) {
+        m->triangle_groups = resurfi_calloc_array(nt, sizeof *m->triangle_groups);
+        m->group_names = resurfi_calloc_array(in->group_count, sizeof *m->group_names);
+        if (!m->triangle_groups || !m->group_names)
+            st = RESURF_ERR_OUT_OF_MEMORY;
+        else
+            m->group_count = in->group_count;
+        for (size_t g = 0; st == RESURF_OK && g < in->group_count; ++g) {
+            const char *name = in->group_names[g] ? in->group_names[g] : "";
+            size_t len = strlen(name);
+            if (!(m->group_names[g] = malloc(len + 1)))
+                st = RESURF_ERR_OUT_OF_MEMORY;
+            else
+                memcpy(m->group_names[g], name, len + 1);
+        }
+        if (st == RESURF_ERR_OUT_OF_MEMORY)
+            resurfi_error(error, st, "out of memory copying triangle groups");
+    }
+    if (st != RESURF_OK) {
+        resurf_mesh_free(m);
+        *out = NULL;
+    }
+    return st;
+}
+
+static resurf_status build_output(simplifier *s, resurf_mesh **out, resurf_simplify_report *rep, resurf_error *error)
+{
+    output o;
+    memset(&o, 0, sizeof o);
+    resurf_mesh *m = NULL;
+    resurf_status st = number_output(s, &o);
+    if (st == RESURF_OK)
+        st = place_output(s, &o);
+    if (st == RESURF_OK && (st = create_like(s->in, o.nv, o.nt, &m, error)) != RESURF_OK) {
+        output_free(&o);
+        return st;
+    }
+    if (st == RESURF_OK) {
+        for (size_t v = 0; v < o.nv; ++v)
+            v3_store(m->positions + 3 * v, o.final[o.ov_u[v]]);
+        memcpy(m->indices, o.corner_ov, 3 * o.nt * sizeof *m->indices);
+        if (m->triangle_groups)
+            for (size_t i = 0; i < o.nt; ++i)
+                m->triangle_groups[i] = s->in->triangle_groups[s->src[o.tris[i]]];
+        if (has_attributes(s->in) && s->bvh) {
+            output_job job = {s, &o, m};
+            resurfi_parallel_for(o.nv, BLOCK_POSITIONS, s->threads, attribute_block, &job);
+        }
+        *rep = s->rep;
+        rep->triangles = o.nt;
+        rep->vertices = o.nv;
+        rep->positions = o.nu;
+        st = measure_output(s, &o, rep);
+    }
+    output_free(&o);
+    if (st != RESURF_OK) {
+        resurf_mesh_free(m);
+        return resurfi_error(error, st, "out of memory building the simplified mesh");
+    }
+    *out = m;
+    return RESURF_OK;
+}
+
+/* ---- the public functions ------------------------------------------------------------------------------------ */
+
+resurf_simplify_options resurf_simplify_options_default(void)
+{
+    resurf_simplify_options o;
+    memset(&o, 0, sizeof o);
+    o.struct_size = sizeof o;
+    o.target_ratio = 0.5;
+    o.placement = RESURF_PLACEMENT_QUADRIC;
+    o.restore = RESURF_RESTORE_INLINE;
+    o.sag_offset = 1.0;
+    o.max_normal_change_deg = 60;
+    o.border_weight = 1;
+    o.measure_samples = 100000;
+    return o;
+}
+
+static resurf_status check_options(const resurf_simplify_options *o, resurf_error *error)
+{
+    RESURFI_CHECK_OPTIONS(o, resurf_simplify_options, error);
+    if (!o)
+        return RESURF_OK;
+    const char *bad = NULL;
+    if (!(o->target_ratio >= 0 && o->target_ratio <= 1))
+        bad = "target_ratio must be in [0, 1]";
+    else if (!(o->max_error >= 0 && isfinite(o->max_error)))
+        bad = "max_error must be finite and >= 0";
+    else if (!(o->max_error_rel >= 0 && isfinite(o->max_error_rel)))
+        bad = "max_error_rel must be finite and >= 0";
+    else if ((unsigned)o->placement >= RESURF_PLACEMENT_COUNT)
+        bad = "placement is not a resurf_placement";
+    else if ((unsigned)o->restore >= RESURF_RESTORE_MODE_COUNT)
+        bad = "restore is not a resurf_restore_mode";
+    else if (!(o->sag_offset >= 0 && o->sag_offset <= 4))
+        bad = "sag_offset must be in [0, 4]";
+    else if (!(o->min_angle_deg >= 0 && o->min_angle_deg < 60))
+        bad = "min_angle_deg must be in [0, 60)";
+    else if (!(o->max_normal_change_deg > 0 && o->max_normal_change_deg <= 180))
+        bad = "max_normal_change_deg must be in (0, 180]";
+    else if (!(o->border_weight >= 0 && isfinite(o->border_weight)))
+        bad = "border_weight must be finite and >= 0";
+    else if (o->restore_options && o->restore_options->struct_size != sizeof(resurf_restore_options))
+        bad = "restore_options was not initialised by resurf_restore_options_default()";
+    if (bad)
+        return resurfi_error(error, RESURF_ERR_INVALID_OPTIONS, "resurf_simplify_options: %s", bad);
+    return RESURF_OK;
+}
+
+static void simplifier_free(simplifier *s)
+{
+    free(s->tri);
+    free(s->src);
+    free(s->P);
+    free(s->mark);
+    free(s->chart_of_input_tri);
+    free(s->chart_of_wedge);
+    free(s->heap_mem);
+    free(s->fan_a.data);
+    free(s->fan_b.data);
+    free(s->fan_c.data);
+    free(s->touched.data);
+    free(s->pend);
+    resurfi_restorer_free(s->restorer);
+    resurfi_bvh_free(s->own_bvh);
+}
+
+/* Everything up to the first candidate: input checks, the working mesh, the restorer or a BVH, flags, quadrics,
+ * charts and the heap. */
+static resurf_status start(simplifier *s, scratch *scratch, resurf_error *error)
+{
+    resurf_status st = check_input(s->in, error);
+    if (st != RESURF_OK)
+        return st;
+    double lo[3], hi[3];
+    s->diagonal = resurf_mesh_bounds(s->in, lo, hi);
+    s->origin = v3(0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2]));
+    double bound = INFINITY;
+    if (s->opt.max_error > 0)
+        bound = s->opt.max_error;
+    if (s->opt.max_error_rel > 0 && s->opt.max_error_rel * s->diagonal < bound)
+        bound = s->opt.max_error_rel * s->diagonal;
+    s->max_error = bound;
+    if ((st = prepare_mesh(s, error)) != RESURF_OK)
+        return st;
+    s->rep.input_triangles = s->tri_count;
+    s->rep.input_positions = s->alive_positions;
+    s->rep.diagonal = s->diagonal;
+    if (s->tri_count == 0)
+        return RESURF_OK;
+    if (s->opt.restore != RESURF_RESTORE_NONE) {
+        resurf_restore_options ro = resurf_restore_options_default();
+        /* Max's normals, not the jet fit, unless asked: a LOD's distance to S is set by the chord sag, not by the
+         * restorer's last digits (the analytic benchmark's figures agree to 2%), and the fit costs about a second
+         * per million triangles. */
+        ro.normals = RESURF_NORMALS_MAX;
+        if (s->opt.restore_options)
+            ro = *s->opt.restore_options;
+        ro.threads = s->opt.threads;
+        ro.progress = (resurf_progress){NULL, NULL};
+        if ((st = resurfi_restorer_create(s->in, &ro, &s->restorer, error)) != RESURF_OK)
+            return st;
+        s->bvh = resurfi_restorer_bvh(s->restorer);
+    } else if (has_attributes(s->in) || s->opt.measure_samples) {
+        st = resurfi_bvh_build_threads(s->in->positions, s->in->vertex_count, s->in->indices, s->in->triangle_count,
+                                       s->opt.threads, &s->own_bvh);
+        if (st != RESURF_OK)
+            return resurfi_error(error, st, "cannot build the input's BVH");
+        s->bvh = s->own_bvh;
+    }
+    if (resurfi_progress(&s->opt.progress, "prepare", 0.5))
+        return resurfi_error(error, RESURF_ERR_CANCELLED, "simplification cancelled");
+    uint32_t *up = resurfi_alloc_array(s->pos_count, sizeof *up);
+    analyse_job aj = {s, scratch, up};
+    if (!up || resurfi_parallel_for(s->pos_count, BLOCK_POSITIONS, s->threads, analyse_block, &aj)) {
+        free(up);
+        return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory analysing the mesh");
+    }
+    int seams = 0;
+    for (size_t p = 0; p < s->pos_count && !seams; ++p)
+        seams = (s->P[p].flags & (POS_SEAM | POS_COMPLEX)) != 0;
+    if (seams && has_attributes(s->in) && find_charts(s, &scratch[0]) != RESURF_OK) {
+        free(up);
+        return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory finding attribute charts");
+    }
+    st = seed_heap(s, scratch, up);
+    free(up);
+    if (st != RESURF_OK)
+        return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory queueing %zu edges",
+                             3 * s->tri_count / 2);
+    if (s->opt.restore == RESURF_RESTORE_INLINE && !(s->pend = resurfi_alloc_array(BATCH, sizeof *s->pend)))
+        return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
+    if (resurfi_progress(&s->opt.progress, "prepare", 1))
+        return resurfi_error(error, RESURF_ERR_CANCELLED, "simplification cancelled");
+    return RESURF_OK;
+}
+
+/* The shared worker: one run of collapses, a snapshot at each target (non-increasing). */
+static resurf_status simplify_levels(const resurf_mesh *in, const resurf_simplify_options *options,
+                                     const size_t *targets, size_t count, resurf_mesh **outs,
+                                     resurf_simplify_report *reports, resurf_error *error)
+{
+    simplifier s;
+    memset(&s, 0, sizeof s);
+    s.in = in;
+    s.opt = options ? *options : resurf_simplify_options_default();
+    s.threads = resurfi_thread_count(s.opt.threads);
+    scratch *sc = resurfi_calloc_array(s.threads, sizeof *sc);
+    if (!sc)
+        return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory starting the simplification");
+    resurf_status st = RESURF_OK;
+    if (resurfi_progress(&s.opt.progress, "prepare", 0))
+        st = resurfi_error(error, RESURF_ERR_CANCELLED, "simplification cancelled");
+    if (st == RESURF_OK)
+        st = start(&s, sc, error);
+    for (size_t i = 0; i < count && st == RESURF_OK; ++i) {
+        if (s.tri_count)
+            st = collapse_until(&s, targets[i], &sc[0], error);
+        else
+            s.rep.stop = RESURF_STOP_TARGET;
+        if (st == RESURF_OK && resurfi_progress(&s.opt.progress, "finish", (double)i / (double)count))
+            st = resurfi_error(error, RESURF_ERR_CANCELLED, "simplification cancelled");
+        resurf_simplify_report rep;
+        if (st == RESURF_OK)
+            st = build_output(&s, &outs[i], &rep, error);
+        if (st == RESURF_OK && reports)
+            reports[i] = rep;
+    }
+    if (st == RESURF_OK && resurfi_progress(&s.opt.progress, "finish", 1))
+        st = resurfi_error(error, RESURF_ERR_CANCELLED, "simplification cancelled");
+    for (unsigned w = 0; w < s.threads; ++w)
+        scratch_free(&sc[w]);
+    free(sc);
+    simplifier_free(&s);
+    if (st != RESURF_OK)
+        for (size_t i = 0; i < count; ++i) {
+            resurf_mesh_free(outs[i]);
+            outs[i] = NULL;
+        }
+    return st;
+}
+
+resurf_status resurf_simplify(const resurf_mesh *in, const resurf_simplify_options *options, resurf_mesh **out,
+                              resurf_simplify_report *out_report, resurf_error *error)
+{
+    resurfi_clear_error(error);
+    if (!out)
+        return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "out is NULL");
+    *out = NULL;
+    if (!in)
+        return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "the input mesh is NULL");
+    resurf_status st = check_options(options, error);
+    if (st != RESURF_OK)
+        return st;
+    resurf_simplify_options o = options ? *options : resurf_simplify_options_default();
+    /* Whichever target comes first is the larger triangle count. */
+    size_t target = 0;
+    if (o.target_triangles)
+        target = o.target_triangles;
+    if (o.target_ratio > 0) {
+        size_t r = (size_t)floor(o.target_ratio * (double)in->triangle_count * (1 + 1e-12));
+        target = r > target ? r : target;
+    }
+    resurf_simplify_report rep;
+    st = simplify_levels(in, &o, &target, 1, out, out_report ? &rep : NULL, error);
+    if (st == RESURF_OK && out_report)
+        *out_report = rep;
+    return st;
+}
+
+resurf_status resurf_simplify_lods(const resurf_mesh *in, const resurf_simplify_options *options, const double *ratios,
+                                   size_t count, resurf_mesh **out_levels, resurf_simplify_report *out_reports,
+                                   resurf_error *error)
+{
+    resurfi_clear_error(error);
+    if (!out_levels || (count && !ratios))
+        return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "%s is NULL", out_levels ? "ratios" : "out_levels");
+    for (size_t i = 0; i < count; ++i)
+        out_levels[i] = NULL;
+    if (!in)
+        return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "the input mesh is NULL");
+    resurf_status st = check_options(options, error);
+    if (st != RESURF_OK)
+        return st;
+    size_t *targets = resurfi_alloc_array(count, sizeof *targets);
+    if (!targets)
+        return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
+    for (size_t i = 0; i < count; ++i) {
+        if (!(ratios[i] > 0 && ratios[i] <= 1) || (i > 0 && ratios[i] > ratios[i - 1])) {
+            free(targets);
+            return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT,
+                                 "ratio %zu (%g) must be in (0, 1] and not above the previous one", i, ratios[i]);
+        }
+        targets[i] = (size_t)floor(ratios[i] * (double)in->triangle_count * (1 + 1e-12));
+    }
+    st = simplify_levels(in, options, targets, count, out_levels, out_reports, error);
+    free(targets);
+    return st;
+}

@@ -1,0 +1,225 @@
+/* Determinism at the command line: the same input and options give byte-identical output files, run after run and
+ * whatever the thread count (1, 2, 3), for every command that computes something: restore, simplify (one level and
+ * a chain of levels), smooth, compare (JSON and the heatmap) and convert. The input is a jittered torus of about 20,000 triangles, big enough that the work of the
+ * multi-threaded calls is split into many blocks (so a result that depended on which thread did what, or on the
+ * order in which partial sums are combined, would show). */
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "testutil.h"
+
+static char *dir;
+
+static void setup(void) { dir = tu_tempdir(); }
+static void teardown(void)
+{
+    tu_rmtree(dir);
+    free(dir);
+}
+
+/* Runs `resurf ARGS`, which must succeed; returns its stdout and stderr together (caller frees). */
+static char *run_ok(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+static char *run_ok(const char *fmt, ...)
+{
+    char args[4096], cmd[8192];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(args, sizeof args, fmt, ap);
+    va_end(ap);
+    snprintf(cmd, sizeof cmd, "%s %s", RESURF_CLI, args);
+    char *out = NULL;
+    int status = tu_run(cmd, &out);
+    ck_assert_msg(status == 0, "resurf %s: status %d: %s", args, status, out);
+    return out;
+}
+
+/* Are the two files byte-identical (and not empty)? */
+static void expect_same_bytes(const char *a, const char *b)
+{
+    size_t na = 0, nb = 0;
+    char *x = tu_read_file(a, &na), *y = tu_read_file(b, &nb);
+    ck_assert_ptr_nonnull(x);
+    ck_assert_ptr_nonnull(y);
+    ck_assert_uint_gt(na, 0);
+    ck_assert_msg(na == nb && memcmp(x, y, na) == 0, "%s and %s differ", a, b);
+    free(x);
+    free(y);
+}
+
+/* A file in dir; caller frees. */
+static char *file(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+static char *file(const char *fmt, ...)
+{
+    char name[256];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(name, sizeof name, fmt, ap);
+    va_end(ap);
+    return tu_path(dir, name);
+}
+
+/* The test input: a torus with jittered vertices (so no two one-rings look alike) and exact normals. */
+static char *write_torus(const char *name)
+{
+    resurf_mesh *m = shape_mesh(SHAPE_TORUS, 20000, 0.3, 11, 1);
+    ck_assert_ptr_nonnull(m);
+    char *path = tu_path(dir, name);
+    ck_assert_int_eq(resurf_mesh_save(m, path, NULL, NULL), RESURF_OK);
+    resurf_mesh_free(m);
+    return path;
+}
+
+/* Smoothing has no thread option; every method gives the same bytes on every run, in binary and text output. */
+START_TEST(determinism_smooth)
+{
+    char *in = write_torus("torus.ply");
+    const char *methods[] = {"laplacian", "taubin", "taubin-cot", "bilaplacian"};
+    const char *formats[] = {"ply", "obj"};
+    for (int m = 0; m < 4; ++m)
+        for (int f = 0; f < 2; ++f) {
+            char *first = file("smooth_%d_0.%s", m, formats[f]);
+            free(run_ok("smooth '%s' -o '%s' --method %s --iterations 5", in, first, methods[m]));
+            for (int run = 1; run < 3; ++run) {
+                char *again = file("smooth_%d_%d.%s", m, run, formats[f]);
+                free(run_ok("smooth '%s' -o '%s' --method %s --iterations 5", in, again, methods[m]));
+                expect_same_bytes(first, again);
+                free(again);
+            }
+            free(first);
+        }
+    free(in);
+}
+END_TEST
+
+/* compare: the JSON report and the heatmap are the same for 1, 2 and 3 threads, and on a second run. The test
+ * mesh is the torus smoothed, so the distances are not trivially zero. */
+START_TEST(determinism_compare_across_threads)
+{
+    char *ref = write_torus("torus.ply");
+    char *test = file("smoothed.ply");
+    free(run_ok("smooth '%s' -o '%s' --iterations 3", ref, test));
+    char *json[4];
+    for (int k = 0; k < 4; ++k) {
+        unsigned threads = k == 3 ? 2 : (unsigned)k + 1; /* 1, 2, 3, and 2 again */
+        char *heatmap = file("heat_%d.ply", k);
+        json[k] = run_ok("compare '%s' '%s' --json --samples 30000 --seed 5 --threads %u --heatmap '%s'", ref, test,
+                         threads, heatmap);
+        ck_assert_ptr_nonnull(strstr(json[k], "\"hausdorff\": "));
+        ck_assert_ptr_null(strstr(json[k], "\"hausdorff\": 0,"));
+        if (k > 0) {
+            ck_assert_str_eq(json[k], json[0]);
+            char *first = file("heat_0.ply");
+            expect_same_bytes(first, heatmap);
+            free(first);
+        }
+        free(heatmap);
+    }
+    for (int k = 0; k < 4; ++k)
+        free(json[k]);
+    free(ref);
+    free(test);
+}
+END_TEST
+
+/* restore: the smoothed torus restored onto the original gives the same bytes for 1, 2 and 3 threads (and again
+ * for 2), with the default and the paper's settings. */
+START_TEST(determinism_restore_across_threads)
+{
+    char *original = write_torus("torus.ply");
+    char *processed = file("smoothed.ply");
+    free(run_ok("smooth '%s' -o '%s' --method taubin --iterations 10", original, processed));
+    const char *presets[] = {"default", "paper"};
+    for (int p = 0; p < 2; ++p)
+        for (int k = 0; k < 4; ++k) {
+            unsigned threads = k == 3 ? 2 : (unsigned)k + 1;
+            char *out = file("restored_%d_%d.ply", p, k);
+            free(run_ok("restore '%s' '%s' -o '%s' --preset %s --threads %u", original, processed, out, presets[p],
+                        threads));
+            if (k > 0) {
+                char *first = file("restored_%d_0.ply", p);
+                expect_same_bytes(first, out);
+                free(first);
+            }
+            free(out);
+        }
+    /* The restored mesh is not the processed one: restoring did something. */
+    char *restored = file("restored_0_0.ply");
+    size_t na = 0, nb = 0;
+    char *a = tu_read_file(processed, &na), *b = tu_read_file(restored, &nb);
+    ck_assert(na != nb || memcmp(a, b, na) != 0);
+    free(a);
+    free(b);
+    free(restored);
+    free(original);
+    free(processed);
+}
+END_TEST
+
+/* simplify: inline and post restoration, one level and a chain of levels, the same bytes for 1, 2 and 3 threads. */
+START_TEST(determinism_simplify_across_threads)
+{
+    char *in = write_torus("torus.ply");
+    static const struct {
+        const char *options, *outputs[2];
+    } runs[] = {
+        {"--ratio 0.2", {"s.ply", NULL}},
+        {"--ratio 0.3 --restore post", {"s.ply", NULL}},
+        {"--levels 0.5,0.1", {"s_lod1.ply", "s_lod2.ply"}},
+    };
+    for (size_t r = 0; r < sizeof runs / sizeof *runs; ++r)
+        for (int k = 0; k < 4; ++k) {
+            unsigned threads = k == 3 ? 2 : (unsigned)k + 1;
+            char *folder = file("run_%zu_%d", r, k);
+            ck_assert_int_eq(mkdir(folder, 0755), 0);
+            char *out = tu_path(folder, "s.ply");
+            free(run_ok("simplify '%s' -o '%s' %s --threads %u", in, out, runs[r].options, threads));
+            for (int o = 0; k > 0 && o < 2 && runs[r].outputs[o]; ++o) {
+                char *first_folder = file("run_%zu_0", r);
+                char *first = tu_path(first_folder, runs[r].outputs[o]), *again = tu_path(folder, runs[r].outputs[o]);
+                expect_same_bytes(first, again);
+                free(first_folder);
+                free(first);
+                free(again);
+            }
+            free(out);
+            free(folder);
+        }
+    free(in);
+}
+END_TEST
+
+/* convert: the same bytes on every run, in every output format and variant. */
+START_TEST(determinism_convert)
+{
+    char *in = write_torus("torus.ply");
+    const char *targets[] = {"obj", "ply", "off", "stl"};
+    for (int t = 0; t < 4; ++t)
+        for (int ascii = 0; ascii < 2; ++ascii) {
+            char *a = file("a_%d.%s", ascii, targets[t]), *b = file("b_%d.%s", ascii, targets[t]);
+            free(run_ok("convert '%s' '%s' %s", in, a, ascii ? "--ascii" : ""));
+            free(run_ok("convert '%s' '%s' %s", in, b, ascii ? "--ascii" : ""));
+            expect_same_bytes(a, b);
+            free(a);
+            free(b);
+        }
+    free(in);
+}
+END_TEST
+
+Suite *make_suite(void)
+{
+    Suite *s = suite_create("determinism");
+    TCase *tc = tcase_create("cli");
+    tcase_add_checked_fixture(tc, setup, teardown);
+    tcase_add_test(tc, determinism_smooth);
+    tcase_add_test(tc, determinism_compare_across_threads);
+    tcase_add_test(tc, determinism_restore_across_threads);
+    tcase_add_test(tc, determinism_simplify_across_threads);
+    tcase_add_test(tc, determinism_convert);
+    suite_add_tcase(s, tc);
+    return s;
+}
+
+RESURF_TEST_MAIN()

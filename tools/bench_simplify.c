@@ -1,0 +1,423 @@
+/* bench-simplify: resurf's simplifier (src/simplify.c) against meshoptimizer's meshopt_simplify, in the same run.
+ *
+ *   bench-simplify [--small] [--large] [--scan FILE] [--scaling] [--ratios 0.5,0.1,0.02] [--shape NAME]
+ *                  [--threads N] [--sag S] [--normal-deg D] [--midpoint] [--cost-restored] [--post]
+ *                  [--normals K]   (K: the restorer's resurf_normal_scheme, 0..4)
+ *
+ * Meshes: the irregular analytic sphere, torus and cubic surface of tools/shapes.h (jitter 0.3) at ~20k (--small)
+ * and ~1M (--large) triangles (both by default), and a scanned mesh (--scan, default data/scans/dragon.ply when it
+ * exists). Each is simplified to each ratio by:
+ *   meshopt        meshopt_simplify (float positions, target_error 1 = no error bound, options 0);
+ *   resurf-none    resurf_simplify, --restore none;
+ *   resurf-inline  resurf_simplify with the defaults (inline restoration, sag offset);
+ * with measure_samples = 0 (the benchmark measures below, not the call). Columns:
+ *   tris          triangles reached
+ *   time          wall seconds of the call alone (meshopt: float copy of the positions excluded)
+ *   Mtri/s        input triangles per second, millions
+ *   B/tri         peak memory of the call per input triangle: the peak resident set while it runs minus the
+ *                 resident set just before (Linux: /proc/self/clear_refs "5" resets VmHWM; malloc_trim first)
+ *   H_orig mean_orig  two-sided Hausdorff and mean surface distance to the input mesh (resurf_compare, 200k
+ *                 samples), relative to the bounding-box diagonal, ×1e-4
+ *   true_mean true_max  distance of 200k area-uniform samples of the result to the analytic surface, ×1e-4
+ *   vtx_mean vtx_max    distance of the result's vertices to the analytic surface, ×1e-4
+ *   minang meanmin      smallest triangle angle, and the mean of each triangle's smallest angle (degrees)
+ * then the ratios resurf/meshopt. --scaling times the sphere at 10% from 20k to 2M triangles and prints
+ * time / (n log2 n). */
+#include <float.h>
+#include <malloc.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "internal.h"
+#include "shapes.h"
+#ifdef HAVE_MESHOPTIMIZER
+#include <meshoptimizer.h>
+#endif
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* ---- peak memory of one call --------------------------------------------------------------------------------- */
+
+static long status_kb(const char *key)
+{
+    FILE *f = fopen("/proc/self/status", "r");
+    if (!f)
+        return -1;
+    char line[256];
+    long v = -1;
+    size_t n = strlen(key);
+    while (fgets(line, sizeof line, f))
+        if (!strncmp(line, key, n)) {
+            v = strtol(line + n, NULL, 10);
+            break;
+        }
+    fclose(f);
+    return v;
+}
+
+static long mem_start(void)
+{
+    malloc_trim(0);
+    FILE *f = fopen("/proc/self/clear_refs", "w");
+    if (f) {
+        fputs("5", f);
+        fclose(f);
+    }
+    return status_kb("VmRSS:");
+}
+
+static double mem_peak_bytes(long start_kb)
+{
+    long hwm = status_kb("VmHWM:");
+    return hwm < 0 || start_kb < 0 ? NAN : 1024.0 * (double)(hwm - start_kb);
+}
+
+/* ---- measurements -------------------------------------------------------------------------------------------- */
+
+typedef struct result {
+    const char *method;
+    size_t tris;
+    double time, bytes;
+    double h_orig, mean_orig;
+    double true_mean, true_max, vtx_mean, vtx_max;
+    double min_angle, mean_min_angle;
+    int ok;
+} result;
+
+/* Distances of area-uniform samples and of the vertices of m to the analytic surface. */
+static void true_distances(shape_kind kind, const resurf_mesh *m, result *r)
+{
+    size_t nt = m->triangle_count;
+    double *prefix = malloc((nt + 1) * sizeof *prefix);
+    prefix[0] = 0;
+    for (size_t t = 0; t < nt; ++t) {
+        const uint32_t *i = m->indices + 3 * t;
+        prefix[t + 1] = prefix[t] + 0.5 * v3_len(v3_tri_cross(resurfi_position(m, i[0]), resurfi_position(m, i[1]),
+                                                               resurfi_position(m, i[2])));
+    }
+    const size_t samples = 200000;
+    uint64_t rng = 12345;
+    double sum = 0, mx = 0;
+    for (size_t s = 0; s < samples; ++s) {
+        double target = shape_rand_unit(&rng) * prefix[nt];
+        size_t lo = 0, hi = nt - 1;
+        while (lo < hi) {
+            size_t mid = (lo + hi) / 2;
+            if (prefix[mid + 1] > target)
+                hi = mid;
+            else
+                lo = mid + 1;
+        }
+        const uint32_t *i = m->indices + 3 * lo;
+        double r1 = sqrt(shape_rand_unit(&rng)), r2 = shape_rand_unit(&rng);
+        vec3 p = v3_add(v3_add(v3_scale(resurfi_position(m, i[0]), 1 - r1),
+                               v3_scale(resurfi_position(m, i[1]), r1 * (1 - r2))),
+                        v3_scale(resurfi_position(m, i[2]), r1 * r2));
+        double q[3] = {p.x, p.y, p.z};
+        double d = shape_distance(kind, q);
+        sum += d;
+        mx = d > mx ? d : mx;
+    }
+    free(prefix);
+    r->true_mean = sum / (double)samples;
+    r->true_max = mx;
+    sum = mx = 0;
+    for (size_t v = 0; v < m->vertex_count; ++v) {
+        double d = shape_distance(kind, m->positions + 3 * v);
+        sum += d;
+        mx = d > mx ? d : mx;
+    }
+    r->vtx_mean = m->vertex_count ? sum / (double)m->vertex_count : NAN;
+    r->vtx_max = mx;
+}
+
+static void measure(const resurf_mesh *orig, shape_kind kind, const resurf_mesh *lod, result *r)
+{
+    r->tris = lod->triangle_count;
+    r->h_orig = r->mean_orig = r->true_mean = r->true_max = r->vtx_mean = r->vtx_max = NAN;
+    r->min_angle = r->mean_min_angle = NAN;
+    if (!lod->triangle_count)
+        return;
+    resurf_metrics mt;
+    resurf_error e;
+    if (resurf_compare(orig, lod, NULL, &mt, NULL, &e) == RESURF_OK) {
+        r->h_orig = mt.hausdorff / mt.diagonal;
+        r->mean_orig = mt.mean / mt.diagonal;
+    } else {
+        fprintf(stderr, "bench-simplify: compare: %s\n", e.message);
+    }
+    resurf_triangle_quality(lod, &r->min_angle, &r->mean_min_angle, NULL, NULL);
+    if (kind != SHAPE_COUNT)
+        true_distances(kind, lod, r);
+}
+
+/* ---- the methods --------------------------------------------------------------------------------------------- */
+
+typedef struct config {
+    unsigned threads;
+    double sag;
+    double normal_deg;
+    int midpoint, cost_restored, post;
+    int normals; /* resurf_normal_scheme of the restorer, or -1 for its default */
+} config;
+
+static int run_resurf(const resurf_mesh *m, double ratio, resurf_restore_mode mode, const config *cfg,
+                      resurf_mesh **out, result *r)
+{
+    resurf_simplify_options o = resurf_simplify_options_default();
+    o.target_ratio = ratio;
+    o.restore = mode;
+    o.measure_samples = 0;
+    o.threads = cfg->threads;
+    if (cfg->sag >= 0)
+        o.sag_offset = cfg->sag;
+    if (cfg->normal_deg > 0)
+        o.max_normal_change_deg = cfg->normal_deg;
+    if (cfg->midpoint)
+        o.placement = RESURF_PLACEMENT_MIDPOINT;
+    o.cost_at_restored = cfg->cost_restored;
+    resurf_restore_options ro = resurf_restore_options_default();
+    if (cfg->normals >= 0) {
+        ro.normals = (resurf_normal_scheme)cfg->normals;
+        o.restore_options = &ro;
+    }
+    resurf_error e;
+    long m0 = mem_start();
+    double t0 = now();
+    resurf_status st = resurf_simplify(m, &o, out, NULL, &e);
+    r->time = now() - t0;
+    r->bytes = mem_peak_bytes(m0);
+    if (st != RESURF_OK) {
+        fprintf(stderr, "bench-simplify: resurf_simplify: %s\n", e.message);
+        return 0;
+    }
+    return 1;
+}
+
+#ifdef HAVE_MESHOPTIMIZER
+static int run_meshopt(const resurf_mesh *m, double ratio, resurf_mesh **out, result *r)
+{
+    size_t nv = m->vertex_count, ni = 3 * m->triangle_count;
+    float *pos = malloc(nv * 3 * sizeof *pos);
+    unsigned *idx = malloc(ni * sizeof *idx);
+    for (size_t i = 0; i < 3 * nv; ++i)
+        pos[i] = (float)m->positions[i];
+    for (size_t i = 0; i < ni; ++i)
+        idx[i] = m->indices[i];
+    size_t target = 3 * (size_t)(ratio * (double)m->triangle_count);
+    long m0 = mem_start();
+    double t0 = now();
+    unsigned *dst = malloc(ni * sizeof *dst);
+    float err = 0;
+    size_t n = meshopt_simplify(dst, idx, ni, pos, nv, 3 * sizeof(float), target, 1.0f, 0, &err);
+    r->time = now() - t0;
+    r->bytes = mem_peak_bytes(m0);
+    /* the LOD with only the vertices it uses, at the input's double positions */
+    uint32_t *remap = malloc(nv * sizeof *remap);
+    memset(remap, 0xff, nv * sizeof *remap);
+    size_t used = 0;
+    for (size_t i = 0; i < n; ++i)
+        if (remap[dst[i]] == UINT32_MAX)
+            remap[dst[i]] = (uint32_t)used++;
+    resurf_mesh_create(used, n / 3, 0, out, NULL);
+    for (size_t v = 0; v < nv; ++v)
+        if (remap[v] != UINT32_MAX)
+            memcpy((*out)->positions + 3 * (size_t)remap[v], m->positions + 3 * v, 3 * sizeof(double));
+    for (size_t i = 0; i < n; ++i)
+        (*out)->indices[i] = remap[dst[i]];
+    free(remap);
+    free(dst);
+    free(pos);
+    free(idx);
+    return 1;
+}
+#endif
+
+/* ---- tables -------------------------------------------------------------------------------------------------- */
+
+static void print_header(void)
+{
+    printf("%-22s %5s %-14s %8s %7s %7s %6s %8s %8s %8s %8s %8s %8s %6s %6s\n", "mesh", "ratio", "method", "tris",
+           "time", "Mtri/s", "B/tri", "H_orig", "mean_or", "true_mn", "true_mx", "vtx_mn", "vtx_mx", "minang",
+           "meanmn");
+}
+
+static void print_row(const char *mesh, double ratio, size_t in_tris, const result *r)
+{
+    if (!r->ok) {
+        printf("%-22s %5.2f %-14s failed\n", mesh, ratio, r->method);
+        return;
+    }
+    printf("%-22s %5.2f %-14s %8zu %7.3f %7.2f %6.0f %8.3f %8.3f %8.3f %8.3f %8.4f %8.4f %6.2f %6.2f\n", mesh, ratio,
+           r->method, r->tris, r->time, (double)in_tris / r->time * 1e-6, r->bytes / (double)in_tris, r->h_orig * 1e4,
+           r->mean_orig * 1e4, r->true_mean * 1e4, r->true_max * 1e4, r->vtx_mean * 1e4, r->vtx_max * 1e4,
+           r->min_angle, r->mean_min_angle);
+}
+
+/* a / b, or NaN when b is 0 (meshoptimizer's vertices are the input's: their distance to S is 0) */
+static double quotient(double a, double b) { return b > 1e-12 ? a / b : NAN; }
+
+static void print_ratio(const char *mesh, double ratio, const result *a, const result *b)
+{
+    printf("%-22s %5.2f %-14s %8.3f %7.2f %7s %6.2f %8.3f %8.3f %8.3f %8.3f %8.3f %8.3f\n", mesh, ratio,
+           a->method[7] == 'n' ? "none/mopt" : a->method[7] == 'p' ? "post/mopt" : "inline/mopt",
+           quotient((double)a->tris, (double)b->tris), quotient(a->time, b->time), "", quotient(a->bytes, b->bytes),
+           quotient(a->h_orig, b->h_orig), quotient(a->mean_orig, b->mean_orig),
+           quotient(a->true_mean, b->true_mean), quotient(a->true_max, b->true_max),
+           quotient(a->vtx_mean, b->vtx_mean), quotient(a->vtx_max, b->vtx_max));
+}
+
+static void bench_mesh(const char *name, const resurf_mesh *m, shape_kind kind, const double *ratios, size_t nr,
+                       const config *cfg)
+{
+    for (size_t k = 0; k < nr; ++k) {
+        result res[3];
+        memset(res, 0, sizeof res);
+        res[0].method = "meshopt";
+        res[1].method = "resurf-none";
+        res[2].method = cfg->post ? "resurf-post" : "resurf-inline";
+        for (int i = 0; i < 3; ++i) {
+            resurf_mesh *lod = NULL;
+            int ok = 0;
+            if (i == 0) {
+#ifdef HAVE_MESHOPTIMIZER
+                ok = run_meshopt(m, ratios[k], &lod, &res[i]);
+#endif
+            } else {
+                resurf_restore_mode mode = i == 1 ? RESURF_RESTORE_NONE
+                                           : cfg->post ? RESURF_RESTORE_POST
+                                                       : RESURF_RESTORE_INLINE;
+                ok = run_resurf(m, ratios[k], mode, cfg, &lod, &res[i]);
+            }
+            if (ok)
+                measure(m, kind, lod, &res[i]);
+            res[i].ok = ok;
+            print_row(name, ratios[k], m->triangle_count, &res[i]);
+            fflush(stdout);
+            resurf_mesh_free(lod);
+        }
+        if (res[0].ok) {
+            for (int i = 1; i < 3; ++i)
+                if (res[i].ok)
+                    print_ratio(name, ratios[k], &res[i], &res[0]);
+        }
+    }
+}
+
+static size_t parse_list(const char *s, double *out, size_t max)
+{
+    size_t n = 0;
+    while (*s && n < max) {
+        char *end;
+        out[n++] = strtod(s, &end);
+        if (*end != ',')
+            break;
+        s = end + 1;
+    }
+    return n;
+}
+
+int main(int argc, char **argv)
+{
+    int small = 0, large = 0, scaling = 0;
+    shape_kind only = SHAPE_COUNT;
+    const char *scan = "data/scans/dragon.ply";
+    double ratios[8] = {0.5, 0.1, 0.02};
+    size_t nr = 3;
+    config cfg = {0, -1, 0, 0, 0, 0, -1};
+    for (int i = 1; i < argc; ++i) {
+        if (!strcmp(argv[i], "--small"))
+            small = 1;
+        else if (!strcmp(argv[i], "--large"))
+            large = 1;
+        else if (!strcmp(argv[i], "--scaling"))
+            scaling = 1;
+        else if (!strcmp(argv[i], "--shape") && i + 1 < argc)
+            only = shape_from_name(argv[++i]);
+        else if (!strcmp(argv[i], "--scan") && i + 1 < argc)
+            scan = argv[++i];
+        else if (!strcmp(argv[i], "--ratios") && i + 1 < argc)
+            nr = parse_list(argv[++i], ratios, 8);
+        else if (!strcmp(argv[i], "--threads") && i + 1 < argc)
+            cfg.threads = (unsigned)atoi(argv[++i]);
+        else if (!strcmp(argv[i], "--sag") && i + 1 < argc)
+            cfg.sag = atof(argv[++i]);
+        else if (!strcmp(argv[i], "--normal-deg") && i + 1 < argc)
+            cfg.normal_deg = atof(argv[++i]);
+        else if (!strcmp(argv[i], "--normals") && i + 1 < argc)
+            cfg.normals = atoi(argv[++i]);
+        else if (!strcmp(argv[i], "--midpoint"))
+            cfg.midpoint = 1;
+        else if (!strcmp(argv[i], "--cost-restored"))
+            cfg.cost_restored = 1;
+        else if (!strcmp(argv[i], "--post"))
+            cfg.post = 1;
+        else {
+            fprintf(stderr, "usage: bench-simplify [--small] [--large] [--scan FILE|''] [--scaling] [--ratios R,..]"
+                            " [--shape NAME] [--threads N] [--sag S] [--normal-deg D] [--midpoint] [--cost-restored]"
+                            " [--post] [--normals K]\n");
+            return 2;
+        }
+    }
+    if (!small && !large && !scaling)
+        small = large = 1;
+#ifndef HAVE_MESHOPTIMIZER
+    printf("(built without meshoptimizer: no baseline)\n");
+#endif
+    if (scaling) {
+        static const size_t sizes[] = {20000, 200000, 1000000, 2000000};
+        printf("%-10s %9s %9s %12s %12s\n", "triangles", "none s", "inline s", "none/nlogn", "inline/nlogn");
+        for (size_t i = 0; i < sizeof sizes / sizeof sizes[0]; ++i) {
+            resurf_mesh *m = shape_mesh(SHAPE_SPHERE, sizes[i], 0.3, 1, 0);
+            result a = {0}, b = {0};
+            resurf_mesh *lod = NULL;
+            run_resurf(m, 0.1, RESURF_RESTORE_NONE, &cfg, &lod, &a);
+            resurf_mesh_free(lod);
+            run_resurf(m, 0.1, RESURF_RESTORE_INLINE, &cfg, &lod, &b);
+            resurf_mesh_free(lod);
+            double nlogn = (double)m->triangle_count * log2((double)m->triangle_count);
+            printf("%-10zu %9.3f %9.3f %12.3e %12.3e\n", m->triangle_count, a.time, b.time, a.time / nlogn,
+                   b.time / nlogn);
+            fflush(stdout);
+            resurf_mesh_free(m);
+        }
+        return 0;
+    }
+    print_header();
+    static const shape_kind kinds[] = {SHAPE_SPHERE, SHAPE_TORUS, SHAPE_CUBIC};
+    static const size_t sizes[] = {20000, 1000000};
+    for (int s = 0; s < 2; ++s) {
+        if ((s == 0 && !small) || (s == 1 && !large))
+            continue;
+        for (int k = 0; k < 3; ++k) {
+            if (only != SHAPE_COUNT && kinds[k] != only)
+                continue;
+            resurf_mesh *m = shape_mesh(kinds[k], sizes[s], 0.3, 1, 0);
+            char name[64];
+            snprintf(name, sizeof name, "%s-%zu", shape_name(kinds[k]), m->triangle_count);
+            bench_mesh(name, m, kinds[k], ratios, nr, &cfg);
+            resurf_mesh_free(m);
+        }
+    }
+    if (scan && *scan && large && only == SHAPE_COUNT) {
+        resurf_mesh *m = NULL;
+        resurf_error e;
+        if (resurf_mesh_load(scan, NULL, &m, &e) == RESURF_OK) {
+            char name[64];
+            const char *base = strrchr(scan, '/');
+            snprintf(name, sizeof name, "%.40s-%zu", base ? base + 1 : scan, m->triangle_count);
+            bench_mesh(name, m, SHAPE_COUNT, ratios, nr, &cfg);
+            resurf_mesh_free(m);
+        } else {
+            printf("(scan %s not loaded: %s)\n", scan, e.message);
+        }
+    }
+    return 0;
+}

@@ -1,0 +1,294 @@
+/* resurf lod IN -o OUT: a chain of levels of detail of every triangle primitive of a scene (glTF, or a mesh file),
+ * each level simplified with inline restoration onto the ORIGINAL surface (resurf_simplify_lods()), written as one
+ * glTF with MSFT_lod, one file per level, or side by side (resurf_scene_save()). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli.h"
+
+static const char usage[] =
+    "usage: resurf lod IN -o OUT [--levels 0.5,0.25,0.1] [--draco|--no-draco]\n"
+    "                 [--layout msft_lod|files|side-by-side] [--json] [options]\n\n"
+    "Builds levels of detail of every triangle primitive of IN (.gltf, .glb, .drc, or a mesh file as a one-mesh\n"
+    "scene): each level keeps at most R x the triangles, is simplified from the previous level and restored onto\n"
+    "the smooth surface of the ORIGINAL mesh. A mesh shown by several nodes is simplified once. Primitives with\n"
+    "morph targets stay at full detail (with a warning); points and lines are copied. Everything else of the\n"
+    "scene (nodes, materials, textures, skins, animations, extensions) is kept. Prints per level the triangles,\n"
+    "the measured error (largest distance to the original surface, relative to the bounding-box diagonal) and\n"
+    "the bytes of geometry.\n\n"
+    "  -o, --output OUT       .glb, .gltf or .drc (a .drc holds one mesh: use --layout files)\n"
+    "  --levels R1,R2,...     ratios of the levels, non-increasing in (0, 1] (default 0.5,0.25,0.1)\n"
+    "  --draco, --no-draco    KHR_draco_mesh_compression on (default) or off\n"
+    "  --layout L             msft_lod (default: MSFT_lod, one file), files (OUT's name + _lodK per level, level 0\n"
+    "                         the full detail) or side-by-side (all levels visible next to each other)\n"
+    "  --embed                .gltf: put the binary data in the file (default: NAME.bin beside it)\n"
+    "  --qp/--qn/--qt/--qc/--qg BITS  Draco quantization of positions (14), normals (10), texture coordinates (12),\n"
+    "                         colours (8) and other float attributes (12)\n"
+    "  --compression-level N  Draco 0 (fastest) .. 10 (smallest), default 7\n"
+    "  --pixels P             MSFT_lod switching: a level shows once its error covers at most P pixels (default 1)\n"
+    "  --screen-height H      ... on a screen H pixels high (default 1080)\n"
+    "  --threads N            worker threads, 0 = all cores (default)\n"
+    "  --json                 print the table as JSON on stdout\n" CLI_MAX_TRIANGLES_HELP;
+
+enum { MAX_LEVELS = RESURF_SCENE_MAX_LEVELS - 1 };
+
+static int parse_levels(const char *text, double *out, size_t *count)
+{
+    size_t n = 0;
+    const char *s = text;
+    for (;;) {
+        char *end;
+        double r = strtod(s, &end);
+        if (end == s || !(r > 0 && r <= 1) || (n && r > out[n - 1]) || n == MAX_LEVELS)
+            return cli_usage("lod", "--levels wants up to %d ratios in (0, 1], non-increasing, separated by commas: '%s'",
+                             MAX_LEVELS, text);
+        out[n++] = r;
+        if (*end == 0)
+            break;
+        if (*end != ',')
+            return cli_usage("lod", "--levels: unexpected '%c' in '%s'", *end, text);
+        s = end + 1;
+    }
+    *count = n;
+    return 0;
+}
+
+static int parse_bits(const char *option, const char *text, int *out)
+{
+    unsigned long n;
+    if (cli_parse_unsigned("lod", option, text, &n))
+        return CLI_USAGE;
+    if (n < 1 || n > 30)
+        return cli_usage("lod", "--%s must be in 1..30, not %s", option, text);
+    *out = (int)n;
+    return 0;
+}
+
+/* MSFT_screencoverage from the measured errors: a level of relative error e on an object whose bounding-box
+ * diagonal spans d pixels is off by e·d pixels. With the screen coverage c (the share of the screen's area) and a
+ * screen H pixels high, d ≈ √c·H, so level k is good enough below c = (P / (e_k·H))². That is where level k-1
+ * hands over: coverage[k-1]. The coarsest level is never culled (its value is 0). */
+static void coverage_from_errors(const double *errors, size_t levels, double pixels, double height, double *out)
+{
+    for (size_t k = 1; k < levels; ++k) {
+        double e = errors[k], c = e > 0 && isfinite(e) ? pow(pixels / (e * height), 2) : 1.0;
+        c = c > 1 ? 1 : c;
+        out[k - 1] = k > 1 && c > out[k - 2] ? out[k - 2] : c;
+    }
+    out[levels - 1] = 0;
+}
+
+int cmd_lod(int argc, char **argv)
+{
+    static const struct option options[] = {
+        {"output", required_argument, NULL, 'o'},
+        {"levels", required_argument, NULL, 'L'},
+        {"draco", no_argument, NULL, 'd'},
+        {"no-draco", no_argument, NULL, 'D'},
+        {"layout", required_argument, NULL, 'l'},
+        {"embed", no_argument, NULL, 'e'},
+        {"qp", required_argument, NULL, '1'},
+        {"qn", required_argument, NULL, '2'},
+        {"qt", required_argument, NULL, '3'},
+        {"qc", required_argument, NULL, '4'},
+        {"qg", required_argument, NULL, '5'},
+        {"compression-level", required_argument, NULL, 'c'},
+        {"pixels", required_argument, NULL, 'p'},
+        {"screen-height", required_argument, NULL, 'H'},
+        {"threads", required_argument, NULL, 't'},
+        {"json", no_argument, NULL, 'j'},
+        CLI_MAX_TRIANGLES_OPTION,
+        {"help", no_argument, NULL, 'h'},
+        {NULL, 0, NULL, 0},
+    };
+    const char *out = NULL;
+    double ratios[MAX_LEVELS] = {0.5, 0.25, 0.1}, pixels = 1, height = 1080;
+    size_t ratio_count = 3;
+    int json = 0;
+    unsigned long n;
+    resurf_scene_save_options so = resurf_scene_save_options_default();
+    so.draco = 1;
+    resurf_simplify_options sim = resurf_simplify_options_default();
+    cli_getopt_reset();
+    for (int c; (c = cli_getopt("lod", argc, argv, "ho:", options)) != -1;) {
+        switch (c) {
+        case 'o': out = optarg; break;
+        case 'L':
+            if (parse_levels(optarg, ratios, &ratio_count))
+                return CLI_USAGE;
+            break;
+        case 'd': so.draco = 1; break;
+        case 'D': so.draco = 0; break;
+        case 'l':
+            if (!strcmp(optarg, "msft_lod"))
+                so.layout = RESURF_LOD_MSFT_LOD;
+            else if (!strcmp(optarg, "files"))
+                so.layout = RESURF_LOD_FILES;
+            else if (!strcmp(optarg, "side-by-side"))
+                so.layout = RESURF_LOD_SIDE_BY_SIDE;
+            else
+                return cli_usage("lod", "unknown --layout '%s' (msft_lod, files, side-by-side)", optarg);
+            break;
+        case 'e': so.embed_buffers = 1; break;
+        case '1': if (parse_bits("qp", optarg, &so.position_bits)) return CLI_USAGE; break;
+        case '2': if (parse_bits("qn", optarg, &so.normal_bits)) return CLI_USAGE; break;
+        case '3': if (parse_bits("qt", optarg, &so.texcoord_bits)) return CLI_USAGE; break;
+        case '4': if (parse_bits("qc", optarg, &so.color_bits)) return CLI_USAGE; break;
+        case '5': if (parse_bits("qg", optarg, &so.generic_bits)) return CLI_USAGE; break;
+        case 'c':
+            if (cli_parse_unsigned("lod", "compression-level", optarg, &n))
+                return CLI_USAGE;
+            if (n > 10)
+                return cli_usage("lod", "--compression-level must be in 0..10, not %s", optarg);
+            so.compression_level = (int)n;
+            break;
+        case 'p':
+        case 'H': {
+            double *dst = c == 'p' ? &pixels : &height;
+            if (cli_parse_double("lod", c == 'p' ? "pixels" : "screen-height", optarg, dst))
+                return CLI_USAGE;
+            if (!(*dst > 0) || !isfinite(*dst))
+                return cli_usage("lod", "--%s must be positive, not %s", c == 'p' ? "pixels" : "screen-height",
+                                 optarg);
+            break;
+        }
+        case 't':
+            if (cli_parse_unsigned("lod", "threads", optarg, &n))
+                return CLI_USAGE;
+            if (n > 256)
+                return cli_usage("lod", "--threads %lu is more than 256", n);
+            sim.threads = (unsigned)n;
+            break;
+        case 'j': json = 1; break;
+        case 'T':
+            if (cli_set_max_triangles("lod", optarg))
+                return CLI_USAGE;
+            break;
+        case 'h': fputs(usage, stdout); return CLI_OK;
+        default: return CLI_USAGE;
+        }
+    }
+    if (argc - optind != 1)
+        return cli_usage("lod", "expected one input IN");
+    if (!out)
+        return cli_usage("lod", "missing -o OUT");
+    size_t name_len = strlen(out);
+    int drc = name_len >= 4 && !strcmp(out + name_len - 4, ".drc");
+    if (!(name_len >= 4 && !strcmp(out + name_len - 4, ".glb")) && !(name_len >= 5 && !strcmp(out + name_len - 5, ".gltf")) &&
+        !drc)
+        return cli_usage("lod", "OUT must end in .glb, .gltf or .drc: '%s'", out);
+    if (drc && so.layout != RESURF_LOD_FILES)
+        return cli_usage("lod", "a .drc holds one level: add --layout files");
+    const char *input = argv[optind];
+    size_t levels = ratio_count + 1;
+    for (size_t k = 0; k < (so.layout == RESURF_LOD_FILES ? levels : 1); ++k) {
+        char path[4096];
+        if (so.layout == RESURF_LOD_FILES)
+            resurf_scene_level_path(path, sizeof path, out, (unsigned)k);
+        else
+            snprintf(path, sizeof path, "%s", out);
+        if (cli_check_output(path, &input, 1))
+            return CLI_FAILED;
+    }
+
+    resurf_load_options lo = resurf_load_options_default();
+    resurf_error error;
+    resurf_scene *scene = NULL;
+    lo.progress = cli_progress();
+    resurf_status s = resurf_scene_load(input, &lo, &scene, &error);
+    cli_progress_done();
+    if (s != RESURF_OK)
+        return cli_fail_error(&error);
+    for (size_t i = 0; i < resurf_scene_warning_count(scene); ++i)
+        fprintf(stderr, "resurf: warning: %s\n", resurf_scene_warning(scene, i));
+
+    /* Per level and mesh, the largest measured error of its primitives (relative to each one's diagonal). */
+    size_t meshes = resurf_scene_mesh_count(scene);
+    double *errors = calloc(meshes * levels + 1, sizeof *errors);
+    double level_error[RESURF_SCENE_MAX_LEVELS] = {0};
+    int rc = errors ? CLI_OK : cli_fail("out of memory");
+    sim.progress = cli_progress();
+    for (size_t p = 0; p < resurf_scene_primitive_count(scene) && rc == CLI_OK; ++p) {
+        resurf_scene_primitive info;
+        resurf_scene_primitive_info(scene, p, &info, NULL);
+        if (info.kind == RESURF_PRIMITIVE_MORPHED)
+            fprintf(stderr, "resurf: warning: %s has morph targets: kept at full detail\n", info.name);
+        if (info.kind != RESURF_PRIMITIVE_TRIANGLES)
+            continue;
+        resurf_mesh *lods[MAX_LEVELS] = {NULL};
+        resurf_simplify_report reports[MAX_LEVELS];
+        s = resurf_simplify_lods(resurf_scene_primitive_mesh(scene, p), &sim, ratios, ratio_count, lods, reports,
+                                 &error);
+        cli_progress_done();
+        if (s == RESURF_OK)
+            s = resurf_scene_set_lods(scene, p, (const resurf_mesh *const *)lods, ratio_count, &error);
+        if (s != RESURF_OK) {
+            fprintf(stderr, "resurf: %s: ", info.name);
+            rc = cli_fail_error(&error);
+        }
+        for (size_t k = 0; k < ratio_count; ++k) {
+            double e = s == RESURF_OK ? reports[k].max_distance_rel : NAN;
+            if (isfinite(e)) {
+                errors[info.mesh * levels + k + 1] = fmax(errors[info.mesh * levels + k + 1], e);
+                level_error[k + 1] = fmax(level_error[k + 1], e);
+            }
+            resurf_mesh_free(lods[k]);
+        }
+    }
+    for (size_t m = 0; m < meshes && rc == CLI_OK; ++m) {
+        /* The mesh's own level count: 1 + its primitives' levels (0 when none is made of triangles). */
+        size_t own = 1;
+        for (size_t p = 0; p < resurf_scene_primitive_count(scene); ++p) {
+            resurf_scene_primitive info;
+            resurf_scene_primitive_info(scene, p, &info, NULL);
+            if (info.mesh == m && info.lod_count + 1 > own)
+                own = info.lod_count + 1;
+        }
+        if (own < 2)
+            continue;
+        double coverage[RESURF_SCENE_MAX_LEVELS];
+        coverage_from_errors(errors + m * levels, own, pixels, height, coverage);
+        if (resurf_scene_set_screen_coverage(scene, m, coverage, own, &error) != RESURF_OK)
+            rc = cli_fail_error(&error);
+    }
+    resurf_scene_save_report report;
+    if (rc == CLI_OK && !cli_interrupted()) {
+        so.progress = cli_progress();
+        s = resurf_scene_save(scene, out, &so, &report, &error);
+        cli_progress_done();
+        if (s != RESURF_OK)
+            rc = cli_fail_error(&error);
+    } else if (rc == CLI_OK) {
+        rc = CLI_FAILED;
+    }
+    if (rc == CLI_OK) {
+        static const char *const layouts[] = {"msft_lod", "files", "side-by-side"};
+        if (json) {
+            printf("{\"input\": ");
+            cli_json_string(stdout, input);
+            printf(", \"output\": ");
+            cli_json_string(stdout, out);
+            printf(", \"layout\": \"%s\", \"draco\": %s, \"files\": %zu, \"bytes\": %zu, \"levels\": [", layouts[so.layout],
+                   so.draco ? "true" : "false", report.files, report.total_bytes);
+            for (size_t k = 0; k < report.levels; ++k) {
+                printf("%s{\"level\": %zu, \"ratio\": ", k ? ", " : "", k);
+                cli_json_number(stdout, k ? ratios[k - 1] : 1.0);
+                printf(", \"triangles\": %zu, \"error_rel\": ", report.level_triangles[k]);
+                cli_json_number(stdout, level_error[k]);
+                printf(", \"bytes\": %zu}", report.level_bytes[k]);
+            }
+            printf("]}\n");
+        } else {
+            printf("%-6s %-6s %12s %14s %12s\n", "level", "ratio", "triangles", "error (rel)", "bytes");
+            for (size_t k = 0; k < report.levels; ++k)
+                printf("%-6zu %-6g %12zu %14.3e %12zu\n", k, k ? ratios[k - 1] : 1.0, report.level_triangles[k],
+                       level_error[k], report.level_bytes[k]);
+            printf("wrote %s (%s%s, %zu file%s, %zu bytes)\n", out, layouts[so.layout], so.draco ? ", Draco" : "",
+                   report.files, report.files == 1 ? "" : "s", report.total_bytes);
+        }
+    }
+    free(errors);
+    resurf_scene_free(scene);
+    return rc;
+}
