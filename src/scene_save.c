@@ -368,7 +368,7 @@ static resurf_status pack_draco(save_ctx *c, const resurfi_scene_prim *p, size_t
                 found[i] = &dm->attributes[k];
         if (!found[i] || found[i]->components != attrs[i].components ||
             found[i]->integer != (attrs[i].component_type != RESURFI_GLTF_FLOAT))
-            snprintf(problem, sizeof problem, "lost or changed attribute %s", attrs[i].name);
+            snprintf(problem, sizeof problem, "lost or changed attribute %.100s", attrs[i].name);
     }
     double lo[3], hi[3], dlo[3] = {INFINITY, INFINITY, INFINITY}, dhi[3] = {-INFINITY, -INFINITY, -INFINITY};
     if (!problem[0]) {

@@ -299,7 +299,7 @@ START_TEST(mesh_onto_itself)
     }
     double h = mean_edge(M);
     size_t n = M->triangle_count;
-    vec3 *pts = malloc(n * sizeof *pts);
+    vec3 *pts = calloc(n, sizeof *pts);
     for (size_t t = 0; t < n; ++t)
         pts[t] = v3_normalize(
             v3_lerp(resurfi_position(M, M->indices[3 * t]), resurfi_position(M, M->indices[3 * t + 1]), 0.5));
@@ -373,7 +373,7 @@ START_TEST(points_on_edges_and_vertices)
 {
     resurf_mesh *M = shape_mesh(SHAPE_SPHERE, 2000, 0.3, 6, 1);
     size_t nt = M->triangle_count;
-    vec3 *pts = malloc(4 * nt * sizeof *pts);
+    vec3 *pts = calloc(4 * nt, sizeof *pts);
     size_t n = 0;
     for (size_t t = 0; t < nt; ++t) {
         vec3 a = resurfi_position(M, M->indices[3 * t]), b = resurfi_position(M, M->indices[3 * t + 1]);
