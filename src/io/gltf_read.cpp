@@ -322,7 +322,7 @@ void build_view(resurfi_gltf_doc *doc)
     }
     k = 0;
     for (const tinygltf::Mesh &mesh : m.meshes) {
-        doc->meshes.push_back(resurfi_gltf_mesh{keep(doc, mesh.name), mesh.primitives.size(), &doc->prims[k]});
+        doc->meshes.push_back(resurfi_gltf_mesh{keep(doc, mesh.name), mesh.primitives.size(), doc->prims.data() + k});
         k += mesh.primitives.size();
     }
 
