@@ -160,7 +160,6 @@ typedef struct simplifier {
     pending *pend;
     size_t pend_count, pend_next;
     resurf_simplify_report rep;
-    int oom;
 } simplifier;
 
 /* ---- small helpers ------------------------------------------------------------------------------------------- */
@@ -751,12 +750,25 @@ static void plan_collapse(const simplifier *s, uint32_t a, uint32_t b, const u32
     pl->cost = qeval(s, &q, pl->p);
 }
 
-/* Restores p onto S of the original (INLINE); *left is set when the restorer left it where it was. */
-static vec3 restore_point(const simplifier *s, vec3 p, int *left)
+/* Restores p onto S of the original; `scale` is the length of the edges around p. *left is set when p stays where
+ * it is: the restorer left it, or moved it implausibly far. A point near M moves onto S by about its distance to M
+ * (M's own sag from S is far smaller), so a move beyond twice that distance plus a quarter of the local edge
+ * length is a failure of the projection (seen near sliver triangles of scanned meshes), not a restoration; the
+ * vertex then keeps its unrestored place rather than fold the mesh. */
+static vec3 restore_point(const simplifier *s, vec3 p, double scale, int *left)
 {
     vec3 q;
     resurfi_restore_outcome o = resurfi_restorer_point(s->restorer, p, &q, NULL, NULL);
     *left = o >= RESURFI_LEFT_FAR;
+    double moved = v3_dist(p, q);
+    if (!*left && moved > 0.25 * scale) {
+        double d2 = INFINITY;
+        resurfi_bvh_closest(s->bvh, p, INFINITY, NULL, NULL, &d2);
+        if (!(moved <= 2 * sqrt(d2) + 0.25 * scale)) {
+            *left = 1;
+            q = p;
+        }
+    }
     return q;
 }
 
@@ -766,7 +778,7 @@ static float rank_cost(const simplifier *s, uint32_t a, uint32_t b, const plan *
     double cost = pl->cost;
     if (s->opt.cost_at_restored && s->restorer && !pl->pinned) {
         int left;
-        vec3 r = restore_point(s, pl->p, &left);
+        vec3 r = restore_point(s, pl->p, v3_dist(s->P[a].p, s->P[b].p), &left);
         resurfi_quadric q = s->P[a].q;
         resurfi_quadric_add(&q, &s->P[b].q);
         cost = qeval(s, &q, r);
@@ -1206,7 +1218,7 @@ static int restore_pending_block(void *ctx, size_t begin, size_t end, unsigned w
         pending *q = &s->pend[i];
         if (q->restore) {
             int left;
-            q->restored = restore_point(s, q->p, &left);
+            q->restored = restore_point(s, q->p, v3_dist(s->P[q->e.a].p, s->P[q->e.b].p), &left);
             q->left = (uint8_t)left;
         }
     }
@@ -1215,11 +1227,10 @@ static int restore_pending_block(void *ctx, size_t begin, size_t end, unsigned w
 
 /* Inline restoration is the bulk of the work per collapse, and collapses must happen one after the other. So the
  * BATCH cheapest plannable candidates are taken from the heap together and their placements restored on all
- * threads; they are then collapsed in order, each checked again. A candidate whose ends an earlier one changed
- * is stale (its version moved) and dropped: the earlier collapse pushed its successor. One that stays current
- * has the same placement (which depends only on its ends), so the restored point is still right. New candidates
- * cheaper than the rest of the batch wait for the next batch: a small, fixed departure from strict greedy order
- * that does not depend on the thread count. Returns 0 when out of memory. */
+ * threads; collapse_until then takes them in order, merged with anything cheaper pushed meanwhile (so the greedy
+ * order stays), each checked again. A candidate whose ends an earlier collapse changed is stale (its version
+ * moved) and dropped: that collapse pushed its successor. One that stays current has the same placement (which
+ * depends only on its ends), so its restored point is still right. Returns 0 when out of memory. */
 static int fill_batch(simplifier *s)
 {
     s->pend_count = s->pend_next = 0;
@@ -1268,8 +1279,13 @@ static resurf_status collapse_until(simplifier *s, size_t target, scratch *sc, r
                 r->stop = skipped_error ? RESURF_STOP_ERROR : RESURF_STOP_BLOCKED;
                 break;
             }
-            ahead = &s->pend[s->pend_next++];
-            e = ahead->e;
+            /* the greedy order: a candidate pushed since the batch was taken goes first if it is cheaper */
+            if (s->heap_count && s->heap[0].cost < s->pend[s->pend_next].e.cost) {
+                e = heap_pop(s);
+            } else {
+                ahead = &s->pend[s->pend_next++];
+                e = ahead->e;
+            }
         } else {
             if (s->heap_count == 0) {
                 r->stop = skipped_error ? RESURF_STOP_ERROR : RESURF_STOP_BLOCKED;
@@ -1310,11 +1326,11 @@ static resurf_status collapse_until(simplifier *s, size_t target, scratch *sc, r
         vec3 p = pl.p;
         int restored = 0, left = 0;
         if (batched && !pl.pinned) {
-            if (ahead->restore && v3_dist2(ahead->p, pl.p) == 0) {
+            if (ahead && ahead->restore && v3_dist2(ahead->p, pl.p) == 0) {
                 p = ahead->restored;
                 left = ahead->left;
             } else {
-                p = restore_point(s, pl.p, &left);
+                p = restore_point(s, pl.p, v3_dist(s->P[a].p, s->P[b].p), &left);
             }
             restored = 1;
         }
@@ -1457,10 +1473,9 @@ static int post_restore_block(void *ctx, size_t begin, size_t end, unsigned work
     (void)worker;
     output_job *j = ctx;
     for (size_t u = begin; u < end; ++u) {
-        vec3 q;
-        resurfi_restore_outcome oc = resurfi_restorer_point(j->s->restorer, j->o->base[u], &q, NULL, NULL);
-        j->o->outcome[u] = oc >= RESURFI_LEFT_FAR;
-        j->o->base[u] = q;
+        int left;
+        j->o->base[u] = restore_point(j->s, j->o->base[u], j->o->len[u], &left);
+        j->o->outcome[u] = (uint8_t)left;
     }
     return 0;
 }
@@ -1687,6 +1702,21 @@ static resurf_status number_output(simplifier *s, output *o)
     return RESURF_OK;
 }
 
+/* len[u]: the longest edge at each used position (base positions). */
+static void measure_edges(output *o)
+{
+    memset(o->len, 0, o->nu * sizeof *o->len);
+    for (size_t i = 0; i < o->nt; ++i) {
+        const uint32_t *c = o->corner_ov + 3 * i;
+        for (int k = 0; k < 3; ++k) {
+            uint32_t u = o->ov_u[c[k]], w = o->ov_u[c[(k + 1) % 3]];
+            double l = v3_dist(o->base[u], o->base[w]);
+            o->len[u] = l > o->len[u] ? l : o->len[u];
+            o->len[w] = l > o->len[w] ? l : o->len[w];
+        }
+    }
+}
+
 /* Final positions: POST restoration, then the sag offset: each vertex moves along S's normal by sag_offset × the
  * mean over its incident triangle corners of −n·(p_w − p_v)/4. For a vertex on S and a neighbour w at chord
  * length h where S bends by κ, −n·(p_w − p_v) ≈ h²κ/2, so the term is the chord's sag h²κ/8. */
@@ -1700,6 +1730,7 @@ static resurf_status place_output(simplifier *s, output *o)
         return RESURF_ERR_OUT_OF_MEMORY;
     for (size_t u = 0; u < nu; ++u)
         o->base[u] = s->P[o->upos[u]].p;
+    measure_edges(o);
     output_job job = {s, o, NULL};
     if (s->opt.restore == RESURF_RESTORE_POST && s->restorer) {
         if (!(o->outcome = resurfi_alloc_array(nu, 1)))
@@ -1718,7 +1749,9 @@ static resurf_status place_output(simplifier *s, output *o)
             return RESURF_ERR_OUT_OF_MEMORY;
         resurfi_parallel_for(nu, BLOCK_POSITIONS, s->threads, normal_block, &job);
     }
-    for (size_t i = 0; i < o->nt; ++i) {
+    if (s->opt.restore == RESURF_RESTORE_POST && s->restorer)
+        measure_edges(o);
+    for (size_t i = 0; i < o->nt && offset; ++i) {
         uint32_t u[3];
         for (int c = 0; c < 3; ++c)
             u[c] = o->ov_u[o->corner_ov[3 * i + c]];
@@ -1726,12 +1759,8 @@ static resurf_status place_output(simplifier *s, output *o)
             vec3 pv = o->base[u[c]];
             for (int d = 1; d < 3; ++d) {
                 vec3 pw = o->base[u[(c + d) % 3]];
-                double l = v3_dist(pv, pw);
-                o->len[u[c]] = l > o->len[u[c]] ? l : o->len[u[c]];
-                if (offset) {
-                    o->sag_sum[u[c]] -= v3_dot(o->normal[u[c]], v3_sub(pw, pv));
-                    o->sag_count[u[c]]++;
-                }
+                o->sag_sum[u[c]] -= v3_dot(o->normal[u[c]], v3_sub(pw, pv));
+                o->sag_count[u[c]]++;
             }
         }
     }

@@ -2,7 +2,7 @@
  *
  *   bench-simplify [--small] [--large] [--scan FILE] [--scaling] [--ratios 0.5,0.1,0.02] [--shape NAME]
  *                  [--threads N] [--sag S] [--normal-deg D] [--midpoint] [--cost-restored] [--post]
- *                  [--normals K]   (K: the restorer's resurf_normal_scheme, 0..4)
+ *                  [--normals K]   (K: the restorer's resurf_normal_scheme, 0..4; --shape none: only the scan)
  *
  * Meshes: the irregular analytic sphere, torus and cubic surface of tools/shapes.h (jitter 0.3) at ~20k (--small)
  * and ~1M (--large) triangles (both by default), and a scanned mesh (--scan, default data/scans/dragon.ply when it
@@ -327,7 +327,8 @@ static size_t parse_list(const char *s, double *out, size_t max)
 int main(int argc, char **argv)
 {
     int small = 0, large = 0, scaling = 0;
-    shape_kind only = SHAPE_COUNT;
+    shape_kind only = SHAPE_COUNT; /* all */
+    int no_shapes = 0;
     const char *scan = "data/scans/dragon.ply";
     double ratios[8] = {0.5, 0.1, 0.02};
     size_t nr = 3;
@@ -339,8 +340,10 @@ int main(int argc, char **argv)
             large = 1;
         else if (!strcmp(argv[i], "--scaling"))
             scaling = 1;
-        else if (!strcmp(argv[i], "--shape") && i + 1 < argc)
-            only = shape_from_name(argv[++i]);
+        else if (!strcmp(argv[i], "--shape") && i + 1 < argc) {
+            no_shapes = !strcmp(argv[++i], "none");
+            only = shape_from_name(argv[i]);
+        }
         else if (!strcmp(argv[i], "--scan") && i + 1 < argc)
             scan = argv[++i];
         else if (!strcmp(argv[i], "--ratios") && i + 1 < argc)
@@ -397,7 +400,7 @@ int main(int argc, char **argv)
         if ((s == 0 && !small) || (s == 1 && !large))
             continue;
         for (int k = 0; k < 3; ++k) {
-            if (only != SHAPE_COUNT && kinds[k] != only)
+            if (no_shapes || (only != SHAPE_COUNT && kinds[k] != only))
                 continue;
             resurf_mesh *m = shape_mesh(kinds[k], sizes[s], 0.3, 1, 0);
             char name[64];
@@ -406,7 +409,7 @@ int main(int argc, char **argv)
             resurf_mesh_free(m);
         }
     }
-    if (scan && *scan && large && only == SHAPE_COUNT) {
+    if (scan && *scan && large && only == SHAPE_COUNT) { /* --shape none: the scan alone */
         resurf_mesh *m = NULL;
         resurf_error e;
         if (resurf_mesh_load(scan, NULL, &m, &e) == RESURF_OK) {

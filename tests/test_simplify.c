@@ -1,0 +1,930 @@
+/* Tests for src/simplify.c, the edge-collapse simplifier with restoration, against independent truth:
+ * hand-made meshes (a tetrahedron that cannot shrink, a cube, a planar grid whose border and area must stay, a
+ * grid cut by a texture seam whose texcoords are a known linear function on each side), analytic shapes
+ * (tools/shapes.h: every vertex of a restored sphere LOD on the unit sphere, targets reached on closed and open
+ * surfaces with the topology kept), determinism over thread counts, LOD chains, error bounds, the guards, and
+ * hostile inputs (non-manifold, degenerate, tiny, empty, invalid, cancelled). */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "testutil.h"
+
+/* ---- helpers ------------------------------------------------------------------------------------------------- */
+
+static resurf_mesh *simplify_ok(const resurf_mesh *in, const resurf_simplify_options *o, resurf_simplify_report *r)
+{
+    resurf_mesh *out = NULL;
+    resurf_error e;
+    resurf_status st = resurf_simplify(in, o, &out, r, &e);
+    ck_assert_msg(st == RESURF_OK, "simplify failed: %s", e.message);
+    ck_assert_ptr_nonnull(out);
+    return out;
+}
+
+/* A valid, manifold, consistently oriented mesh without degenerate triangles. */
+static void assert_clean(const resurf_mesh *m)
+{
+    resurf_validation v;
+    ck_assert_int_eq(resurf_mesh_validate(m, &v, NULL), RESURF_OK);
+    ck_assert(resurf_validation_ok(&v));
+    ck_assert_uint_eq(v.nonmanifold_edges, 0);
+    ck_assert_uint_eq(v.nonmanifold_vertices, 0);
+    ck_assert_uint_eq(v.inconsistent_edges, 0);
+    ck_assert_uint_eq(v.degenerate_triangles, 0);
+    ck_assert_uint_eq(v.unreferenced_vertices, 0);
+}
+
+static resurf_validation validation(const resurf_mesh *m)
+{
+    resurf_validation v;
+    ck_assert_int_eq(resurf_mesh_validate(m, &v, NULL), RESURF_OK);
+    return v;
+}
+
+/* Six times the signed volume enclosed (positive for outward faces). */
+static double volume6(const resurf_mesh *m)
+{
+    double v = 0;
+    for (size_t t = 0; t < m->triangle_count; ++t) {
+        const uint32_t *i = m->indices + 3 * t;
+        v += v3_dot(resurfi_position(m, i[0]), v3_cross(resurfi_position(m, i[1]), resurfi_position(m, i[2])));
+    }
+    return v;
+}
+
+static double area(const resurf_mesh *m)
+{
+    double a = 0;
+    for (size_t t = 0; t < m->triangle_count; ++t) {
+        const uint32_t *i = m->indices + 3 * t;
+        a += 0.5 * v3_len(v3_tri_cross(resurfi_position(m, i[0]), resurfi_position(m, i[1]),
+                                       resurfi_position(m, i[2])));
+    }
+    return a;
+}
+
+static double max_shape_distance(shape_kind kind, const resurf_mesh *m)
+{
+    double mx = 0;
+    for (size_t v = 0; v < m->vertex_count; ++v) {
+        double d = shape_distance(kind, m->positions + 3 * v);
+        mx = d > mx ? d : mx;
+    }
+    return mx;
+}
+
+/* Every face normal of m points to the same side as the analytic surface's normal at the face's centroid. */
+static void assert_no_flips(shape_kind kind, const resurf_mesh *m)
+{
+    for (size_t t = 0; t < m->triangle_count; ++t) {
+        const uint32_t *i = m->indices + 3 * t;
+        vec3 a = resurfi_position(m, i[0]), b = resurfi_position(m, i[1]), c = resurfi_position(m, i[2]);
+        vec3 cen = v3_scale(v3_add(v3_add(a, b), c), 1.0 / 3);
+        double p[3] = {cen.x, cen.y, cen.z}, n[3];
+        shape_normal(kind, p, n);
+        ck_assert_msg(v3_dot(v3_tri_cross(a, b, c), v3_load(n)) > 0, "triangle %zu is flipped", t);
+    }
+}
+
+static int same_mesh_bytes(const resurf_mesh *a, const resurf_mesh *b)
+{
+    if (a->vertex_count != b->vertex_count || a->triangle_count != b->triangle_count)
+        return 0;
+    if (memcmp(a->positions, b->positions, 3 * a->vertex_count * sizeof(double)) ||
+        memcmp(a->indices, b->indices, 3 * a->triangle_count * sizeof(uint32_t)))
+        return 0;
+    if ((a->normals == NULL) != (b->normals == NULL) ||
+        (a->normals && memcmp(a->normals, b->normals, 3 * a->vertex_count * sizeof(double))))
+        return 0;
+    for (unsigned k = 0; k < RESURF_MAX_TEXCOORD_SETS; ++k)
+        if ((a->texcoords[k] == NULL) != (b->texcoords[k] == NULL) ||
+            (a->texcoords[k] && memcmp(a->texcoords[k], b->texcoords[k], 2 * a->vertex_count * sizeof(double))))
+            return 0;
+    return 1;
+}
+
+/* A grid over [0,1]² (n even) lifted by z = lift × ((x − ½)² + (y − ½)²), with a texture seam along x = ½: the
+ * vertices there are split, texcoord u = x on the left side and x + 10 on the right, v = y; unit normals of the
+ * surface. Seam vertices: the left copy first, then the right copy.
+ *
+ *     +---+---+===+---+---+        left chart: u = x          right chart: u = x + 10
+ *     | / | / ‖ / | / | / |        ‖ = the seam (two vertices per position)
+ *     +---+---+===+---+---+                                                                                       */
+static resurf_mesh *seam_grid(unsigned n, double lift)
+{
+    unsigned half = n / 2, cols = n + 2; /* one extra column: the right copies of the seam */
+    size_t nv = (size_t)(n + 1) * cols;
+    resurf_mesh *m = NULL;
+    ck_assert_int_eq(resurf_mesh_create(nv, 2 * (size_t)n * n, RESURF_ATTR_NORMALS | RESURF_ATTR_TEXCOORD0, &m, NULL),
+                     RESURF_OK);
+    for (unsigned j = 0; j <= n; ++j)
+        for (unsigned c = 0; c < cols; ++c) {
+            unsigned i = c <= half ? c : c - 1; /* column c = half + 1 is the right copy of column half */
+            size_t v = (size_t)j * cols + c;
+            double x = (double)i / n, y = (double)j / n;
+            double z = lift * ((x - 0.5) * (x - 0.5) + (y - 0.5) * (y - 0.5));
+            v3_store(m->positions + 3 * v, v3(x, y, z));
+            v3_store(m->normals + 3 * v, v3_normalize(v3(-2 * lift * (x - 0.5), -2 * lift * (y - 0.5), 1)));
+            m->texcoords[0][2 * v] = c <= half ? x : x + 10;
+            m->texcoords[0][2 * v + 1] = y;
+        }
+    uint32_t *t = m->indices;
+    for (unsigned j = 0; j < n; ++j)
+        for (unsigned i = 0; i < n; ++i) {
+            /* columns of this square's corners: the right side of the seam uses the right copies */
+            unsigned c0 = i < half ? i : i + 1, c1 = c0 + 1;
+            uint32_t a = j * cols + c0, b = j * cols + c1, c = (j + 1) * cols + c1, d = (j + 1) * cols + c0;
+            *t++ = a, *t++ = b, *t++ = c;
+            *t++ = a, *t++ = c, *t++ = d;
+        }
+    return m;
+}
+
+/* ---- small hand-made meshes ---------------------------------------------------------------------------------- */
+
+START_TEST(simplify_tetrahedron_stays)
+{
+    /* A tetrahedron cannot lose a vertex without becoming a double-sided sheet: the link condition refuses. */
+    resurf_mesh *m = tu_tetrahedron();
+    resurf_simplify_options o = resurf_simplify_options_default();
+    o.target_ratio = 0;
+    for (int mode = 0; mode < RESURF_RESTORE_MODE_COUNT; ++mode) {
+        o.restore = (resurf_restore_mode)mode;
+        resurf_simplify_report r;
+        resurf_mesh *out = simplify_ok(m, &o, &r);
+        ck_assert_uint_eq(out->triangle_count, 4);
+        ck_assert_uint_eq(out->vertex_count, 4);
+        ck_assert_int_eq(r.stop, RESURF_STOP_BLOCKED);
+        ck_assert_uint_gt(r.blocked_link, 0);
+        ck_assert_uint_eq(r.collapses, 0);
+        assert_clean(out);
+        ck_assert(volume6(out) > 0);
+        resurf_mesh_free(out);
+    }
+    resurf_mesh_free(m);
+}
+END_TEST
+
+START_TEST(simplify_cube_closed_and_oriented)
+{
+    resurf_mesh *m = tu_cube();
+    resurf_simplify_options o = resurf_simplify_options_default();
+    o.restore = RESURF_RESTORE_NONE;
+    o.target_triangles = 6;
+    o.target_ratio = 0;
+    o.max_normal_change_deg = 180; /* a cube's corners need big turns to go */
+    resurf_simplify_report r;
+    resurf_mesh *out = simplify_ok(m, &o, &r);
+    ck_assert_uint_le(out->triangle_count, 6);
+    ck_assert_uint_ge(out->triangle_count, 4);
+    ck_assert_uint_eq(r.triangles, out->triangle_count);
+    ck_assert_uint_eq(r.vertices, out->vertex_count);
+    ck_assert_uint_eq(r.collapses, (12 - out->triangle_count) / 2);
+    assert_clean(out);
+    resurf_validation v = validation(out);
+    ck_assert_uint_eq(v.boundary_edges, 0);
+    ck_assert_uint_eq(out->vertex_count, out->triangle_count / 2 + 2); /* Euler: a closed genus-0 surface */
+    ck_assert(volume6(out) > 0);
+    resurf_mesh_free(out);
+    resurf_mesh_free(m);
+}
+END_TEST
+
+START_TEST(simplify_grid_keeps_border_and_area)
+{
+    /* A flat square: every collapse is free of error, the border must stay on the square's sides (boundary
+     * quadrics, border vertices only along the border) and the area stays 1. */
+    resurf_mesh *m = tu_grid(12);
+    for (int placement = 0; placement < RESURF_PLACEMENT_COUNT; ++placement) {
+        resurf_simplify_options o = resurf_simplify_options_default();
+        o.target_ratio = 0.1;
+        o.placement = (resurf_placement)placement;
+        resurf_simplify_report r;
+        resurf_mesh *out = simplify_ok(m, &o, &r);
+        ck_assert_uint_le(out->triangle_count, 28);
+        assert_clean(out);
+        resurf_validation v = validation(out);
+        ck_assert_uint_eq(v.boundary_loops, 1);
+        ck_assert_uint_eq(v.components, 1);
+        ck_assert_double_eq_tol(area(out), 1.0, 1e-9);
+        for (size_t i = 0; i < out->vertex_count; ++i) {
+            vec3 p = resurfi_position(out, (uint32_t)i);
+            ck_assert_double_eq_tol(p.z, 0.0, 1e-12);
+            ck_assert(p.x >= -1e-12 && p.x <= 1 + 1e-12 && p.y >= -1e-12 && p.y <= 1 + 1e-12);
+        }
+        /* the four corners are still vertices */
+        for (int c = 0; c < 4; ++c) {
+            vec3 corner = v3(c & 1, c >> 1, 0);
+            int found = 0;
+            for (size_t i = 0; i < out->vertex_count; ++i)
+                found |= v3_dist(resurfi_position(out, (uint32_t)i), corner) < 1e-12;
+            ck_assert_msg(found, "corner %d lost", c);
+        }
+        resurf_mesh_free(out);
+    }
+    resurf_mesh_free(m);
+}
+END_TEST
+
+START_TEST(simplify_lock_border_freezes_border)
+{
+    resurf_mesh *m = tu_grid(10);
+    resurf_simplify_options o = resurf_simplify_options_default();
+    o.target_ratio = 0;
+    o.lock_border = 1;
+    resurf_simplify_report r;
+    resurf_mesh *out = simplify_ok(m, &o, &r);
+    resurf_validation v = validation(out);
+    ck_assert_uint_eq(v.boundary_edges, 40); /* all 4 × 10 border edges, untouched */
+    ck_assert_uint_gt(r.blocked_border, 0);
+    ck_assert_uint_lt(out->triangle_count, m->triangle_count);
+    assert_clean(out);
+    /* every border vertex of the input is still there, at its place */
+    for (size_t i = 0; i < m->vertex_count; ++i) {
+        vec3 p = resurfi_position(m, (uint32_t)i);
+        if (p.x != 0 && p.x != 1 && p.y != 0 && p.y != 1)
+            continue;
+        int found = 0;
+        for (size_t k = 0; k < out->vertex_count && !found; ++k)
+            found = v3_dist(resurfi_position(out, (uint32_t)k), p) == 0;
+        ck_assert_msg(found, "border vertex %zu moved", i);
+    }
+    resurf_mesh_free(out);
+    resurf_mesh_free(m);
+}
+END_TEST
+
+/* Checks the seam: every texcoord comes from its own side (u = x left of the seam, x + 10 right of it, by the
+ * side of its triangle, within tol), the seam vertices stay on x = ½ (within seam_tol) and are still split. */
+static void check_seam_grid(const resurf_mesh *out, double tol, double seam_tol)
+{
+    ck_assert_ptr_nonnull(out->texcoords[0]);
+    ck_assert_ptr_nonnull(out->normals);
+    size_t on_seam = 0;
+    for (size_t t = 0; t < out->triangle_count; ++t) {
+        const uint32_t *i = out->indices + 3 * t;
+        double cx = 0;
+        for (int k = 0; k < 3; ++k)
+            cx += out->positions[3 * (size_t)i[k]] / 3;
+        int right = cx > 0.5;
+        for (int k = 0; k < 3; ++k) {
+            const double *p = out->positions + 3 * (size_t)i[k];
+            const double *uv = out->texcoords[0] + 2 * (size_t)i[k];
+            ck_assert_msg(fabs(uv[0] - (p[0] + (right ? 10 : 0))) <= tol && fabs(uv[1] - p[1]) <= tol,
+                          "triangle %zu (%s) corner %d: uv (%g, %g) at (%g, %g)", t, right ? "right" : "left", k, uv[0],
+                          uv[1], p[0], p[1]);
+        }
+    }
+    /* seam positions: vertices with x = ½ come in pairs (left and right copies) */
+    for (size_t v = 0; v < out->vertex_count; ++v) {
+        const double *p = out->positions + 3 * v;
+        if (fabs(p[0] - 0.5) > seam_tol)
+            continue;
+        ++on_seam;
+        size_t copies = 0;
+        for (size_t w = 0; w < out->vertex_count; ++w)
+            copies += out->positions[3 * w] == p[0] && out->positions[3 * w + 1] == p[1] &&
+                      out->positions[3 * w + 2] == p[2];
+        ck_assert_uint_eq(copies, 2);
+        ck_assert_double_eq_tol(v3_len(v3_load(out->normals + 3 * v)), 1.0, 1e-9);
+    }
+    ck_assert_uint_ge(on_seam, 4); /* at least both ends, twice */
+    /* no vertex lies across the seam from its triangles */
+    for (size_t t = 0; t < out->triangle_count; ++t) {
+        const uint32_t *i = out->indices + 3 * t;
+        double lo = 1, hi = 0;
+        for (int k = 0; k < 3; ++k) {
+            double x = out->positions[3 * (size_t)i[k]];
+            lo = x < lo ? x : lo;
+            hi = x > hi ? x : hi;
+        }
+        ck_assert_msg(!(lo < 0.5 - seam_tol && hi > 0.5 + seam_tol), "triangle %zu straddles the seam", t);
+    }
+}
+
+START_TEST(simplify_seam_kept_flat)
+{
+    resurf_mesh *m = seam_grid(16, 0);
+    resurf_simplify_options o = resurf_simplify_options_default();
+    o.target_ratio = 0.1;
+    resurf_simplify_report r;
+    resurf_mesh *out = simplify_ok(m, &o, &r);
+    ck_assert_uint_le(out->triangle_count, 52);
+    ck_assert_uint_gt(r.positions, 0);
+    ck_assert_uint_gt(r.vertices, r.positions); /* seam copies */
+    check_seam_grid(out, 1e-9, 1e-12);
+    resurf_validation v = validation(out);
+    ck_assert_uint_eq(v.boundary_loops, 1); /* the seam is no border: topology over welded positions */
+    ck_assert_uint_eq(v.nonmanifold_edges, 0);
+    ck_assert_double_eq_tol(area(out), 1.0, 1e-9);
+    resurf_mesh_free(out);
+    resurf_mesh_free(m);
+}
+END_TEST
+
+START_TEST(simplify_seam_kept_curved)
+{
+    /* Lifted onto a paraboloid the vertices are restored: texcoords then come from the closest input triangle on
+     * their own side, so they are the linear function of the foot point, within the restore's offset of x. Seam
+     * vertices collapse along the seam (x = ½) and restoring moves them along S's normal, which has no x part
+     * there. */
+    resurf_mesh *m = seam_grid(24, 0.6);
+    for (int mode = 0; mode < RESURF_RESTORE_MODE_COUNT; ++mode) {
+        resurf_simplify_options o = resurf_simplify_options_default();
+        o.target_ratio = 0.15;
+        o.restore = (resurf_restore_mode)mode;
+        resurf_simplify_report r;
+        resurf_mesh *out = simplify_ok(m, &o, &r);
+        check_seam_grid(out, 2e-3, 1e-6); /* the restorer's normals are not exactly symmetric about x = ½ */
+        resurf_validation v = validation(out);
+        ck_assert_uint_eq(v.boundary_loops, 1);
+        ck_assert_uint_eq(v.nonmanifold_edges, 0);
+        ck_assert_uint_eq(v.inconsistent_edges, 0);
+        resurf_mesh_free(out);
+    }
+    resurf_mesh_free(m);
+}
+END_TEST
+
+/* ---- analytic shapes ----------------------------------------------------------------------------------------- */
+
+START_TEST(simplify_targets_reached)
+{
+    static const shape_kind kinds[] = {SHAPE_SPHERE, SHAPE_TORUS, SHAPE_CUBIC};
+    for (size_t k = 0; k < 3; ++k) {
+        resurf_mesh *m = shape_mesh(kinds[k], 6000, 0.3, 7, 0);
+        resurf_validation vin = validation(m);
+        for (int mode = 0; mode < RESURF_RESTORE_MODE_COUNT; mode += 2) { /* inline and none */
+            resurf_simplify_options o = resurf_simplify_options_default();
+            o.target_ratio = 0.05;
+            o.restore = (resurf_restore_mode)mode;
+            resurf_simplify_report r;
+            resurf_mesh *out = simplify_ok(m, &o, &r);
+            size_t target = (size_t)(0.05 * (double)m->triangle_count);
+            ck_assert_msg(out->triangle_count <= target && out->triangle_count + 2 >= target,
+                          "%s: %zu triangles for a target of %zu", shape_name(kinds[k]), out->triangle_count, target);
+            ck_assert_int_eq(r.stop, RESURF_STOP_TARGET);
+            assert_clean(out);
+            resurf_validation v = validation(out);
+            ck_assert_uint_eq(v.components, 1);
+            ck_assert_uint_eq(v.boundary_loops, vin.boundary_loops);
+            /* Euler characteristic kept: V − E + F */
+            size_t e_in = (3 * vin.triangle_count + vin.boundary_edges) / 2;
+            size_t e_out = (3 * v.triangle_count + v.boundary_edges) / 2;
+            ck_assert_int_eq((long)v.position_count - (long)e_out + (long)v.triangle_count,
+                             (long)vin.position_count - (long)e_in + (long)vin.triangle_count);
+            assert_no_flips(kinds[k], out);
+            ck_assert(r.max_distance >= r.mean_distance && r.mean_distance > 0);
+            resurf_mesh_free(out);
+        }
+        resurf_mesh_free(m);
+    }
+}
+END_TEST
+
+START_TEST(simplify_sphere_lod_vertices_on_sphere)
+{
+    /* With restoration on and the straddling offset off, every vertex of the 20k irregular sphere at 10% lies on
+     * the unit sphere (within 1e-4); without restoration they lie inside it by the quadric's sag. */
+    resurf_mesh *m = shape_mesh(SHAPE_SPHERE, 20000, 0.3, 1, 0);
+    resurf_simplify_options o = resurf_simplify_options_default();
+    o.target_ratio = 0.1;
+    o.sag_offset = 0;
+    static const resurf_restore_mode modes[] = {RESURF_RESTORE_INLINE, RESURF_RESTORE_POST};
+    for (int i = 0; i < 2; ++i) {
+        o.restore = modes[i];
+        resurf_simplify_report r;
+        resurf_mesh *out = simplify_ok(m, &o, &r);
+        ck_assert_uint_le(out->triangle_count, m->triangle_count / 10);
+        double d = max_shape_distance(SHAPE_SPHERE, out);
+        ck_assert_msg(d <= 1e-4, "%s: a vertex %.3g off the sphere", i ? "post" : "inline", d);
+        ck_assert_uint_gt(r.restored, 0);
+        ck_assert_uint_eq(r.restore_left, 0);
+        resurf_mesh_free(out);
+    }
+    o.restore = RESURF_RESTORE_NONE;
+    resurf_mesh *plain = simplify_ok(m, &o, NULL);
+    ck_assert(max_shape_distance(SHAPE_SPHERE, plain) > 1e-4); /* the check above can fail */
+    resurf_mesh_free(plain);
+    /* the straddling offset moves vertices outward, by about the sag */
+    o.restore = RESURF_RESTORE_INLINE;
+    o.sag_offset = 1;
+    resurf_mesh *off = simplify_ok(m, &o, NULL);
+    for (size_t v = 0; v < off->vertex_count; ++v)
+        ck_assert(v3_len(resurfi_position(off, (uint32_t)v)) >= 1 - 1e-4);
+    ck_assert(max_shape_distance(SHAPE_SPHERE, off) > 1e-4);
+    resurf_mesh_free(off);
+    resurf_mesh_free(m);
+}
+END_TEST
+
+START_TEST(simplify_lod_chain_restored_onto_original)
+{
+    resurf_mesh *m = shape_mesh(SHAPE_SPHERE, 20000, 0.3, 1, 0);
+    resurf_simplify_options o = resurf_simplify_options_default();
+    o.sag_offset = 0;
+    const double ratios[] = {0.5, 0.25, 0.1, 0.02};
+    resurf_mesh *levels[4];
+    resurf_simplify_report reps[4];
+    resurf_error e;
+    ck_assert_int_eq(resurf_simplify_lods(m, &o, ratios, 4, levels, reps, &e), RESURF_OK);
+    for (int i = 0; i < 4; ++i) {
+        ck_assert_uint_le(levels[i]->triangle_count, (size_t)(ratios[i] * (double)m->triangle_count));
+        ck_assert_uint_eq(reps[i].triangles, levels[i]->triangle_count);
+        if (i)
+            ck_assert_uint_gt(reps[i].collapses, reps[i - 1].collapses);
+        ck_assert(max_shape_distance(SHAPE_SPHERE, levels[i]) <= 1e-4);
+        assert_clean(levels[i]);
+    }
+    /* a single call to the same ratio gives the same mesh as the chain's level */
+    o.target_ratio = 0.1;
+    resurf_mesh *single = simplify_ok(m, &o, NULL);
+    ck_assert(same_mesh_bytes(single, levels[2]));
+    resurf_mesh_free(single);
+    for (int i = 0; i < 4; ++i)
+        resurf_mesh_free(levels[i]);
+    /* bad ratios */
+    const double bad[] = {0.2, 0.5};
+    ck_assert_int_eq(resurf_simplify_lods(m, &o, bad, 2, levels, NULL, NULL), RESURF_ERR_INVALID_ARGUMENT);
+    ck_assert_ptr_null(levels[0]);
+    const double zero[] = {0.0};
+    ck_assert_int_eq(resurf_simplify_lods(m, &o, zero, 1, levels, NULL, NULL), RESURF_ERR_INVALID_ARGUMENT);
+    resurf_mesh_free(m);
+}
+END_TEST
+
+START_TEST(simplify_deterministic_over_threads)
+{
+    resurf_mesh *m = shape_mesh(SHAPE_TORUS, 8000, 0.3, 3, 0);
+    /* attributes too: normals and a texcoord made from the position */
+    resurf_mesh *a = NULL;
+    ck_assert_int_eq(resurf_mesh_create(m->vertex_count, m->triangle_count,
+                                        RESURF_ATTR_NORMALS | RESURF_ATTR_TEXCOORD0, &a, NULL),
+                     RESURF_OK);
+    memcpy(a->positions, m->positions, 3 * m->vertex_count * sizeof(double));
+    memcpy(a->indices, m->indices, 3 * m->triangle_count * sizeof(uint32_t));
+    for (size_t v = 0; v < m->vertex_count; ++v) {
+        double n[3];
+        shape_normal(SHAPE_TORUS, m->positions + 3 * v, n);
+        memcpy(a->normals + 3 * v, n, sizeof n);
+        a->texcoords[0][2 * v] = m->positions[3 * v];
+        a->texcoords[0][2 * v + 1] = m->positions[3 * v + 2];
+    }
+    for (int mode = 0; mode < RESURF_RESTORE_MODE_COUNT; ++mode) {
+        resurf_simplify_options o = resurf_simplify_options_default();
+        o.target_ratio = 0.1;
+        o.restore = (resurf_restore_mode)mode;
+        o.threads = 1;
+        resurf_simplify_report r1;
+        resurf_mesh *first = simplify_ok(a, &o, &r1);
+        for (unsigned threads = 2; threads <= 4; threads += 2) {
+            o.threads = threads;
+            resurf_simplify_report r2;
+            resurf_mesh *again = simplify_ok(a, &o, &r2);
+            ck_assert_msg(same_mesh_bytes(first, again), "mode %d: %u threads differ from 1", mode, threads);
+            ck_assert(r1.max_distance == r2.max_distance && r1.mean_distance == r2.mean_distance);
+            resurf_mesh_free(again);
+        }
+        o.threads = 1;
+        resurf_mesh *repeat = simplify_ok(a, &o, NULL);
+        ck_assert(same_mesh_bytes(first, repeat));
+        resurf_mesh_free(repeat);
+        resurf_mesh_free(first);
+    }
+    resurf_mesh_free(a);
+    resurf_mesh_free(m);
+}
+END_TEST
+
+START_TEST(simplify_error_bound_stops)
+{
+    resurf_mesh *m = shape_mesh(SHAPE_SPHERE, 8000, 0.3, 5, 0);
+    resurf_simplify_options o = resurf_simplify_options_default();
+    o.target_ratio = 0;
+    o.max_error_rel = 1e-3;
+    o.restore = RESURF_RESTORE_NONE;
+    resurf_simplify_report r;
+    resurf_mesh *out = simplify_ok(m, &o, &r);
+    ck_assert_int_eq(r.stop, RESURF_STOP_ERROR);
+    ck_assert_uint_gt(r.skipped_error, 0);
+    ck_assert(r.max_error_estimate <= 1e-3 * r.diagonal);
+    ck_assert_uint_lt(out->triangle_count, m->triangle_count / 2);
+    ck_assert_uint_gt(out->triangle_count, 20);
+    /* the bound limits the measured distance too: facets of a sphere sag by about as much as the estimate */
+    ck_assert(r.max_distance_rel < 1e-2);
+    /* a looser bound goes further; an absolute bound acts the same way */
+    o.max_error_rel = 1e-2;
+    resurf_mesh *loose = simplify_ok(m, &o, NULL);
+    ck_assert_uint_lt(loose->triangle_count, out->triangle_count);
+    o.max_error_rel = 0;
+    o.max_error = 1e-3 * r.diagonal;
+    resurf_simplify_report ra;
+    resurf_mesh *abs = simplify_ok(m, &o, &ra);
+    ck_assert_uint_eq(abs->triangle_count, out->triangle_count);
+    /* a triangle target that comes first wins */
+    o.target_ratio = 0.9;
+    resurf_simplify_report rt;
+    resurf_mesh *tgt = simplify_ok(m, &o, &rt);
+    ck_assert_int_eq(rt.stop, RESURF_STOP_TARGET);
+    ck_assert_uint_le(tgt->triangle_count, (size_t)(0.9 * (double)m->triangle_count));
+    resurf_mesh_free(tgt);
+    resurf_mesh_free(abs);
+    resurf_mesh_free(loose);
+    resurf_mesh_free(out);
+    resurf_mesh_free(m);
+}
+END_TEST
+
+START_TEST(simplify_min_angle_guard)
+{
+    /* A regular (unjittered) sphere has no angle under 20°; with the guard no collapse makes one. */
+    resurf_mesh *m = shape_mesh(SHAPE_SPHERE, 6000, 0.0, 1, 0);
+    double in_min;
+    ck_assert_int_eq(resurf_triangle_quality(m, &in_min, NULL, NULL, NULL), RESURF_OK);
+    ck_assert(in_min >= 20);
+    resurf_simplify_options o = resurf_simplify_options_default();
+    o.target_ratio = 0.05;
+    o.min_angle_deg = 20;
+    o.sag_offset = 0;
+    resurf_simplify_report r;
+    resurf_mesh *out = simplify_ok(m, &o, &r);
+    double out_min;
+    ck_assert_int_eq(resurf_triangle_quality(out, &out_min, NULL, NULL, NULL), RESURF_OK);
+    ck_assert_msg(out_min >= 20 - 1e-9, "smallest angle %g", out_min);
+    ck_assert_uint_gt(r.blocked_min_angle, 0);
+    resurf_mesh_free(out);
+    resurf_mesh_free(m);
+}
+END_TEST
+
+START_TEST(simplify_keeps_attribute_layout)
+{
+    resurf_mesh *m = shape_mesh(SHAPE_SPHERE, 3000, 0.3, 2, 1);
+    ck_assert_ptr_nonnull(m->normals);
+    /* colours (3 components in the source), two texcoord sets, one extra, groups */
+    m->colors = calloc(4 * m->vertex_count, sizeof(double));
+    m->color_components = 3;
+    m->texcoords[0] = calloc(2 * m->vertex_count, sizeof(double));
+    m->texcoords[1] = calloc(2 * m->vertex_count, sizeof(double));
+    m->texcoord_count = 2;
+    resurf_attribute *ex = NULL;
+    ck_assert_int_eq(resurf_mesh_add_extra(m, "weight", 2, &ex, NULL), RESURF_OK);
+    for (size_t v = 0; v < m->vertex_count; ++v) {
+        const double *p = m->positions + 3 * v;
+        for (int c = 0; c < 3; ++c)
+            m->colors[4 * v + c] = 0.5 + 0.5 * p[c];
+        m->colors[4 * v + 3] = 1;
+        m->texcoords[0][2 * v] = p[0], m->texcoords[0][2 * v + 1] = p[1];
+        m->texcoords[1][2 * v] = p[2], m->texcoords[1][2 * v + 1] = 1;
+        ex->data[2 * v] = (float)p[2], ex->data[2 * v + 1] = 3;
+    }
+    m->group_count = 2;
+    m->group_names = calloc(2, sizeof(char *));
+    m->group_names[0] = strdup("north");
+    m->group_names[1] = strdup("south");
+    m->triangle_groups = calloc(m->triangle_count, sizeof(uint32_t));
+    for (size_t t = 0; t < m->triangle_count; ++t)
+        m->triangle_groups[t] = m->positions[3 * (size_t)m->indices[3 * t] + 2] < 0;
+
+    resurf_simplify_options o = resurf_simplify_options_default();
+    o.target_ratio = 0.2;
+    resurf_mesh *out = simplify_ok(m, &o, NULL);
+    ck_assert_ptr_nonnull(out->normals);
+    ck_assert_ptr_nonnull(out->colors);
+    ck_assert_uint_eq(out->color_components, 3);
+    ck_assert_uint_eq(out->texcoord_count, 2);
+    ck_assert_ptr_nonnull(out->texcoords[1]);
+    ck_assert_uint_eq(out->extra_count, 1);
+    ck_assert_str_eq(out->extras[0].name, "weight");
+    ck_assert_uint_eq(out->extras[0].components, 2);
+    ck_assert_uint_eq(out->group_count, 2);
+    ck_assert_str_eq(out->group_names[1], "south");
+    ck_assert_ptr_nonnull(out->triangle_groups);
+    for (size_t v = 0; v < out->vertex_count; ++v) {
+        vec3 p = resurfi_position(out, (uint32_t)v);
+        vec3 n = v3_load(out->normals + 3 * v);
+        /* the smooth normal field of a sphere at a point of it is the radial direction */
+        ck_assert_msg(v3_dot(n, v3_normalize(p)) > 0.999, "normal %zu off by %g", v, acos(v3_dot(n, v3_normalize(p))));
+        /* attributes linear in the position are interpolated at the foot point: close to the vertex's own values */
+        ck_assert_double_eq_tol(out->colors[4 * v], 0.5 + 0.5 * p.x, 2e-2);
+        ck_assert_double_eq_tol(out->colors[4 * v + 3], 1.0, 1e-12);
+        ck_assert_double_eq_tol(out->texcoords[0][2 * v + 1], p.y, 4e-2);
+        ck_assert_double_eq_tol(out->texcoords[1][2 * v + 1], 1.0, 1e-12);
+        ck_assert_double_eq_tol(out->extras[0].data[2 * v + 1], 3.0, 1e-6);
+        ck_assert_double_eq_tol(out->extras[0].data[2 * v], p.z, 4e-2);
+    }
+    for (size_t t = 0; t < out->triangle_count; ++t) {
+        double z = out->positions[3 * (size_t)out->indices[3 * t] + 2];
+        if (fabs(z) > 0.2) /* well inside a hemisphere: the triangle descends from an input triangle there */
+            ck_assert_uint_eq(out->triangle_groups[t], z < 0);
+    }
+    resurf_mesh_free(out);
+    resurf_mesh_free(m);
+}
+END_TEST
+
+START_TEST(simplify_midpoint_and_cost_at_restored)
+{
+    resurf_mesh *m = shape_mesh(SHAPE_TORUS, 6000, 0.3, 4, 0);
+    resurf_simplify_options o = resurf_simplify_options_default();
+    o.target_ratio = 0.1;
+    o.sag_offset = 0;
+    o.placement = RESURF_PLACEMENT_MIDPOINT;
+    resurf_simplify_report r;
+    resurf_mesh *out = simplify_ok(m, &o, &r);
+    assert_clean(out);
+    ck_assert(max_shape_distance(SHAPE_TORUS, out) < 1e-3);
+    resurf_mesh_free(out);
+    o.placement = RESURF_PLACEMENT_QUADRIC;
+    o.cost_at_restored = 1;
+    out = simplify_ok(m, &o, &r);
+    assert_clean(out);
+    ck_assert_uint_le(out->triangle_count, m->triangle_count / 10);
+    ck_assert(max_shape_distance(SHAPE_TORUS, out) < 1e-3);
+    resurf_mesh_free(out);
+    resurf_mesh_free(m);
+}
+END_TEST
+
+/* ---- hostile and tiny inputs --------------------------------------------------------------------------------- */
+
+START_TEST(simplify_nonmanifold_input)
+{
+    /* A 6×6 grid with a fin (a third triangle on an interior edge) and a second grid touching it at one corner
+     * (a bow tie): non-manifold positions never move. */
+    resurf_mesh *g = tu_grid(6);
+    size_t nv = g->vertex_count, nt = g->triangle_count;
+    resurf_mesh *m = NULL;
+    ck_assert_int_eq(resurf_mesh_create(2 * nv + 1, 2 * nt + 1, 0, &m, NULL), RESURF_OK);
+    memcpy(m->positions, g->positions, 3 * nv * sizeof(double));
+    for (size_t v = 0; v < nv; ++v) { /* the second grid: [1,2]×[1,2], touching at (1,1) */
+        m->positions[3 * (nv + v)] = g->positions[3 * v] + 1;
+        m->positions[3 * (nv + v) + 1] = g->positions[3 * v + 1] + 1;
+        m->positions[3 * (nv + v) + 2] = 0;
+    }
+    memcpy(m->indices, g->indices, 3 * nt * sizeof(uint32_t));
+    for (size_t i = 0; i < 3 * nt; ++i)
+        m->indices[3 * nt + i] = g->indices[i] + (uint32_t)nv;
+    /* the fin on the interior edge (0,0)–(1/6,1/6) of the first grid: vertices 0 and 8 */
+    v3_store(m->positions + 3 * (2 * nv), v3(0.1, 0.05, 0.3));
+    m->indices[6 * nt] = 0, m->indices[6 * nt + 1] = 8, m->indices[6 * nt + 2] = (uint32_t)(2 * nv);
+    resurf_validation vin = validation(m);
+    ck_assert_uint_gt(vin.nonmanifold_edges, 0);
+    ck_assert_uint_gt(vin.nonmanifold_vertices, 0);
+    for (int mode = 0; mode < RESURF_RESTORE_MODE_COUNT; ++mode) {
+        resurf_simplify_options o = resurf_simplify_options_default();
+        o.target_ratio = 0;
+        o.restore = (resurf_restore_mode)mode;
+        resurf_simplify_report r;
+        resurf_mesh *out = simplify_ok(m, &o, &r);
+        ck_assert_uint_lt(out->triangle_count, m->triangle_count);
+        ck_assert_uint_gt(r.blocked_nonmanifold, 0);
+        resurf_validation v = validation(out);
+        ck_assert(resurf_validation_ok(&v));
+        ck_assert_uint_eq(v.degenerate_triangles, 0);
+        ck_assert_uint_le(v.nonmanifold_edges, vin.nonmanifold_edges);
+        /* the non-manifold points (0,0), (1/6,1/6) and (1,1) are still there */
+        const vec3 pins[] = {{0, 0, 0}, {1.0 / 6, 1.0 / 6, 0}, {1, 1, 0}};
+        for (int k = 0; k < 3; ++k) {
+            int found = 0;
+            for (size_t i = 0; i < out->vertex_count; ++i)
+                found |= v3_dist(resurfi_position(out, (uint32_t)i), pins[k]) < 1e-12;
+            ck_assert_msg(found, "non-manifold vertex %d moved", k);
+        }
+        resurf_mesh_free(out);
+    }
+    resurf_mesh_free(g);
+    resurf_mesh_free(m);
+}
+END_TEST
+
+START_TEST(simplify_degenerate_and_tiny_inputs)
+{
+    /* 1 to 4 triangles, with repeated indices, zero-area triangles, duplicated triangles and unused vertices */
+    static const double p[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0, 2, 2, 0, 0.5, 0.5, 0, 9, 9, 9};
+    static const uint32_t tris[][12] = {
+        {0, 1, 2},                            /* one triangle */
+        {0, 1, 2, 1, 3, 2},                   /* a quad */
+        {0, 1, 2, 1, 3, 2, 3, 4, 2},          /* a strip */
+        {0, 1, 2, 1, 3, 2, 0, 0, 1, 0, 3, 4}, /* a repeated index, a collinear triangle */
+        {0, 1, 2, 0, 1, 2, 2, 1, 0, 5, 5, 5}, /* duplicates, both orientations, a point */
+        {0, 1, 5, 1, 3, 5, 3, 2, 5, 2, 0, 5}, /* a fan around the centre */
+    };
+    static const size_t counts[] = {1, 2, 3, 4, 4, 4};
+    for (size_t c = 0; c < sizeof counts / sizeof counts[0]; ++c)
+        for (int mode = 0; mode < RESURF_RESTORE_MODE_COUNT; ++mode)
+            for (int placement = 0; placement < RESURF_PLACEMENT_COUNT; ++placement) {
+                resurf_mesh *m = tu_mesh(p, 7, tris[c], counts[c]);
+                resurf_simplify_options o = resurf_simplify_options_default();
+                o.target_ratio = 0;
+                o.restore = (resurf_restore_mode)mode;
+                o.placement = (resurf_placement)placement;
+                resurf_simplify_report r;
+                resurf_mesh *out = simplify_ok(m, &o, &r);
+                resurf_validation v = validation(out);
+                ck_assert(resurf_validation_ok(&v));
+                ck_assert_uint_eq(v.unreferenced_vertices, 0);
+                ck_assert_uint_ge(out->triangle_count, out->triangle_count ? 1 : 0);
+                ck_assert_uint_le(out->triangle_count, counts[c]);
+                ck_assert_uint_eq(v.degenerate_triangles, 0);
+                if (c == 0 || c == 1 || c == 2 || c == 5)
+                    ck_assert_uint_ge(out->triangle_count, 1); /* a sheet never vanishes */
+                resurf_mesh_free(out);
+                resurf_mesh_free(m);
+            }
+}
+END_TEST
+
+START_TEST(simplify_empty_input)
+{
+    resurf_mesh *m = NULL;
+    ck_assert_int_eq(resurf_mesh_create(3, 0, RESURF_ATTR_NORMALS | RESURF_ATTR_TEXCOORD0, &m, NULL), RESURF_OK);
+    resurf_simplify_report r;
+    resurf_mesh *out = simplify_ok(m, NULL, &r);
+    ck_assert_uint_eq(out->triangle_count, 0);
+    ck_assert_uint_eq(out->vertex_count, 0);
+    ck_assert_ptr_nonnull(out->normals);
+    ck_assert_uint_eq(out->texcoord_count, 1);
+    ck_assert_uint_eq(r.triangles, 0);
+    ck_assert(isnan(r.max_distance));
+    resurf_mesh_free(out);
+    const double levels[] = {0.5, 0.1};
+    resurf_mesh *lods[2];
+    ck_assert_int_eq(resurf_simplify_lods(m, NULL, levels, 2, lods, NULL, NULL), RESURF_OK);
+    ck_assert_uint_eq(lods[1]->triangle_count, 0);
+    resurf_mesh_free(lods[0]);
+    resurf_mesh_free(lods[1]);
+    resurf_mesh_free(m);
+}
+END_TEST
+
+START_TEST(simplify_rejects_bad_input_and_options)
+{
+    resurf_mesh *m = tu_cube();
+    resurf_mesh *out = (resurf_mesh *)1;
+    resurf_error e;
+    ck_assert_int_eq(resurf_simplify(NULL, NULL, &out, NULL, &e), RESURF_ERR_INVALID_ARGUMENT);
+    ck_assert_ptr_null(out);
+    ck_assert_int_eq(resurf_simplify(m, NULL, NULL, NULL, &e), RESURF_ERR_INVALID_ARGUMENT);
+
+    resurf_simplify_options zeroed;
+    memset(&zeroed, 0, sizeof zeroed);
+    ck_assert_int_eq(resurf_simplify(m, &zeroed, &out, NULL, &e), RESURF_ERR_INVALID_OPTIONS);
+    ck_assert_int_eq(e.status, RESURF_ERR_INVALID_OPTIONS);
+    resurf_simplify_options o = resurf_simplify_options_default();
+    o.target_ratio = 1.5;
+    ck_assert_int_eq(resurf_simplify(m, &o, &out, NULL, &e), RESURF_ERR_INVALID_OPTIONS);
+    ck_assert(strstr(e.message, "target_ratio"));
+    o = resurf_simplify_options_default();
+    o.max_normal_change_deg = 0;
+    ck_assert_int_eq(resurf_simplify(m, &o, &out, NULL, &e), RESURF_ERR_INVALID_OPTIONS);
+    o = resurf_simplify_options_default();
+    o.placement = RESURF_PLACEMENT_COUNT;
+    ck_assert_int_eq(resurf_simplify(m, &o, &out, NULL, &e), RESURF_ERR_INVALID_OPTIONS);
+    o = resurf_simplify_options_default();
+    o.max_error = NAN;
+    ck_assert_int_eq(resurf_simplify(m, &o, &out, NULL, &e), RESURF_ERR_INVALID_OPTIONS);
+    o = resurf_simplify_options_default();
+    resurf_restore_options ro;
+    memset(&ro, 0, sizeof ro);
+    o.restore_options = &ro;
+    ck_assert_int_eq(resurf_simplify(m, &o, &out, NULL, &e), RESURF_ERR_INVALID_OPTIONS);
+    ck_assert_ptr_null(out);
+
+    m->indices[5] = 8; /* vertex 8 of 8 */
+    ck_assert_int_eq(resurf_simplify(m, NULL, &out, NULL, &e), RESURF_ERR_INVALID_MESH);
+    ck_assert(strstr(e.message, "triangle 1"));
+    m->indices[5] = 1;
+    m->positions[4] = NAN;
+    ck_assert_int_eq(resurf_simplify(m, NULL, &out, NULL, &e), RESURF_ERR_INVALID_MESH);
+    ck_assert(strstr(e.message, "vertex 1"));
+    ck_assert_ptr_null(out);
+    resurf_mesh_free(m);
+}
+END_TEST
+
+typedef struct cancel_state {
+    int calls, cancel_at;
+} cancel_state;
+
+static int cancel_cb(void *user, const char *stage, double fraction)
+{
+    (void)stage;
+    ck_assert(fraction >= 0 && fraction <= 1);
+    cancel_state *c = user;
+    return c->calls++ == c->cancel_at;
+}
+
+START_TEST(simplify_cancel_at_every_step)
+{
+    resurf_mesh *m = shape_mesh(SHAPE_SPHERE, 40000, 0.3, 1, 0);
+    resurf_simplify_options o = resurf_simplify_options_default();
+    o.target_ratio = 0.2;
+    cancel_state count = {0, -1};
+    o.progress = (resurf_progress){cancel_cb, &count};
+    resurf_mesh *out = simplify_ok(m, &o, NULL);
+    resurf_mesh_free(out);
+    ck_assert_int_ge(count.calls, 4);
+    for (int at = 0; at < count.calls; ++at) {
+        cancel_state c = {0, at};
+        o.progress = (resurf_progress){cancel_cb, &c};
+        out = (resurf_mesh *)1;
+        resurf_error e;
+        ck_assert_int_eq(resurf_simplify(m, &o, &out, NULL, &e), RESURF_ERR_CANCELLED);
+        ck_assert_ptr_null(out);
+        const double levels[] = {0.5, 0.2};
+        resurf_mesh *lods[2] = {(resurf_mesh *)1, (resurf_mesh *)1};
+        c = (cancel_state){0, at};
+        ck_assert_int_eq(resurf_simplify_lods(m, &o, levels, 2, lods, NULL, &e), RESURF_ERR_CANCELLED);
+        ck_assert_ptr_null(lods[0]);
+        ck_assert_ptr_null(lods[1]);
+    }
+    resurf_mesh_free(m);
+}
+END_TEST
+
+/* ---- the command line ---------------------------------------------------------------------------------------- */
+
+START_TEST(simplify_cli_levels_and_json)
+{
+    char *dir = tu_tempdir();
+    char *in = tu_path(dir, "torus.ply"), *out = tu_path(dir, "lod.obj");
+    resurf_mesh *m = shape_mesh(SHAPE_TORUS, 4000, 0.3, 1, 0);
+    ck_assert_int_eq(resurf_mesh_save(m, in, NULL, NULL), RESURF_OK);
+    char cmd[4096], *text = NULL;
+    snprintf(cmd, sizeof cmd, "%s simplify %s -o %s --levels 0.5,0.1 --json --threads 2", RESURF_CLI, in, out);
+    ck_assert_int_eq(tu_run(cmd, &text), 0);
+    ck_assert_ptr_nonnull(strstr(text, "\"levels\": ["));
+    ck_assert_ptr_nonnull(strstr(text, "lod_lod2.obj"));
+    free(text);
+    const size_t expect[2] = {m->triangle_count / 2, m->triangle_count / 10};
+    for (int level = 1; level <= 2; ++level) {
+        char name[32];
+        snprintf(name, sizeof name, "lod_lod%d.obj", level);
+        char *path = tu_path(dir, name);
+        resurf_mesh *lod = NULL;
+        ck_assert_int_eq(resurf_mesh_load(path, NULL, &lod, NULL), RESURF_OK);
+        ck_assert_uint_le(lod->triangle_count, expect[level - 1]);
+        ck_assert_uint_ge(lod->triangle_count + 2, expect[level - 1]);
+        resurf_mesh_free(lod);
+        free(path);
+    }
+    ck_assert_int_eq(tu_count_entries(dir), 3); /* torus.ply and the two levels: OUT itself is not written */
+    /* one result, text report */
+    snprintf(cmd, sizeof cmd, "%s simplify %s -o %s --triangles 300 --restore none --placement midpoint", RESURF_CLI,
+             in, out);
+    ck_assert_int_eq(tu_run(cmd, &text), 0);
+    ck_assert_ptr_nonnull(strstr(text, "stopped by           target"));
+    free(text);
+    resurf_mesh *lod = NULL;
+    ck_assert_int_eq(resurf_mesh_load(out, NULL, &lod, NULL), RESURF_OK);
+    ck_assert_uint_le(lod->triangle_count, 300);
+    resurf_mesh_free(lod);
+    /* usage errors: no target, a bad choice, rising levels; and refusing to overwrite the input */
+    snprintf(cmd, sizeof cmd, "%s simplify %s -o %s", RESURF_CLI, in, out);
+    ck_assert_int_eq(tu_run(cmd, NULL), 2);
+    snprintf(cmd, sizeof cmd, "%s simplify %s -o %s --ratio 0.5 --restore sometimes", RESURF_CLI, in, out);
+    ck_assert_int_eq(tu_run(cmd, NULL), 2);
+    snprintf(cmd, sizeof cmd, "%s simplify %s -o %s --levels 0.1,0.5", RESURF_CLI, in, out);
+    ck_assert_int_eq(tu_run(cmd, NULL), 2);
+    snprintf(cmd, sizeof cmd, "%s simplify %s -o %s --ratio 0.5", RESURF_CLI, in, in);
+    ck_assert_int_eq(tu_run(cmd, NULL), 1);
+    resurf_mesh_free(m);
+    free(in);
+    free(out);
+    tu_rmtree(dir);
+    free(dir);
+}
+END_TEST
+
+Suite *make_suite(void)
+{
+    Suite *s = suite_create("simplify");
+    TCase *tc = tcase_create("core");
+    tcase_set_timeout(tc, 600);
+    tcase_add_test(tc, simplify_tetrahedron_stays);
+    tcase_add_test(tc, simplify_cube_closed_and_oriented);
+    tcase_add_test(tc, simplify_grid_keeps_border_and_area);
+    tcase_add_test(tc, simplify_lock_border_freezes_border);
+    tcase_add_test(tc, simplify_seam_kept_flat);
+    tcase_add_test(tc, simplify_seam_kept_curved);
+    tcase_add_test(tc, simplify_targets_reached);
+    tcase_add_test(tc, simplify_sphere_lod_vertices_on_sphere);
+    tcase_add_test(tc, simplify_lod_chain_restored_onto_original);
+    tcase_add_test(tc, simplify_deterministic_over_threads);
+    tcase_add_test(tc, simplify_error_bound_stops);
+    tcase_add_test(tc, simplify_min_angle_guard);
+    tcase_add_test(tc, simplify_keeps_attribute_layout);
+    tcase_add_test(tc, simplify_midpoint_and_cost_at_restored);
+    tcase_add_test(tc, simplify_nonmanifold_input);
+    tcase_add_test(tc, simplify_degenerate_and_tiny_inputs);
+    tcase_add_test(tc, simplify_empty_input);
+    tcase_add_test(tc, simplify_rejects_bad_input_and_options);
+    tcase_add_test(tc, simplify_cancel_at_every_step);
+    tcase_add_test(tc, simplify_cli_levels_and_json);
+    suite_add_tcase(s, tc);
+    return s;
+}
+
+RESURF_TEST_MAIN()
