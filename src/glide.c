@@ -18,9 +18,10 @@
  * (the part of N_j out of that plane), which formula (2) wrongly counts as bending, is ignored. */
 #include "internal.h"
 
-/* Normals more than this close to opposite carry no usable arc: only the straight part N_opt·c is kept. */
-static const double opposite_eps = 1e-12;
-
+/* A corner normal turned 90° or more from N_opt does not belong to the same smooth sheet as p (a fold, a flipped
+ * or two-sided part of a scan): the arc model breaks down there (tan(α/2) grows without bound as α → 180°; a scan
+ * of the Stanford dragon moved points by 6 times its size that way), so such a corner contributes only the
+ * straight part N_opt·c. Below 90° the arc term is at most |u|, the corner's distance from the line. */
 double resurfi_glide_paper(vec3 p, vec3 pj, vec3 nj, vec3 n_opt, int side)
 {
     vec3 c = v3_sub(pj, p);
@@ -28,9 +29,10 @@ double resurfi_glide_paper(vec3 p, vec3 pj, vec3 nj, vec3 n_opt, int side)
     double u = v3_len(v3_madd(c, n_opt, -along));
     /* tan(α/2) = sin α / (1 + cos α), scale-free in case a normal is not exactly unit */
     double len = v3_len(n_opt) * v3_len(nj);
-    double denom = len + v3_dot(n_opt, nj);
-    if (!(denom > opposite_eps * len))
+    double cos_alpha = v3_dot(n_opt, nj);
+    if (!(cos_alpha > 0))
         return along;
+    double denom = len + cos_alpha;
     double tan_half = v3_len(v3_cross(n_opt, nj)) / denom;
     return along + (side < 0 ? -1.0 : 1.0) * u * tan_half;
 }
@@ -46,7 +48,7 @@ double resurfi_glide_normal_section(vec3 p, vec3 pj, vec3 nj, vec3 n_opt)
     /* N_j projected on the plane (u/|u|, N_opt): components x (towards p_j) and y (along N_opt). */
     double x = v3_dot(nj, u) / u_len, y = v3_dot(nj, n_opt);
     double r = hypot(x, y);
-    if (!(r + y > opposite_eps * r))
+    if (!(y > 0))
         return along;
     /* |u| tan(α'/2) with tan(α'/2) = x / (r + y), signed */
     return along + u_len * x / (r + y);

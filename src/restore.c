@@ -485,9 +485,9 @@ static resurf_status trace_features(resurfi_restorer *r, resurf_error *error)
     return RESURF_OK;
 }
 
-/* Phase 6: which triangles can carry a root. A zero-area triangle (a T-junction sliver, a collapsed face) or one
- * with a corner that has no normal (a vertex of zero-area faces only) gives no meaningful optimal direction; the
- * search then goes to the triangles around it. */
+/* Phase 6: which triangles can carry a root. A zero-area triangle (a T-junction sliver, a collapsed face), one
+ * with a corner that has no normal (a vertex of zero-area faces only) or one whose corner normals are 90° or more
+ * apart gives no meaningful optimal direction; the search then goes to the triangles around it. */
 static resurf_status mark_usable(resurfi_restorer *r, resurf_error *error)
 {
     r->usable = resurfi_alloc_array(r->triangle_count, 1);
@@ -498,8 +498,15 @@ static resurf_status mark_usable(resurfi_restorer *r, resurf_error *error)
         vec3 a = position(r, i[0]), b = position(r, i[1]), c = position(r, i[2]);
         double longest2 = fmax(fmax(v3_dist2(a, b), v3_dist2(b, c)), v3_dist2(c, a));
         int ok = v3_len2(v3_tri_cross(a, b, c)) > 1e-24 * longest2 * longest2;
+        vec3 n[3];
+        for (int k = 0; k < 3 && ok; ++k) {
+            n[k] = v3_load(r->split_normals + 3 * (size_t)r->corner_split[3 * t + k]);
+            ok = v3_len2(n[k]) > 0;
+        }
+        /* corners whose normals are 90° or more apart describe no single smooth sheet (a fold, flipped faces of a
+         * scan): the interpolated normal turns through the plane of the triangle and its lines go anywhere */
         for (int k = 0; k < 3 && ok; ++k)
-            ok = v3_len2(v3_load(r->split_normals + 3 * (size_t)r->corner_split[3 * t + k])) > 0;
+            ok = v3_dot(n[k], n[(k + 1) % 3]) > 0;
         r->usable[t] = (uint8_t)ok;
     }
     return RESURF_OK;
@@ -892,6 +899,11 @@ resurfi_restore_outcome resurfi_restorer_point_near(const resurfi_restorer *r, v
         if (fabs(step) < o->tolerance_rel * len)
             break;
     }
+    /* A restored point near M moves by about the sag of M's facets, a fraction of the local edge length; one that
+     * went farther met normals that do not describe one smooth sheet (a fold, a thin plate seen from both sides)
+     * and is left where it was, as a far point is. */
+    if (v3_dist2(cur, p) > (o->far_factor * len) * (o->far_factor * len))
+        return RESURFI_LEFT_FAR;
     *out_point = cur;
     return outcome;
 }

@@ -126,13 +126,17 @@ START_TEST(normal_section_ignores_twist)
 }
 END_TEST
 
-/* Opposite normals carry no arc: only the straight part is returned, never an infinity. */
+/* Normals 90° or more apart carry no arc: only the straight part is returned, never an infinity. */
 START_TEST(opposite_normals_stay_finite)
 {
     vec3 p = v3(0, 0, 0.2), dir = v3(0, 0, 1), pj = v3(0.5, 0, 0);
     ck_assert_double_eq_tol(resurfi_glide_paper(p, pj, v3(0, 0, -1), dir, +1), -0.2, 1e-15);
     ck_assert_double_eq_tol(resurfi_glide_normal_section(p, pj, v3(0, 0, -1), dir), -0.2, 1e-15);
     ck_assert(isfinite(resurfi_glide_normal_section(p, pj, v3(0, 1, 0), dir)));
+    /* 100° apart is past the arc model too (tan 50° would still be finite, but the corner is on another sheet) */
+    vec3 folded = v3(sin(100 * M_PI / 180), 0, cos(100 * M_PI / 180));
+    ck_assert_double_eq_tol(resurfi_glide_paper(p, pj, folded, dir, +1), -0.2, 1e-15);
+    ck_assert_double_eq_tol(resurfi_glide_normal_section(p, pj, folded, dir), -0.2, 1e-15);
 }
 END_TEST
 

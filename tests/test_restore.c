@@ -168,6 +168,47 @@ START_TEST(plane_is_orthogonal_projection)
 }
 END_TEST
 
+/* A fold: one vertex of a flat M carries a normal turned 175° (a flipped patch or a two-sided sheet of a scan,
+ * where a corner's arc model breaks down). Points 1e-3 above or below the plane near it belong on the plane;
+ * none may be thrown away (the lines of a triangle whose corner normals disagree go anywhere, and the arc term
+ * tan(α/2) grows without bound: dragon-scan points moved by 6 times the scan's size), so each either stays where
+ * it is or lands on the plane. */
+START_TEST(fold_normals_do_not_throw_points)
+{
+    resurf_mesh *M = tu_grid(4); /* [0,1]², vertex (2,2) at (0.5, 0.5) */
+    ck_assert_ptr_null(M->normals);
+    M->normals = calloc(3 * M->vertex_count, sizeof *M->normals);
+    uint32_t fold = 0;
+    for (size_t v = 0; v < M->vertex_count; ++v) {
+        M->normals[3 * v + 2] = 1;
+        if (fabs(M->positions[3 * v] - 0.5) < 1e-12 && fabs(M->positions[3 * v + 1] - 0.5) < 1e-12)
+            fold = (uint32_t)v;
+    }
+    double a = 175 * M_PI / 180;
+    M->normals[3 * fold] = sin(a), M->normals[3 * fold + 2] = cos(a);
+    uint64_t rng = 5;
+    enum { N = 400 };
+    vec3 pts[N];
+    for (int i = 0; i < N; ++i)
+        pts[i] = v3(0.5 + 0.2 * (2 * shape_rand_unit(&rng) - 1), 0.5 + 0.2 * (2 * shape_rand_unit(&rng) - 1),
+                    i % 2 ? 1e-3 : -1e-3);
+    for (int d = 0; d < RESURF_DISPLACEMENT_COUNT; ++d) {
+        resurf_restore_options o = resurf_restore_options_default();
+        o.use_input_normals = 2;
+        o.displacement = (resurf_displacement)d;
+        resurf_restore_report rep;
+        vec3 *out = restore_points(M, pts, N, &o, &rep);
+        for (int i = 0; i < N; ++i) {
+            int unchanged = v3_dist(out[i], pts[i]) == 0;
+            ck_assert_msg(unchanged || (fabs(out[i].z) <= 1e-12 && v3_dist(out[i], pts[i]) <= 1e-3 + 1e-12),
+                          "point %d moved %g to z = %g", i, v3_dist(out[i], pts[i]), out[i].z);
+        }
+        free(out);
+    }
+    resurf_mesh_free(M);
+}
+END_TEST
+
 /* ---- curved surfaces with estimated normals ------------------------------------------------------------------ */
 
 /* Error statistics of points after restoring, against the analytic surface. */
@@ -861,6 +902,7 @@ Suite *make_suite(void)
     tcase_set_timeout(tc, 120);
     tcase_add_test(tc, sphere_exact_normals_land_exactly);
     tcase_add_test(tc, plane_is_orthogonal_projection);
+    tcase_add_test(tc, fold_normals_do_not_throw_points);
     tcase_add_test(tc, cylinder);
     tcase_add_test(tc, saddle_side_choice_matters);
     tcase_add_test(tc, mesh_onto_itself);

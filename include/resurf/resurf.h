@@ -395,7 +395,8 @@ typedef struct resurf_restore_report {
     size_t moved;                 /* vertices whose position changed */
     double mean_displacement;     /* mean distance moved, over the vertices that moved */
     double max_displacement;
-    size_t left_far;              /* left alone: farther from M than far_factor × local edge length */
+    size_t left_far;              /* left alone: farther from M than far_factor × local edge length, or its
+                                   * restored point would have moved that far (normals of a fold) */
     size_t left_outside;          /* left alone: no root inside a triangle (RESURF_OUTSIDE_KEEP), or no root */
     size_t used_least_outside;    /* restored with a root outside its triangle (the last step's) */
     size_t on_boundary;           /* put on a boundary curve */
