@@ -385,6 +385,33 @@ START_TEST(compare_cli_json_and_heatmap)
 }
 END_TEST
 
+/* A REF that is a single point has no scale: the relative figures are null in JSON and "-" in the table, never
+ * a made-up 0, while the absolute ones stay exact (the unit right triangle's farthest point is 1 away). */
+START_TEST(compare_cli_point_ref_has_no_relative_figures)
+{
+    char *dir = tu_tempdir(), *ref_path = tu_path(dir, "point.obj"), *test_path = tu_path(dir, "tri.obj");
+    const char point[] = "v 0 0 0\nv 0 0 0\nv 0 0 0\nf 1 2 3\n", tri[] = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    ck_assert_int_eq(tu_write_file(ref_path, point, sizeof point - 1), 0);
+    ck_assert_int_eq(tu_write_file(test_path, tri, sizeof tri - 1), 0);
+    char cmd[2048], *text = NULL;
+    snprintf(cmd, sizeof cmd, "%s compare %s %s --json --samples 100", RESURF_CLI, ref_path, test_path);
+    ck_assert_int_eq(tu_run(cmd, &text), 0);
+    ck_assert_double_eq(json_number(text, "diagonal"), 0);
+    ck_assert_double_eq_tol(json_number(text, "hausdorff"), 1, 1e-15);
+    ck_assert_ptr_nonnull(strstr(text, "\"hausdorff_rel\": null"));
+    ck_assert_ptr_null(strstr(text, "_rel\": 0"));
+    free(text);
+    snprintf(cmd, sizeof cmd, "%s compare %s %s --samples 100", RESURF_CLI, ref_path, test_path);
+    ck_assert_int_eq(tu_run(cmd, &text), 0);
+    ck_assert_ptr_nonnull(strstr(text, "hausdorff                                   1                -"));
+    free(text);
+    free(ref_path);
+    free(test_path);
+    tu_rmtree(dir);
+    free(dir);
+}
+END_TEST
+
 START_TEST(compare_rejects_bad_input)
 {
     resurf_mesh *a = tu_grid(2), *b = tu_grid(2), *empty = NULL;
@@ -430,6 +457,7 @@ Suite *make_suite(void)
     tcase_add_test(tc, compare_cancel);
     tcase_add_test(tc, compare_rejects_bad_input);
     tcase_add_test(tc, compare_cli_json_and_heatmap);
+    tcase_add_test(tc, compare_cli_point_ref_has_no_relative_figures);
     suite_add_tcase(s, tc);
     return s;
 }

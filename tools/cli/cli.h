@@ -69,6 +69,16 @@ int cli_set_max_triangles(const char *command, const char *text);
 /* The limit in force, for commands that load through other calls (resurf_scene_load: load options' max_triangles). */
 size_t cli_max_triangles(void);
 
+/* The options every mesh command shares, for the `default:` of its getopt switch: 'f' (--format: sets *format;
+ * pass NULL when the command has no --format), 'T' (--max-triangles), 'h' (--help: prints usage) and anything
+ * unknown. Returns CLI_NEXT to go on parsing, CLI_OK after --help, CLI_USAGE after an error. */
+enum { CLI_NEXT = -1 };
+int cli_shared_option(const char *command, const char *usage, int option, resurf_format *format);
+
+/* Checks the output of a mesh command before any work: -o given, its format known from its name (.obj, .ply,
+ * .off, .stl) and not one of the inputs. Returns 0, or what the command returns (CLI_USAGE, CLI_FAILED). */
+int cli_check_mesh_output(const char *command, const char *output, const char *const *inputs, int input_count);
+
 /* Loads a mesh or prints the error; returns 0 or CLI_FAILED. Honours --max-triangles and interrupts. */
 int cli_load(const char *path, resurf_format format, resurf_mesh **out);
 /* Saves a mesh or prints the error; returns 0 or CLI_FAILED. Writes nothing after an interrupt, and installs

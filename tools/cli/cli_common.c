@@ -245,3 +245,31 @@ void cli_json_number(FILE *f, double v)
     else
         fputs("null", f);
 }
+
+int cli_shared_option(const char *command, const char *usage, int option, resurf_format *format)
+{
+    switch (option) {
+    case 'f':
+        if (!format)
+            return CLI_USAGE;
+        if ((*format = resurf_format_from_name(optarg)) == RESURF_FORMAT_AUTO)
+            return cli_usage(command, "unknown format '%s'", optarg);
+        return CLI_NEXT;
+    case 'T':
+        return cli_set_max_triangles(command, optarg) ? CLI_USAGE : CLI_NEXT;
+    case 'h':
+        fputs(usage, stdout);
+        return CLI_OK;
+    default:
+        return CLI_USAGE;
+    }
+}
+
+int cli_check_mesh_output(const char *command, const char *output, const char *const *inputs, int input_count)
+{
+    if (!output)
+        return cli_usage(command, "missing -o OUT");
+    if (resurf_format_from_path(output) == RESURF_FORMAT_AUTO)
+        return cli_usage(command, "cannot tell the format of '%s' from its name (.obj, .ply, .off, .stl)", output);
+    return cli_check_output(output, inputs, input_count) ? CLI_FAILED : 0;
+}

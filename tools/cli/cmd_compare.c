@@ -1,5 +1,6 @@
 /* resurf compare REF TEST: surface distances, vertex distances, triangle quality and normal deviation
  * (resurf_compare), as a table or JSON, and optionally TEST coloured by its vertices' distance to REF. */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -96,9 +97,13 @@ static void print_text(const char *ref, const char *test, const resurf_metrics *
     row rows[16];
     size_t n = make_rows(m, rows);
     for (size_t i = 0; i < n; ++i) {
-        if (rows[i].length)
-            printf("%-28s %16.9g %16.9g\n", rows[i].name, rows[i].value,
-                   m->diagonal > 0 ? rows[i].value / m->diagonal : 0.0);
+        if (!rows[i].length)
+            continue;
+        printf("%-28s %16.9g ", rows[i].name, rows[i].value);
+        if (m->diagonal > 0)
+            printf("%16.9g\n", rows[i].value / m->diagonal);
+        else
+            printf("%16s\n", "-"); /* a single point as REF: nothing to be relative to */
     }
     printf("\nTEST triangle quality and normals\n");
     printf("%-28s %16.6f\n", "min angle (deg)", m->min_angle_deg);
@@ -122,7 +127,7 @@ static void print_json(const char *ref, const char *test, const resurf_metrics *
         cli_json_number(stdout, rows[i].value);
         if (rows[i].length) {
             printf(", \"%s_rel\": ", rows[i].name);
-            cli_json_number(stdout, m->diagonal > 0 ? rows[i].value / m->diagonal : 0.0);
+            cli_json_number(stdout, m->diagonal > 0 ? rows[i].value / m->diagonal : NAN); /* null: no scale */
         }
     }
     printf("}\n");
@@ -148,6 +153,7 @@ int cmd_compare(int argc, char **argv)
     resurf_format format = RESURF_FORMAT_AUTO;
     resurf_compare_options co = resurf_compare_options_default();
     unsigned long n = 0;
+    int rc = CLI_OK;
     cli_getopt_reset();
     for (int c; (c = cli_getopt("compare", argc, argv, "h", options)) != -1;) {
         switch (c) {
@@ -182,19 +188,9 @@ int cmd_compare(int argc, char **argv)
             if (!(heatmap_max > 0))
                 return cli_usage("compare", "--heatmap-max must be positive, not %s", optarg);
             break;
-        case 'f':
-            if ((format = resurf_format_from_name(optarg)) == RESURF_FORMAT_AUTO)
-                return cli_usage("compare", "unknown format '%s'", optarg);
-            break;
-        case 'T':
-            if (cli_set_max_triangles("compare", optarg))
-                return CLI_USAGE;
-            break;
-        case 'h':
-            fputs(usage, stdout);
-            return CLI_OK;
         default:
-            return CLI_USAGE;
+            if ((rc = cli_shared_option("compare", usage, c, &format)) != CLI_NEXT)
+                return rc;
         }
     }
     if (argc - optind != 2)
@@ -210,7 +206,7 @@ int cmd_compare(int argc, char **argv)
         resurf_mesh_free(ref);
         return CLI_FAILED;
     }
-    int rc = CLI_OK;
+    rc = CLI_OK;
     double *distance = malloc((test->vertex_count ? test->vertex_count : 1) * sizeof *distance);
     resurf_metrics m;
     resurf_error error;

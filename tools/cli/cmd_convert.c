@@ -23,6 +23,7 @@ int cmd_convert(int argc, char **argv)
     };
     resurf_format from = RESURF_FORMAT_AUTO;
     resurf_save_options save = resurf_save_options_default();
+    int rc = CLI_OK;
     cli_getopt_reset();
     for (int c; (c = cli_getopt("convert", argc, argv, "h", options)) != -1;) {
         switch (c) {
@@ -37,15 +38,9 @@ int cmd_convert(int argc, char **argv)
         case 'a':
             save.binary = 0;
             break;
-        case 'T':
-            if (cli_set_max_triangles("convert", optarg))
-                return CLI_USAGE;
-            break;
-        case 'h':
-            fputs(usage, stdout);
-            return CLI_OK;
         default:
-            return CLI_USAGE;
+            if ((rc = cli_shared_option("convert", usage, c, NULL)) != CLI_NEXT)
+                return rc;
         }
     }
     if (argc - optind != 2)
@@ -58,7 +53,7 @@ int cmd_convert(int argc, char **argv)
     resurf_mesh *mesh = NULL;
     if (cli_load(in, from, &mesh))
         return CLI_FAILED;
-    int rc = cli_save(mesh, out, &save) ? CLI_FAILED : CLI_OK;
+    rc = cli_save(mesh, out, &save) ? CLI_FAILED : CLI_OK;
     resurf_mesh_free(mesh);
     return rc;
 }

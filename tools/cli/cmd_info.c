@@ -89,25 +89,16 @@ int cmd_info(int argc, char **argv)
     };
     int json = 0;
     resurf_format format = RESURF_FORMAT_AUTO;
+    int rc = CLI_OK;
     cli_getopt_reset();
     for (int c; (c = cli_getopt("info", argc, argv, "h", options)) != -1;) {
         switch (c) {
         case 'j':
             json = 1;
             break;
-        case 'f':
-            if ((format = resurf_format_from_name(optarg)) == RESURF_FORMAT_AUTO)
-                return cli_usage("info", "unknown format '%s'", optarg);
-            break;
-        case 'T':
-            if (cli_set_max_triangles("info", optarg))
-                return CLI_USAGE;
-            break;
-        case 'h':
-            fputs(usage, stdout);
-            return CLI_OK;
         default:
-            return CLI_USAGE;
+            if ((rc = cli_shared_option("info", usage, c, &format)) != CLI_NEXT)
+                return rc;
         }
     }
     if (argc - optind != 1)

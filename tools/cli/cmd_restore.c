@@ -144,6 +144,7 @@ int cmd_restore(int argc, char **argv)
     overrides ov = {.normals = -1, .side = -1, .displacement = -1, .outside = -1, .input_normals = -1,
                     .boundary = -1};
     unsigned long n = 0;
+    int rc = CLI_OK;
     cli_getopt_reset();
     for (int c; (c = cli_getopt("restore", argc, argv, "ho:", options)) != -1;) {
         switch (c) {
@@ -227,30 +228,16 @@ int cmd_restore(int argc, char **argv)
         case 'j':
             json = 1;
             break;
-        case 'f':
-            if ((format = resurf_format_from_name(optarg)) == RESURF_FORMAT_AUTO)
-                return cli_usage("restore", "unknown format '%s'", optarg);
-            break;
-        case 'T':
-            if (cli_set_max_triangles("restore", optarg))
-                return CLI_USAGE;
-            break;
-        case 'h':
-            fputs(usage, stdout);
-            return CLI_OK;
         default:
-            return CLI_USAGE;
+            if ((rc = cli_shared_option("restore", usage, c, &format)) != CLI_NEXT)
+                return rc;
         }
     }
     if (argc - optind != 2)
         return cli_usage("restore", "expected ORIGINAL and PROCESSED");
-    if (!out)
-        return cli_usage("restore", "missing -o OUT");
     const char *inputs[2] = {argv[optind], argv[optind + 1]};
-    if (resurf_format_from_path(out) == RESURF_FORMAT_AUTO)
-        return cli_usage("restore", "cannot tell the format of '%s' from its name (.obj, .ply, .off, .stl)", out);
-    if (cli_check_output(out, inputs, 2))
-        return CLI_FAILED;
+    if ((rc = cli_check_mesh_output("restore", out, inputs, 2)))
+        return rc;
 
     resurf_restore_options o = paper ? resurf_restore_options_paper() : resurf_restore_options_default();
     if (ov.normals >= 0)
@@ -290,7 +277,7 @@ int cmd_restore(int argc, char **argv)
     resurf_error error;
     resurf_status s = resurf_restore(original, processed, &o, &report, &error);
     cli_progress_done();
-    int rc = CLI_OK;
+    rc = CLI_OK;
     if (s != RESURF_OK)
         rc = cli_fail_error(&error);
     else if (cli_save(processed, out, NULL))

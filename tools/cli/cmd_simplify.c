@@ -160,6 +160,7 @@ int cmd_simplify(int argc, char **argv)
     unsigned long n = 0;
     resurf_simplify_options o = resurf_simplify_options_default();
     o.target_ratio = 0; /* only what the command line asks for */
+    int rc = CLI_OK;
     cli_getopt_reset();
     for (int c; (c = cli_getopt("simplify", argc, argv, "ho:", options)) != -1;) {
         switch (c) {
@@ -239,19 +240,9 @@ int cmd_simplify(int argc, char **argv)
         case 'j':
             json = 1;
             break;
-        case 'f':
-            if ((format = resurf_format_from_name(optarg)) == RESURF_FORMAT_AUTO)
-                return cli_usage("simplify", "unknown format '%s'", optarg);
-            break;
-        case 'T':
-            if (cli_set_max_triangles("simplify", optarg))
-                return CLI_USAGE;
-            break;
-        case 'h':
-            fputs(usage, stdout);
-            return CLI_OK;
         default:
-            return CLI_USAGE;
+            if ((rc = cli_shared_option("simplify", usage, c, &format)) != CLI_NEXT)
+                return rc;
         }
     }
     if (argc - optind != 1)
@@ -268,7 +259,7 @@ int cmd_simplify(int argc, char **argv)
 
     size_t outputs = level_count ? level_count : 1;
     char *paths[MAX_LEVELS] = {NULL};
-    int rc = CLI_OK;
+    rc = CLI_OK;
     for (size_t i = 0; i < outputs && rc == CLI_OK; ++i) {
         paths[i] = level_count ? level_path(out, i + 1) : strdup(out);
         if (!paths[i])

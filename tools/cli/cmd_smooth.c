@@ -46,6 +46,7 @@ int cmd_smooth(int argc, char **argv)
     resurf_format format = RESURF_FORMAT_AUTO;
     resurf_smooth_options so = resurf_smooth_options_default();
     unsigned long n = 0;
+    int rc = CLI_OK;
     cli_getopt_reset();
     for (int c; (c = cli_getopt("smooth", argc, argv, "ho:", options)) != -1;) {
         switch (c) {
@@ -75,32 +76,18 @@ int cmd_smooth(int argc, char **argv)
             if (!(so.mu >= -1 && so.mu < 0))
                 return cli_usage("smooth", "--mu must be in [-1, 0), not %s", optarg);
             break;
-        case 'f':
-            if ((format = resurf_format_from_name(optarg)) == RESURF_FORMAT_AUTO)
-                return cli_usage("smooth", "unknown format '%s'", optarg);
-            break;
-        case 'T':
-            if (cli_set_max_triangles("smooth", optarg))
-                return CLI_USAGE;
-            break;
-        case 'h':
-            fputs(usage, stdout);
-            return CLI_OK;
         default:
-            return CLI_USAGE;
+            if ((rc = cli_shared_option("smooth", usage, c, &format)) != CLI_NEXT)
+                return rc;
         }
     }
     if (argc - optind != 1)
         return cli_usage("smooth", "expected one input mesh IN");
-    if (!out)
-        return cli_usage("smooth", "missing -o OUT");
     if (so.method == RESURF_SMOOTH_BILAPLACIAN && so.lambda > 0.5)
         return cli_usage("smooth", "--lambda must be at most 0.5 for bilaplacian");
     const char *in = argv[optind];
-    if (resurf_format_from_path(out) == RESURF_FORMAT_AUTO)
-        return cli_usage("smooth", "cannot tell the format of '%s' from its name (.obj, .ply, .off, .stl)", out);
-    if (cli_check_output(out, &in, 1))
-        return CLI_FAILED;
+    if ((rc = cli_check_mesh_output("smooth", out, &in, 1)))
+        return rc;
 
     resurf_mesh *mesh = NULL;
     if (cli_load(in, format, &mesh))
@@ -109,7 +96,7 @@ int cmd_smooth(int argc, char **argv)
     resurf_error error;
     resurf_status s = resurf_smooth(mesh, &so, &error);
     cli_progress_done();
-    int rc = CLI_OK;
+    rc = CLI_OK;
     if (s != RESURF_OK)
         rc = cli_fail_error(&error);
     else if (cli_save(mesh, out, NULL))
