@@ -93,14 +93,14 @@ void resurfi_adjacency_free(resurfi_adjacency *adj)
 {
     if (!adj)
         return;
-    free(adj->vertex_face_offset);
-    free(adj->vertex_faces);
-    free(adj->vertex_edge_offset);
-    free(adj->edge_vertices);
-    free(adj->edge_face_offset);
-    free(adj->edge_faces);
-    free(adj->face_edges);
-    free(adj->vertex_flags);
+    resurfi_free(&adj->alloc, adj->vertex_face_offset);
+    resurfi_free(&adj->alloc, adj->vertex_faces);
+    resurfi_free(&adj->alloc, adj->vertex_edge_offset);
+    resurfi_free(&adj->alloc, adj->edge_vertices);
+    resurfi_free(&adj->alloc, adj->edge_face_offset);
+    resurfi_free(&adj->alloc, adj->edge_faces);
+    resurfi_free(&adj->alloc, adj->face_edges);
+    resurfi_free(&adj->alloc, adj->vertex_flags);
     memset(adj, 0, sizeof *adj);
 }
 
@@ -128,7 +128,7 @@ uint32_t resurfi_adjacency_find_edge(const resurfi_adjacency *adj, uint32_t a, u
 static resurf_status build_vertex_faces(resurfi_adjacency *adj, const uint32_t *indices, uint32_t *cursor)
 {
     const size_t nv = adj->vertex_count, nt = adj->triangle_count;
-    uint32_t *offset = adj->vertex_face_offset = resurfi_calloc_array(nv + 1, sizeof *offset);
+    uint32_t *offset = adj->vertex_face_offset = resurfi_calloc(&adj->alloc, nv + 1, sizeof *offset);
     if (!offset)
         return RESURF_ERR_OUT_OF_MEMORY;
     size_t total = 0;
@@ -142,7 +142,7 @@ static resurf_status build_vertex_faces(resurfi_adjacency *adj, const uint32_t *
     }
     for (size_t v = 0; v < nv; ++v)
         offset[v + 1] += offset[v];
-    if (!(adj->vertex_faces = resurfi_alloc_array(total, sizeof *adj->vertex_faces)))
+    if (!(adj->vertex_faces = resurfi_alloc(&adj->alloc, total, sizeof *adj->vertex_faces)))
         return RESURF_ERR_OUT_OF_MEMORY;
     memcpy(cursor, offset, nv * sizeof *cursor);
     for (size_t t = 0; t < nt; ++t) {
@@ -160,8 +160,8 @@ static resurf_status build_edges(resurfi_adjacency *adj, const uint32_t *indices
     const size_t nv = adj->vertex_count;
     const uint32_t *offset = adj->vertex_face_offset;
     size_t bound = offset[nv]; /* 3 per valid triangle: every edge has at least one face */
-    uint32_t *edge_offset = adj->vertex_edge_offset = resurfi_alloc_array(nv + 1, sizeof *edge_offset);
-    uint32_t *ev = adj->edge_vertices = resurfi_alloc_array(bound, 2 * sizeof *ev);
+    uint32_t *edge_offset = adj->vertex_edge_offset = resurfi_alloc(&adj->alloc, nv + 1, sizeof *edge_offset);
+    uint32_t *ev = adj->edge_vertices = resurfi_alloc(&adj->alloc, bound, 2 * sizeof *ev);
     if (!edge_offset || !ev)
         return RESURF_ERR_OUT_OF_MEMORY;
     size_t count = 0;
@@ -185,7 +185,7 @@ static resurf_status build_edges(resurfi_adjacency *adj, const uint32_t *indices
     }
     edge_offset[nv] = (uint32_t)count;
     adj->edge_count = count;
-    uint32_t *shrunk = resurfi_realloc_array(ev, count, 2 * sizeof *ev);
+    uint32_t *shrunk = resurfi_realloc(&adj->alloc, ev, count, 2 * sizeof *ev);
     if (shrunk) /* a failed shrink leaves the larger block, which is still correct */
         adj->edge_vertices = shrunk;
     return RESURF_OK;
@@ -195,8 +195,8 @@ static resurf_status build_edges(resurfi_adjacency *adj, const uint32_t *indices
 static resurf_status build_edge_faces(resurfi_adjacency *adj, const uint32_t *indices)
 {
     const size_t nv = adj->vertex_count, nt = adj->triangle_count, ne = adj->edge_count;
-    uint32_t *fe = adj->face_edges = resurfi_alloc_array(nt, 3 * sizeof *fe);
-    uint32_t *offset = adj->edge_face_offset = resurfi_calloc_array(ne + 1, sizeof *offset);
+    uint32_t *fe = adj->face_edges = resurfi_alloc(&adj->alloc, nt, 3 * sizeof *fe);
+    uint32_t *offset = adj->edge_face_offset = resurfi_calloc(&adj->alloc, ne + 1, sizeof *offset);
     if (!fe || !offset)
         return RESURF_ERR_OUT_OF_MEMORY;
     for (size_t t = 0; t < nt; ++t) {
@@ -211,16 +211,16 @@ static resurf_status build_edge_faces(resurfi_adjacency *adj, const uint32_t *in
     }
     for (size_t e = 0; e < ne; ++e)
         offset[e + 1] += offset[e];
-    uint32_t *cursor = resurfi_alloc_array(ne, sizeof *cursor);
-    if (!cursor || !(adj->edge_faces = resurfi_alloc_array(offset[ne], sizeof *adj->edge_faces))) {
-        free(cursor);
+    uint32_t *cursor = resurfi_alloc(&adj->alloc, ne, sizeof *cursor);
+    if (!cursor || !(adj->edge_faces = resurfi_alloc(&adj->alloc, offset[ne], sizeof *adj->edge_faces))) {
+        resurfi_free(&adj->alloc, cursor);
         return RESURF_ERR_OUT_OF_MEMORY;
     }
     memcpy(cursor, offset, ne * sizeof *cursor);
     for (size_t k = 0; k < 3 * nt; ++k)
         if (fe[k] != UINT32_MAX)
             adj->edge_faces[cursor[fe[k]]++] = (uint32_t)(k / 3);
-    free(cursor);
+    resurfi_free(&adj->alloc, cursor);
     return RESURF_OK;
 }
 
@@ -289,11 +289,11 @@ static void classify_vertices(resurfi_adjacency *adj, const uint32_t *indices, u
 /* Phase 5: boundary loops = connected sets of fans joined by boundary edges (see the top of the file). */
 static resurf_status count_boundary_loops(resurfi_adjacency *adj, const uint32_t *fan, size_t fan_count)
 {
-    uint32_t *parent = resurfi_alloc_array(fan_count, sizeof *parent);
-    uint8_t *touched = resurfi_calloc_array(fan_count, 1);
+    uint32_t *parent = resurfi_alloc(&adj->alloc, fan_count, sizeof *parent);
+    uint8_t *touched = resurfi_calloc(&adj->alloc, fan_count, 1);
     if (!parent || !touched) {
-        free(parent);
-        free(touched);
+        resurfi_free(&adj->alloc, parent);
+        resurfi_free(&adj->alloc, touched);
         return RESURF_ERR_OUT_OF_MEMORY;
     }
     for (size_t i = 0; i < fan_count; ++i)
@@ -317,17 +317,19 @@ static resurf_status count_boundary_loops(resurfi_adjacency *adj, const uint32_t
     for (size_t i = 0; i < fan_count; ++i)
         loops += touched[i] && uf_find(parent, (uint32_t)i) == i;
     adj->boundary_loop_count = loops;
-    free(parent);
-    free(touched);
+    resurfi_free(&adj->alloc, parent);
+    resurfi_free(&adj->alloc, touched);
     return RESURF_OK;
 }
 
-resurf_status resurfi_adjacency_build(const uint32_t *indices, size_t triangle_count, size_t vertex_count,
-                                      resurfi_adjacency *out)
+resurf_status resurfi_adjacency_build(const resurf_allocator *alloc, const uint32_t *indices, size_t triangle_count,
+                                      size_t vertex_count, resurfi_adjacency *out)
 {
     if (!out)
         return RESURF_ERR_INVALID_ARGUMENT;
     memset(out, 0, sizeof *out);
+    if (alloc)
+        out->alloc = *alloc;
     if (triangle_count && !indices)
         return RESURF_ERR_INVALID_ARGUMENT;
     /* Offsets are 32-bit: 3 entries per triangle must fit, and vertex + 1 must not wrap. */
@@ -337,7 +339,7 @@ resurf_status resurfi_adjacency_build(const uint32_t *indices, size_t triangle_c
     out->triangle_count = triangle_count;
     uint32_t *scratch = NULL, *fan = NULL;
     resurf_status status = RESURF_ERR_OUT_OF_MEMORY;
-    if (!(scratch = resurfi_alloc_array(vertex_count, sizeof *scratch)))
+    if (!(scratch = resurfi_alloc(&out->alloc, vertex_count, sizeof *scratch)))
         goto fail;
     if ((status = build_vertex_faces(out, indices, scratch)) != RESURF_OK)
         goto fail;
@@ -347,9 +349,9 @@ resurf_status resurfi_adjacency_build(const uint32_t *indices, size_t triangle_c
         size_t d = out->vertex_face_offset[v + 1] - out->vertex_face_offset[v];
         max_degree = d > max_degree ? d : max_degree;
     }
-    free(scratch);
+    resurfi_free(&out->alloc, scratch);
     status = RESURF_ERR_OUT_OF_MEMORY;
-    if (!(scratch = resurfi_alloc_array(2 * max_degree, sizeof *scratch)))
+    if (!(scratch = resurfi_alloc(&out->alloc, 2 * max_degree, sizeof *scratch)))
         goto fail;
     if ((status = build_edges(out, indices, scratch)) != RESURF_OK)
         goto fail;
@@ -357,19 +359,19 @@ resurf_status resurfi_adjacency_build(const uint32_t *indices, size_t triangle_c
         goto fail;
     status = RESURF_ERR_OUT_OF_MEMORY;
     size_t fan_count = 0;
-    out->vertex_flags = resurfi_calloc_array(vertex_count, sizeof *out->vertex_flags);
-    fan = resurfi_alloc_array(out->vertex_face_offset[vertex_count], sizeof *fan);
+    out->vertex_flags = resurfi_calloc(&out->alloc, vertex_count, sizeof *out->vertex_flags);
+    fan = resurfi_alloc(&out->alloc, out->vertex_face_offset[vertex_count], sizeof *fan);
     if (!out->vertex_flags || !fan)
         goto fail;
     classify_vertices(out, indices, scratch, fan, &fan_count);
     if ((status = count_boundary_loops(out, fan, fan_count)) != RESURF_OK)
         goto fail;
-    free(scratch);
-    free(fan);
+    resurfi_free(&out->alloc, scratch);
+    resurfi_free(&out->alloc, fan);
     return RESURF_OK;
 fail:
-    free(scratch);
-    free(fan);
+    resurfi_free(&out->alloc, scratch);
+    resurfi_free(&out->alloc, fan);
     resurfi_adjacency_free(out);
     return status;
 }
@@ -377,7 +379,7 @@ fail:
 size_t resurfi_adjacency_components(const resurfi_adjacency *adj, const uint32_t *indices, uint32_t *component)
 {
     const size_t nt = adj->triangle_count;
-    uint32_t *parent = component ? component : resurfi_alloc_array(nt, sizeof *parent);
+    uint32_t *parent = component ? component : resurfi_alloc(&adj->alloc, nt, sizeof *parent);
     if (!parent)
         return SIZE_MAX;
     for (size_t t = 0; t < nt; ++t)
@@ -404,7 +406,7 @@ size_t resurfi_adjacency_components(const resurfi_adjacency *adj, const uint32_t
         parent[t] = r == t ? (uint32_t)count++ : parent[r];
     }
     if (!component)
-        free(parent);
+        resurfi_free(&adj->alloc, parent);
     return count;
 }
 

@@ -34,6 +34,8 @@ typedef struct bvh_node {
 } bvh_node;
 
 struct resurfi_bvh {
+    resurf_allocator alloc; /* a copy of the build's allocator: every block below comes from it */
+    void *node_block;       /* the allocation `nodes` is aligned within */
     bvh_node *nodes;
     size_t node_count;
     size_t triangle_count; /* triangles kept (valid ones) */
@@ -202,6 +204,7 @@ static double box_half_area(const box *b)
 typedef struct node_vec {
     bvh_node *nodes;
     size_t count, capacity;
+    const resurf_allocator *alloc; /* the tree's, shared by the build's threads */
 } node_vec;
 
 static int vec_reserve(node_vec *v, size_t extra)
@@ -211,7 +214,7 @@ static int vec_reserve(node_vec *v, size_t extra)
     size_t cap = v->capacity ? v->capacity : 64;
     while (cap < v->count + extra)
         cap *= 2;
-    bvh_node *p = resurfi_realloc_array(v->nodes, cap, sizeof *p);
+    bvh_node *p = resurfi_realloc(v->alloc, v->nodes, cap, sizeof *p);
     if (!p)
         return -1;
     v->nodes = p, v->capacity = cap;
@@ -384,7 +387,7 @@ static int build_node(prim *prims, node_vec *vec, size_t slot, size_t begin, siz
         /* The right half goes to its own thread and node array; the thread budget is split between the halves.
          * Its nodes are appended after the left half's: the same layout as a one-thread build. */
         subtree_job job = {.prims = prims, .begin = mid, .end = end, .bounds = rb, .centroids = rc,
-                           .depth = depth + 1, .threads = threads / 2};
+                           .depth = depth + 1, .threads = threads / 2, .out = {.alloc = vec->alloc}};
         pthread_t tid;
         if (pthread_create(&tid, NULL, run_subtree, &job) == 0) {
             int failed = build_node(prims, vec, child, begin, mid, lb, lc, depth + 1, threads - threads / 2);
@@ -393,7 +396,7 @@ static int build_node(prim *prims, node_vec *vec, size_t slot, size_t begin, siz
                 append_subtree(vec, child + 1, &job.out);
             else
                 failed = 1;
-            free(job.out.nodes);
+            resurfi_free(vec->alloc, job.out.nodes);
             return failed ? -1 : 0;
         }
     }
@@ -458,8 +461,8 @@ static int copy_corners(void *p, size_t begin, size_t end, unsigned worker)
     return 0;
 }
 
-static resurf_status build_tree(const double *positions, size_t vertex_count, const uint32_t *indices,
-                                size_t triangle_count, unsigned threads, resurfi_bvh **out)
+static resurf_status build_tree(const resurf_allocator *alloc, const double *positions, size_t vertex_count,
+                                const uint32_t *indices, size_t triangle_count, unsigned threads, resurfi_bvh **out)
 {
     if (!out)
         return RESURF_ERR_INVALID_ARGUMENT;
@@ -468,9 +471,11 @@ static resurf_status build_tree(const double *positions, size_t vertex_count, co
         return RESURF_ERR_INVALID_ARGUMENT;
     if (triangle_count > UINT32_MAX / 2) /* node indices are 32-bit and a tree may have up to 2n nodes */
         return RESURF_ERR_LIMIT;
-    resurfi_bvh *bvh = calloc(1, sizeof *bvh);
-    prim *prims = resurfi_alloc_array(triangle_count, sizeof *prims);
-    node_vec vec = {0};
+    resurfi_bvh *bvh = resurfi_calloc(alloc, 1, sizeof *bvh);
+    if (bvh && alloc)
+        bvh->alloc = *alloc;
+    prim *prims = resurfi_alloc(alloc, triangle_count, sizeof *prims);
+    node_vec vec = {.alloc = alloc};
     if (!bvh || !prims)
         goto oom;
     enum { BLOCK = 65536 };
@@ -488,48 +493,51 @@ static resurf_status build_tree(const double *positions, size_t vertex_count, co
             goto oom;
         if (build_node(prims, &vec, 0, 0, n, bounds, cbounds, 0, threads) != 0)
             goto oom;
-        /* The final array is 64-byte aligned so that each sibling pair (32 bytes each, at even slots) is one line. */
-        size_t bytes = (vec.count * sizeof(bvh_node) + 63) / 64 * 64;
-        bvh->nodes = aligned_alloc(64, bytes);
-        bvh->corners = resurfi_alloc_array(n, 9 * sizeof(double));
-        bvh->ids = resurfi_alloc_array(n, sizeof(uint32_t));
-        if (!bvh->nodes || !bvh->corners || !bvh->ids)
+        /* The final array is 64-byte aligned so that each sibling pair (32 bytes each, at even slots) is one line;
+         * the allocator promises malloc's alignment only, so the block has room to align within. */
+        bvh->node_block = resurfi_alloc(alloc, vec.count * sizeof(bvh_node) + 63, 1);
+        bvh->corners = resurfi_alloc(alloc, n, 9 * sizeof(double));
+        bvh->ids = resurfi_alloc(alloc, n, sizeof(uint32_t));
+        if (!bvh->node_block || !bvh->corners || !bvh->ids)
             goto oom;
+        bvh->nodes = (bvh_node *)(((uintptr_t)bvh->node_block + 63) & ~(uintptr_t)63);
         memcpy(bvh->nodes, vec.nodes, vec.count * sizeof(bvh_node));
         bvh->node_count = vec.count;
         resurfi_parallel_for(n, BLOCK, threads, copy_corners, &pc);
     }
-    free(vec.nodes);
-    free(prims);
+    resurfi_free(alloc, vec.nodes);
+    resurfi_free(alloc, prims);
     *out = bvh;
     return RESURF_OK;
 oom:
-    free(vec.nodes);
-    free(prims);
+    resurfi_free(alloc, vec.nodes);
+    resurfi_free(alloc, prims);
     resurfi_bvh_free(bvh);
     return RESURF_ERR_OUT_OF_MEMORY;
 }
 
-resurf_status resurfi_bvh_build(const double *positions, size_t vertex_count, const uint32_t *indices,
-                                size_t triangle_count, resurfi_bvh **out)
+resurf_status resurfi_bvh_build(const resurf_allocator *alloc, const double *positions, size_t vertex_count,
+                                const uint32_t *indices, size_t triangle_count, resurfi_bvh **out)
 {
-    return build_tree(positions, vertex_count, indices, triangle_count, resurfi_thread_count(0), out);
+    return build_tree(alloc, positions, vertex_count, indices, triangle_count, resurfi_thread_count(0), out);
 }
 
-resurf_status resurfi_bvh_build_threads(const double *positions, size_t vertex_count, const uint32_t *indices,
-                                        size_t triangle_count, unsigned threads, resurfi_bvh **out)
+resurf_status resurfi_bvh_build_threads(const resurf_allocator *alloc, const double *positions, size_t vertex_count,
+                                        const uint32_t *indices, size_t triangle_count, unsigned threads,
+                                        resurfi_bvh **out)
 {
-    return build_tree(positions, vertex_count, indices, triangle_count, resurfi_thread_count(threads), out);
+    return build_tree(alloc, positions, vertex_count, indices, triangle_count, resurfi_thread_count(threads), out);
 }
 
 void resurfi_bvh_free(resurfi_bvh *bvh)
 {
     if (!bvh)
         return;
-    free(bvh->nodes);
-    free(bvh->corners);
-    free(bvh->ids);
-    free(bvh);
+    const resurf_allocator alloc = bvh->alloc; /* the struct holding it goes last */
+    resurfi_free(&alloc, bvh->node_block);
+    resurfi_free(&alloc, bvh->corners);
+    resurfi_free(&alloc, bvh->ids);
+    resurfi_free(&alloc, bvh);
 }
 
 size_t resurfi_bvh_triangle_count(const resurfi_bvh *bvh) { return bvh ? bvh->triangle_count : 0; }

@@ -94,20 +94,20 @@ static void corner_areas(const vec3 p[3], double area[3])
         area[k] = 0.5 * (sub[(k + 1) % 3] + sub[(k + 2) % 3]);
 }
 
-resurf_status resurfi_principal_curvatures(const double *positions, size_t vertex_count, const uint32_t *indices,
-                                           size_t triangle_count, const double *normals, double *out_k1,
-                                           double *out_k2, double *out_dir1, double *out_dir2)
+resurf_status resurfi_principal_curvatures(const resurf_allocator *alloc, const double *positions, size_t vertex_count,
+                                           const uint32_t *indices, size_t triangle_count, const double *normals,
+                                           double *out_k1, double *out_k2, double *out_dir1, double *out_dir2)
 {
     if ((vertex_count && (!positions || !normals || !out_k1 || !out_k2)) || (triangle_count && !indices))
         return RESURF_ERR_INVALID_ARGUMENT;
     if (vertex_count == 0)
         return RESURF_OK;
     /* Per vertex: its frame (u; v = n × u) and the weighted tensor sum. */
-    vec3 *frame = resurfi_alloc_array(vertex_count, sizeof *frame);
-    double *sum = resurfi_calloc_array(vertex_count, 4 * sizeof *sum); /* a, b, c, weight */
+    vec3 *frame = resurfi_alloc(alloc, vertex_count, sizeof *frame);
+    double *sum = resurfi_calloc(alloc, vertex_count, 4 * sizeof *sum); /* a, b, c, weight */
     if (!frame || !sum) {
-        free(frame);
-        free(sum);
+        resurfi_free(alloc, frame);
+        resurfi_free(alloc, sum);
         return RESURF_ERR_OUT_OF_MEMORY;
     }
     for (size_t v = 0; v < vertex_count; ++v) {
@@ -179,7 +179,7 @@ resurf_status resurfi_principal_curvatures(const double *positions, size_t verte
         if (out_dir2)
             v3_store(out_dir2 + 3 * v, d2);
     }
-    free(frame);
-    free(sum);
+    resurfi_free(alloc, frame);
+    resurfi_free(alloc, sum);
     return RESURF_OK;
 }

@@ -37,13 +37,39 @@ int resurfi_progress(const resurf_progress *progress, const char *stage, double 
             return resurfi_error((error), RESURF_ERR_INVALID_OPTIONS,                                           \
                                  #type " was not initialised by its _default() function");                     \
     } while (0)
+/* The same for an options struct with an allocator field, which must have all three callbacks or none. */
+#define RESURFI_CHECK_OPTIONS_ALLOC(opts, type, error)                                                          \
+    do {                                                                                                        \
+        RESURFI_CHECK_OPTIONS(opts, type, error);                                                               \
+        if ((opts) && !resurfi_allocator_ok((opts)->allocator))                                                 \
+            return resurfi_error((error), RESURF_ERR_INVALID_OPTIONS,                                           \
+                                 #type ": the allocator needs allocate, reallocate and release (or none)");     \
+    } while (0)
 
 /* ---- memory (mesh.c) ----------------------------------------------------------------------------------------- */
 
-/* malloc of count*size with overflow check; NULL on overflow or failure (count 0 returns a valid 1-byte block). */
-void *resurfi_alloc_array(size_t count, size_t size);
-void *resurfi_calloc_array(size_t count, size_t size);
-void *resurfi_realloc_array(void *p, size_t count, size_t size);
+/* Every heap block of the library comes from these four, through the call's allocator `a` (NULL, or one whose
+ * allocate is NULL such as a zeroed mesh field, = the C heap; this file holds the only malloc/realloc/free calls).
+ * count*size is overflow-checked (NULL on overflow or failure); count 0 returns a valid 1-byte block.
+ * resurfi_calloc zero-fills. resurfi_realloc leaves p valid on failure; a NULL p allocates. NULL p is fine to free.
+ * A block must go back to the allocator it came from. Internal functions that allocate take the call's allocator
+ * as their first parameter; objects that outlive one function (adjacency, BVH, restorer) keep a copy of it. */
+void *resurfi_alloc(const resurf_allocator *a, size_t count, size_t size);
+void *resurfi_calloc(const resurf_allocator *a, size_t count, size_t size);
+void *resurfi_realloc(const resurf_allocator *a, void *p, size_t count, size_t size);
+void resurfi_free(const resurf_allocator *a, void *p);
+/* A copy of the NUL-terminated s, or NULL when out of memory. */
+char *resurfi_strdup(const resurf_allocator *a, const char *s);
+/* The allocator a call uses: its option's when not NULL, else the mesh's own (mesh may be NULL: the C heap). */
+static inline const resurf_allocator *resurfi_allocator_of(const resurf_allocator *option, const resurf_mesh *mesh)
+{
+    return option ? option : mesh ? &mesh->allocator : NULL;
+}
+/* An allocator given in options has all three callbacks, or none (the C heap named explicitly). */
+static inline int resurfi_allocator_ok(const resurf_allocator *a)
+{
+    return !a || (a->allocate && a->reallocate && a->release) || (!a->allocate && !a->reallocate && !a->release);
+}
 
 /* ---- mesh helpers (mesh.c, weld.c) --------------------------------------------------------------------------- */
 
@@ -52,7 +78,11 @@ static inline vec3 resurfi_position(const resurf_mesh *m, uint32_t v) { return v
 /* Exact position weld: remap[v] = position id, positions numbered by first appearance. (weld.c)
  * Positions are equal when their coordinate bits are, with −0.0 taken as +0.0 (a NaN welds only with the same
  * NaN bits). Expected O(n) (hash table). Fails only with INVALID_ARGUMENT (over UINT32_MAX) or OUT_OF_MEMORY. */
-resurf_status resurfi_weld_exact(const double *positions, size_t vertex_count, uint32_t *remap, size_t *out_count);
+resurf_status resurfi_weld_exact(const resurf_allocator *alloc, const double *positions, size_t vertex_count,
+                                 uint32_t *remap, size_t *out_count);
+/* resurf_mesh_weld_map() with the call's allocator for its temporaries. (weld.c) */
+resurf_status resurfi_weld_map(const resurf_allocator *alloc, const resurf_mesh *mesh, double tolerance_rel,
+                               uint32_t *out_position_of_vertex, size_t *out_position_count, resurf_error *error);
 /* Bounding-box diagonal of the finite positions of the vertices that triangles reference (all vertices when none
  * is referenced); 0 when there are none. The reference length for *_rel tolerances. (weld.c) */
 double resurfi_finite_diagonal(const resurf_mesh *mesh);
@@ -73,6 +103,7 @@ typedef struct resurfi_adjacency {
     uint32_t *face_edges;         /* 3 * triangle_count: edge id of the side (t[i], t[(i+1)%3]); UINT32_MAX if none */
     uint8_t *vertex_flags;        /* RESURFI_VERTEX_* */
     size_t boundary_loop_count;   /* see resurfi_adjacency_boundary_loops */
+    resurf_allocator alloc;       /* a copy of the build's allocator: every array (and components' temporary) */
 } resurfi_adjacency;
 
 enum {
@@ -84,8 +115,8 @@ enum {
 /* Faces of a vertex and of an edge are listed in increasing triangle order. A fan is a set of faces around a
  * vertex connected across manifold edges ending there. Fails with OUT_OF_MEMORY, or LIMIT when 3 × triangle_count
  * does not fit 32 bits; *out is then empty (freeing it is allowed). */
-resurf_status resurfi_adjacency_build(const uint32_t *indices, size_t triangle_count, size_t vertex_count,
-                                      resurfi_adjacency *out);
+resurf_status resurfi_adjacency_build(const resurf_allocator *alloc, const uint32_t *indices, size_t triangle_count,
+                                      size_t vertex_count, resurfi_adjacency *out);
 void resurfi_adjacency_free(resurfi_adjacency *adj);
 /* Edge id of (a, b) in either order, or UINT32_MAX. O(log degree). */
 uint32_t resurfi_adjacency_find_edge(const resurfi_adjacency *adj, uint32_t a, uint32_t b);
@@ -122,11 +153,12 @@ typedef struct resurfi_bvh resurfi_bvh;
  * non-finite corners are skipped (never returned by queries). The tree is the same whatever the thread count.
  * RESURF_ERR_INVALID_ARGUMENT for NULL arrays with a nonzero count; RESURF_ERR_LIMIT above 2^31 triangles;
  * RESURF_ERR_OUT_OF_MEMORY. */
-resurf_status resurfi_bvh_build(const double *positions, size_t vertex_count, const uint32_t *indices,
-                                size_t triangle_count, resurfi_bvh **out);
+resurf_status resurfi_bvh_build(const resurf_allocator *alloc, const double *positions, size_t vertex_count,
+                                const uint32_t *indices, size_t triangle_count, resurfi_bvh **out);
 /* The same on `threads` threads (0 = all cores; see resurfi_thread_count). */
-resurf_status resurfi_bvh_build_threads(const double *positions, size_t vertex_count, const uint32_t *indices,
-                                        size_t triangle_count, unsigned threads, resurfi_bvh **out);
+resurf_status resurfi_bvh_build_threads(const resurf_allocator *alloc, const double *positions, size_t vertex_count,
+                                        const uint32_t *indices, size_t triangle_count, unsigned threads,
+                                        resurfi_bvh **out);
 void resurfi_bvh_free(resurfi_bvh *bvh); /* NULL is fine */
 /* Number of triangles the tree holds (the valid ones). */
 size_t resurfi_bvh_triangle_count(const resurfi_bvh *bvh);
@@ -159,8 +191,9 @@ vec3 resurfi_closest_on_triangle(vec3 p, vec3 a, vec3 b, vec3 c, double out_bary
  * RESURF_NORMALS_JET fits a weighted quadratic to the 2-ring (>= 6 neighbours, else or when ill-conditioned the
  * angle-weighted normal) on all cores; the result does not depend on the thread count.
  * RESURF_ERR_INVALID_ARGUMENT (NULL arrays with nonzero counts, unknown scheme), RESURF_ERR_OUT_OF_MEMORY. */
-resurf_status resurfi_vertex_normals(const double *positions, size_t vertex_count, const uint32_t *indices,
-                                     size_t triangle_count, resurf_normal_scheme scheme, double *out_normals);
+resurf_status resurfi_vertex_normals(const resurf_allocator *alloc, const double *positions, size_t vertex_count,
+                                     const uint32_t *indices, size_t triangle_count, resurf_normal_scheme scheme,
+                                     double *out_normals);
 
 /* ---- curvature (curvature.c) --------------------------------------------------------------------------------- */
 
@@ -170,9 +203,9 @@ resurf_status resurfi_vertex_normals(const double *positions, size_t vertex_coun
  * out_dir1/out_dir2 (3 * vertex_count, may be NULL) receive unit tangent directions with dir1 × dir2 = normal.
  * Vertices without a usable face (valid indices, nonzero area, nonzero normals) get k = 0 and zero directions.
  * RESURF_ERR_INVALID_ARGUMENT for NULL required arrays; RESURF_ERR_OUT_OF_MEMORY. */
-resurf_status resurfi_principal_curvatures(const double *positions, size_t vertex_count, const uint32_t *indices,
-                                           size_t triangle_count, const double *normals, double *out_k1,
-                                           double *out_k2, double *out_dir1, double *out_dir2);
+resurf_status resurfi_principal_curvatures(const resurf_allocator *alloc, const double *positions, size_t vertex_count,
+                                           const uint32_t *indices, size_t triangle_count, const double *normals,
+                                           double *out_k1, double *out_k2, double *out_dir1, double *out_dir2);
 
 /* ---- optimal direction (optdir.c) ---------------------------------------------------------------------------- */
 

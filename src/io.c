@@ -190,6 +190,7 @@ static resurf_status load_bytes(const char *data, size_t size, resurf_format for
         .path = name,
         .max_triangles = opts->max_triangles,
         .progress = &opts->progress,
+        .alloc = opts->allocator,
         .error = error,
     };
     resurf_mesh *mesh = NULL;
@@ -224,7 +225,7 @@ resurf_status resurf_mesh_load_memory(const void *data, size_t size, resurf_form
     if (!out_mesh || (!data && size))
         return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "data or out_mesh is NULL");
     *out_mesh = NULL;
-    RESURFI_CHECK_OPTIONS(options, resurf_load_options, error);
+    RESURFI_CHECK_OPTIONS_ALLOC(options, resurf_load_options, error);
     resurf_load_options opts = options ? *options : resurf_load_options_default();
     if ((unsigned)format >= RESURF_FORMAT_COUNT)
         return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "unknown format %d", (int)format);
@@ -289,7 +290,7 @@ static resurf_status read_file(const char *path, const resurf_load_options *opts
     const bool sized = S_ISREG(st.st_mode) && st.st_size > 0;
     const size_t limit = sized ? SIZE_MAX / 2 : stream_limit(opts->max_triangles);
     size_t cap = sized ? (size_t)st.st_size + 1 : 1 << 16, size = 0;
-    char *data = malloc(cap);
+    char *data = resurfi_alloc(opts->allocator, cap, 1);
     if (!data) {
         close(fd);
         return resurfi_fail(error, RESURF_ERR_OUT_OF_MEMORY, path, 0, -1, "out of memory reading %zu bytes", cap);
@@ -305,7 +306,7 @@ static resurf_status read_file(const char *path, const resurf_load_options *opts
                 break;
             }
             size_t grown = cap < limit / 2 ? cap * 2 : limit;
-            char *bigger = realloc(data, grown);
+            char *bigger = resurfi_realloc(opts->allocator, data, grown, 1);
             if (!bigger) {
                 status = resurfi_fail(error, RESURF_ERR_OUT_OF_MEMORY, path, 0, -1, "out of memory reading the file");
                 break;
@@ -332,7 +333,7 @@ static resurf_status read_file(const char *path, const resurf_load_options *opts
     }
     close(fd);
     if (status != RESURF_OK) {
-        free(data);
+        resurfi_free(opts->allocator, data);
         return status;
     }
     *out_data = data;
@@ -346,7 +347,7 @@ resurf_status resurf_mesh_load(const char *path, const resurf_load_options *opti
     if (!path || !out_mesh)
         return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "path or out_mesh is NULL");
     *out_mesh = NULL;
-    RESURFI_CHECK_OPTIONS(options, resurf_load_options, error);
+    RESURFI_CHECK_OPTIONS_ALLOC(options, resurf_load_options, error);
     resurf_load_options opts = options ? *options : resurf_load_options_default();
     if ((unsigned)opts.format >= RESURF_FORMAT_COUNT)
         return resurfi_error(error, RESURF_ERR_INVALID_OPTIONS, "unknown format %d", (int)opts.format);
@@ -360,7 +361,7 @@ resurf_status resurf_mesh_load(const char *path, const resurf_load_options *opti
     if (status != RESURF_OK)
         return status;
     status = load_bytes(data, size, format, path, &opts, out_mesh, error);
-    free(data);
+    resurfi_free(opts.allocator, data);
     return status;
 }
 
@@ -439,7 +440,7 @@ resurf_status resurf_mesh_save(const resurf_mesh *mesh, const char *path, const 
 {
     if (!mesh || !path || !*path)
         return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "mesh or path is NULL or empty");
-    RESURFI_CHECK_OPTIONS(options, resurf_save_options, error);
+    RESURFI_CHECK_OPTIONS_ALLOC(options, resurf_save_options, error);
     resurf_save_options opts = options ? *options : resurf_save_options_default();
     if ((unsigned)opts.format >= RESURF_FORMAT_COUNT)
         return resurfi_error(error, RESURF_ERR_INVALID_OPTIONS, "unknown format %d", (int)opts.format);
@@ -456,10 +457,11 @@ resurf_status resurf_mesh_save(const resurf_mesh *mesh, const char *path, const 
 
     c_locale_scope scope;
     enter_c_locale(&scope);
+    const resurf_allocator *alloc = resurfi_allocator_of(opts.allocator, mesh);
     size_t tmp_size = strlen(path) + 32;
-    char *tmp = malloc(tmp_size);
+    char *tmp = resurfi_alloc(alloc, tmp_size, 1);
     resurfi_writer w = {.fd = -1, .cap = 1 << 18, .progress = &opts.progress};
-    w.buf = malloc(w.cap);
+    w.buf = resurfi_alloc(alloc, w.cap, 1);
     if (!tmp || !w.buf) {
         status = resurfi_fail(error, RESURF_ERR_OUT_OF_MEMORY, path, 0, -1, "out of memory");
         goto done;
@@ -508,7 +510,7 @@ resurf_status resurf_mesh_save(const resurf_mesh *mesh, const char *path, const 
     }
 done:
     leave_c_locale(&scope);
-    free(tmp);
-    free(w.buf);
+    resurfi_free(alloc, tmp);
+    resurfi_free(alloc, w.buf);
     return status;
 }

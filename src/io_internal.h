@@ -19,6 +19,7 @@ typedef struct resurfi_load {
     const char *path;       /* for messages: the path or name the caller gave, or NULL */
     size_t max_triangles;   /* 0 = no limit */
     const resurf_progress *progress;
+    const resurf_allocator *alloc; /* the call's (NULL = C heap): the readers' temporaries and the new mesh */
     resurf_error *error;
     unsigned tick;          /* counts resurfi_load_tick() calls between progress reports */
 } resurfi_load;

@@ -64,7 +64,7 @@ typedef struct obj_reader {
 /* Grows the array whose pointer is at `array` (any T **; elements of elem bytes, capacity *cap) to hold need
  * elements. The pointer is read and written with memcpy, which is valid for every object pointer type (POSIX
  * gives them one representation), where a cast to void ** would break the aliasing rules. */
-static bool grow(void *array, size_t *cap, size_t need, size_t elem)
+static bool grow(const resurf_allocator *alloc, void *array, size_t *cap, size_t need, size_t elem)
 {
     if (need <= *cap)
         return true;
@@ -73,7 +73,7 @@ static bool grow(void *array, size_t *cap, size_t need, size_t elem)
         n = n > SIZE_MAX / 4 ? need : n + n / 2 + n / 4;
     void *p;
     memcpy(&p, array, sizeof p);
-    void *q = resurfi_realloc_array(p, n, elem);
+    void *q = resurfi_realloc(alloc, p, n, elem);
     if (!q)
         return false;
     memcpy(array, &q, sizeof q);
@@ -100,22 +100,22 @@ static uint64_t hash_name(const char *s, size_t n)
 
 static void reader_free(obj_reader *r)
 {
-    free(r->pos);
-    free(r->col);
-    free(r->direct);
-    free(r->tex);
-    free(r->nrm);
-    free(r->key_v);
-    free(r->key_vt);
-    free(r->key_vn);
-    free(r->table);
-    free(r->tri);
-    free(r->tri_group);
-    free(r->face);
+    resurfi_free(r->ld->alloc, r->pos);
+    resurfi_free(r->ld->alloc, r->col);
+    resurfi_free(r->ld->alloc, r->direct);
+    resurfi_free(r->ld->alloc, r->tex);
+    resurfi_free(r->ld->alloc, r->nrm);
+    resurfi_free(r->ld->alloc, r->key_v);
+    resurfi_free(r->ld->alloc, r->key_vt);
+    resurfi_free(r->ld->alloc, r->key_vn);
+    resurfi_free(r->ld->alloc, r->table);
+    resurfi_free(r->ld->alloc, r->tri);
+    resurfi_free(r->ld->alloc, r->tri_group);
+    resurfi_free(r->ld->alloc, r->face);
     for (size_t i = 0; i < r->group_count; ++i)
-        free(r->names[i]);
-    free(r->names);
-    free(r->name_table);
+        resurfi_free(r->ld->alloc, r->names[i]);
+    resurfi_free(r->ld->alloc, r->names);
+    resurfi_free(r->ld->alloc, r->name_table);
 }
 
 static resurf_status fail(obj_reader *r, const char *fmt, ...) RESURFI_PRINTF(2, 3);
@@ -174,12 +174,12 @@ static resurf_status read_vertex(obj_reader *r)
     if (r->nv == r->pos_cap) {
         /* positions, their first keys and their colours share one capacity */
         size_t cap = r->pos_cap;
-        if (!grow(&r->pos, &cap, r->nv + 1, 3 * sizeof(double)))
+        if (!grow(r->ld->alloc, &r->pos, &cap, r->nv + 1, 3 * sizeof(double)))
             return resurfi_load_oom(r->ld, "vertices");
-        uint32_t *direct = resurfi_realloc_array(r->direct, cap, sizeof(uint32_t));
+        uint32_t *direct = resurfi_realloc(r->ld->alloc, r->direct, cap, sizeof(uint32_t));
         if (direct)
             r->direct = direct;
-        double *col = r->col ? resurfi_realloc_array(r->col, cap, 4 * sizeof(double)) : NULL;
+        double *col = r->col ? resurfi_realloc(r->ld->alloc, r->col, cap, 4 * sizeof(double)) : NULL;
         if (col)
             r->col = col;
         if (!direct || (r->col && !col))
@@ -188,7 +188,7 @@ static resurf_status read_vertex(obj_reader *r)
     }
     if (n >= 6 && !r->col) {
         /* The first coloured vertex: earlier ones are white. */
-        r->col = resurfi_alloc_array(r->pos_cap, 4 * sizeof(double));
+        r->col = resurfi_alloc(r->ld->alloc, r->pos_cap, 4 * sizeof(double));
         if (!r->col)
             return resurfi_load_oom(r->ld, "vertex colours");
         for (size_t i = 0; i < 4 * r->nv; ++i)
@@ -220,7 +220,7 @@ static resurf_status read_texcoord(obj_reader *r)
     if (r->nvt >= NONE - 1)
         return resurfi_fail(r->ld->error, RESURF_ERR_LIMIT, r->ld->path, r->s.line, -1,
                             "more than %u texture coordinates", NONE - 1);
-    if (!grow(&r->tex, &r->tex_cap, r->nvt + 1, 2 * sizeof(double)))
+    if (!grow(r->ld->alloc, &r->tex, &r->tex_cap, r->nvt + 1, 2 * sizeof(double)))
         return resurfi_load_oom(r->ld, "texture coordinates");
     r->tex[2 * r->nvt] = x[0];
     r->tex[2 * r->nvt + 1] = x[1];
@@ -239,7 +239,7 @@ static resurf_status read_normal(obj_reader *r)
     if (r->nvn >= NONE - 1)
         return resurfi_fail(r->ld->error, RESURF_ERR_LIMIT, r->ld->path, r->s.line, -1, "more than %u normals",
                             NONE - 1);
-    if (!grow(&r->nrm, &r->nrm_cap, r->nvn + 1, 3 * sizeof(double)))
+    if (!grow(r->ld->alloc, &r->nrm, &r->nrm_cap, r->nvn + 1, 3 * sizeof(double)))
         return resurfi_load_oom(r->ld, "normals");
     memcpy(r->nrm + 3 * r->nvn, x, 3 * sizeof(double));
     ++r->nvn;
@@ -253,9 +253,9 @@ static uint32_t add_key(obj_reader *r, uint32_t v, uint32_t vt, uint32_t vn)
         return NONE;
     if (r->nkeys == r->key_cap) {
         size_t c1 = r->key_cap, c2 = r->key_cap, c3 = r->key_cap;
-        if (!grow(&r->key_v, &c1, r->nkeys + 1, sizeof(uint32_t)) ||
-            !grow(&r->key_vt, &c2, r->nkeys + 1, sizeof(uint32_t)) ||
-            !grow(&r->key_vn, &c3, r->nkeys + 1, sizeof(uint32_t)))
+        if (!grow(r->ld->alloc, &r->key_v, &c1, r->nkeys + 1, sizeof(uint32_t)) ||
+            !grow(r->ld->alloc, &r->key_vt, &c2, r->nkeys + 1, sizeof(uint32_t)) ||
+            !grow(r->ld->alloc, &r->key_vn, &c3, r->nkeys + 1, sizeof(uint32_t)))
             return NONE;
         r->key_cap = c1 < c2 ? (c1 < c3 ? c1 : c3) : (c2 < c3 ? c2 : c3);
     }
@@ -269,7 +269,7 @@ static uint32_t add_key(obj_reader *r, uint32_t v, uint32_t vt, uint32_t vn)
 static bool grow_table(obj_reader *r)
 {
     size_t cap = r->table_cap ? 2 * r->table_cap : 1024;
-    obj_slot *t = resurfi_alloc_array(cap, sizeof *t);
+    obj_slot *t = resurfi_alloc(r->ld->alloc, cap, sizeof *t);
     if (!t)
         return false;
     for (size_t i = 0; i < cap; ++i)
@@ -283,7 +283,7 @@ static bool grow_table(obj_reader *r)
             j = (j + 1) & (cap - 1);
         t[j] = e;
     }
-    free(r->table);
+    resurfi_free(r->ld->alloc, r->table);
     r->table = t;
     r->table_cap = cap;
     return true;
@@ -366,7 +366,7 @@ static uint32_t group_of(obj_reader *r, const char *name, size_t len)
     uint64_t h = hash_name(name, len);
     if (2 * (r->group_count + 1) > r->name_table_cap) {
         size_t cap = r->name_table_cap ? 2 * r->name_table_cap : 64;
-        obj_name_slot *t = resurfi_alloc_array(cap, sizeof *t);
+        obj_name_slot *t = resurfi_alloc(r->ld->alloc, cap, sizeof *t);
         if (!t)
             return NONE;
         for (size_t i = 0; i < cap; ++i)
@@ -379,7 +379,7 @@ static uint32_t group_of(obj_reader *r, const char *name, size_t len)
                 j = (j + 1) & (cap - 1);
             t[j] = r->name_table[i];
         }
-        free(r->name_table);
+        resurfi_free(r->ld->alloc, r->name_table);
         r->name_table = t;
         r->name_table_cap = cap;
     }
@@ -391,9 +391,9 @@ static uint32_t group_of(obj_reader *r, const char *name, size_t len)
         if (e->hash == h && strlen(r->names[e->group]) == len && memcmp(r->names[e->group], name, len) == 0)
             return e->group;
     }
-    if (!grow(&r->names, &r->names_cap, r->group_count + 1, sizeof(char *)))
+    if (!grow(r->ld->alloc, &r->names, &r->names_cap, r->group_count + 1, sizeof(char *)))
         return NONE;
-    char *copy = malloc(len + 1);
+    char *copy = resurfi_alloc(r->ld->alloc, len + 1, 1);
     if (!copy)
         return NONE;
     memcpy(copy, name, len);
@@ -417,7 +417,7 @@ static resurf_status read_group(obj_reader *r)
     if (!r->grouped) {
         /* Faces before the first group statement form the group "default". */
         r->grouped = true;
-        if (!grow(&r->tri_group, &r->tri_group_cap, r->tri_cap, sizeof(uint32_t)))
+        if (!grow(r->ld->alloc, &r->tri_group, &r->tri_group_cap, r->tri_cap, sizeof(uint32_t)))
             return resurfi_load_oom(r->ld, "groups");
         if (r->ntri) {
             uint32_t g = group_of(r, "default", 7);
@@ -471,7 +471,7 @@ static resurf_status read_face(obj_reader *r)
             return fail_index(r, ivt, "texture coordinate", "texture coordinates", r->nvt);
         if (has_vn && !resolve(ivn, r->nvn, &vn))
             return fail_index(r, ivn, "normal", "normals", r->nvn);
-        if (!grow(&r->face, &r->face_cap, corners + 1, sizeof(uint32_t)))
+        if (!grow(r->ld->alloc, &r->face, &r->face_cap, corners + 1, sizeof(uint32_t)))
             return resurfi_load_oom(r->ld, "faces");
         uint32_t k = key_of(r, v, vt, vn);
         if (k == NONE)
@@ -484,7 +484,7 @@ static resurf_status read_face(obj_reader *r)
     resurf_status st = resurfi_check_triangle_limit(r->ld, r->ntri + added, s->line, -1);
     if (st != RESURF_OK)
         return st;
-    if (!grow(&r->tri, &r->tri_cap, r->ntri + added, 3 * sizeof(uint32_t)))
+    if (!grow(r->ld->alloc, &r->tri, &r->tri_cap, r->ntri + added, 3 * sizeof(uint32_t)))
         return resurfi_load_oom(r->ld, "faces");
     if (r->grouped) {
         if (r->has_pending) {
@@ -493,7 +493,7 @@ static resurf_status read_face(obj_reader *r)
             if (r->group == NONE)
                 return resurfi_load_oom(r->ld, "groups");
         }
-        if (!grow(&r->tri_group, &r->tri_group_cap, r->tri_cap, sizeof(uint32_t)))
+        if (!grow(r->ld->alloc, &r->tri_group, &r->tri_group_cap, r->tri_cap, sizeof(uint32_t)))
             return resurfi_load_oom(r->ld, "groups");
     }
     /* Fan triangulation: (0, i, i+1). */
@@ -550,7 +550,7 @@ static resurf_status build_mesh(obj_reader *r, resurf_mesh **out)
     unsigned attrs = (has_nrm ? RESURF_ATTR_NORMALS : 0) | (has_tex ? RESURF_ATTR_TEXCOORD0 : 0) |
                      (r->colors ? RESURF_ATTR_COLORS : 0);
     resurf_mesh *m = NULL;
-    if (resurf_mesh_create(vertex_count, r->ntri, attrs, &m, NULL) != RESURF_OK)
+    if (resurf_mesh_create_with(vertex_count, r->ntri, attrs, r->ld->alloc, &m, NULL) != RESURF_OK)
         return resurfi_load_oom(r->ld, "mesh");
     if (r->colors)
         m->color_components = r->alpha ? 4 : 3;

@@ -178,13 +178,13 @@ static resurf_status read_faces(off_reader *r, resurf_mesh *m, size_t faces, uin
             break;
         }
         if ((size_t)n > idx_cap) {
-            uint32_t *bigger = resurfi_alloc_array((size_t)n, sizeof *bigger);
+            uint32_t *bigger = resurfi_alloc(r->ld->alloc, (size_t)n, sizeof *bigger);
             if (!bigger) {
                 st = resurfi_load_oom(r->ld, "faces");
                 break;
             }
             if (idx != small)
-                free(idx);
+                resurfi_free(r->ld->alloc, idx);
             idx = bigger;
             idx_cap = (size_t)n;
         }
@@ -209,7 +209,7 @@ static resurf_status read_faces(off_reader *r, resurf_mesh *m, size_t faces, uin
             break;
         if (*ntri + added > *cap) {
             size_t c = *cap + *cap / 2 + added + 16;
-            uint32_t *p = resurfi_realloc_array(*indices, c, 3 * sizeof(uint32_t));
+            uint32_t *p = resurfi_realloc(r->ld->alloc, *indices, c, 3 * sizeof(uint32_t));
             if (!p) {
                 st = resurfi_load_oom(r->ld, "faces");
                 break;
@@ -224,7 +224,7 @@ static resurf_status read_faces(off_reader *r, resurf_mesh *m, size_t faces, uin
         resurfi_scan_next_line(s); /* the rest of the line is the face colour, if any */
     }
     if (idx != small)
-        free(idx);
+        resurfi_free(r->ld->alloc, idx);
     return st;
 }
 
@@ -269,10 +269,10 @@ resurf_status resurfi_read_off(resurfi_load *ld, resurf_mesh **out)
     unsigned attrs = (r.n ? RESURF_ATTR_NORMALS : 0) | (r.c ? RESURF_ATTR_COLORS : 0) |
                      (r.st ? RESURF_ATTR_TEXCOORD0 : 0);
     resurf_mesh *m = NULL;
-    if (resurf_mesh_create((size_t)nv, 0, attrs, &m, NULL) != RESURF_OK)
+    if (resurf_mesh_create_with((size_t)nv, 0, attrs, ld->alloc, &m, NULL) != RESURF_OK)
         return resurfi_load_oom(ld, "vertices");
     size_t cap = (size_t)nf, ntri = 0;
-    uint32_t *indices = resurfi_alloc_array(cap, 3 * sizeof(uint32_t));
+    uint32_t *indices = resurfi_alloc(ld->alloc, cap, 3 * sizeof(uint32_t));
     if (!indices)
         st = resurfi_load_oom(ld, "faces");
     if (st == RESURF_OK)
@@ -280,11 +280,11 @@ resurf_status resurfi_read_off(resurfi_load *ld, resurf_mesh **out)
     if (st == RESURF_OK)
         st = read_faces(&r, m, (size_t)nf, &indices, &cap, &ntri);
     if (st != RESURF_OK) {
-        free(indices);
+        resurfi_free(ld->alloc, indices);
         resurf_mesh_free(m);
         return st;
     }
-    free(m->indices);
+    resurfi_free(ld->alloc, m->indices);
     m->indices = indices;
     m->triangle_count = ntri;
     *out = m;

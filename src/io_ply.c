@@ -86,9 +86,9 @@ typedef struct ply_reader {
 static void reader_free(ply_reader *r)
 {
     for (size_t i = 0; i < r->element_count; ++i)
-        free(r->elements[i].props);
-    free(r->elements);
-    free(r->indices);
+        resurfi_free(r->ld->alloc, r->elements[i].props);
+    resurfi_free(r->ld->alloc, r->elements);
+    resurfi_free(r->ld->alloc, r->indices);
     resurf_mesh_free(r->mesh);
 }
 
@@ -216,7 +216,7 @@ static resurf_status parse_header(ply_reader *r)
                     return header_fail(r, "a second %.*s element", (int)e.name_len, e.name);
             if (r->element_count == r->element_cap) {
                 size_t cap = r->element_cap ? 2 * r->element_cap : 4;
-                ply_element *el = resurfi_realloc_array(r->elements, cap, sizeof *el);
+                ply_element *el = resurfi_realloc(r->ld->alloc, r->elements, cap, sizeof *el);
                 if (!el)
                     return resurfi_load_oom(r->ld, "header");
                 r->elements = el;
@@ -249,7 +249,7 @@ static resurf_status parse_header(ply_reader *r)
                 return header_fail(r, "a property needs a name");
             if (e->prop_count == e->prop_cap) {
                 size_t cap = e->prop_cap ? 2 * e->prop_cap : 8;
-                ply_prop *props = resurfi_realloc_array(e->props, cap, sizeof *props);
+                ply_prop *props = resurfi_realloc(r->ld->alloc, e->props, cap, sizeof *props);
                 if (!props)
                     return resurfi_load_oom(r->ld, "header");
                 e->props = props;
@@ -335,7 +335,7 @@ static resurf_status create_mesh(ply_reader *r)
     unsigned attrs = (seen[ROLE_NX] || seen[ROLE_NY] || seen[ROLE_NZ] ? RESURF_ATTR_NORMALS : 0) |
                      (seen[ROLE_U] || seen[ROLE_V] ? RESURF_ATTR_TEXCOORD0 : 0) |
                      (seen[ROLE_R] || seen[ROLE_G] || seen[ROLE_B] || seen[ROLE_A] ? RESURF_ATTR_COLORS : 0);
-    if (resurf_mesh_create(r->nv, 0, attrs, &r->mesh, NULL) != RESURF_OK)
+    if (resurf_mesh_create_with(r->nv, 0, attrs, r->ld->alloc, &r->mesh, NULL) != RESURF_OK)
         return resurfi_load_oom(r->ld, "vertices");
     resurf_mesh *m = r->mesh;
     if (m->colors) {
@@ -368,7 +368,7 @@ static resurf_status create_mesh(ply_reader *r)
         if (r->elements[i].kind == KIND_FACE)
             faces = (size_t)r->elements[i].count;
     r->tri_cap = faces;
-    r->indices = resurfi_alloc_array(faces, 3 * sizeof(uint32_t));
+    r->indices = resurfi_alloc(r->ld->alloc, faces, 3 * sizeof(uint32_t));
     if (!r->indices)
         return resurfi_load_oom(r->ld, "faces");
     return RESURF_OK;
@@ -401,7 +401,7 @@ static resurf_status add_face(ply_reader *r, const uint32_t *idx, size_t n, long
         return st;
     if (r->ntri + added > r->tri_cap) {
         size_t cap = r->tri_cap + r->tri_cap / 2 + added + 16;
-        uint32_t *p = resurfi_realloc_array(r->indices, cap, 3 * sizeof(uint32_t));
+        uint32_t *p = resurfi_realloc(r->ld->alloc, r->indices, cap, 3 * sizeof(uint32_t));
         if (!p)
             return resurfi_load_oom(r->ld, "faces");
         r->indices = p;
@@ -510,13 +510,13 @@ static resurf_status read_binary_element(ply_reader *r, ply_element *e, const un
                     break;
                 }
                 if ((size_t)n > idx_cap) {
-                    uint32_t *bigger = resurfi_alloc_array((size_t)n, sizeof *bigger);
+                    uint32_t *bigger = resurfi_alloc(r->ld->alloc, (size_t)n, sizeof *bigger);
                     if (!bigger) {
                         st = resurfi_load_oom(r->ld, "faces");
                         break;
                     }
                     if (idx != small)
-                        free(idx);
+                        resurfi_free(r->ld->alloc, idx);
                     idx = bigger;
                     idx_cap = (size_t)n;
                 }
@@ -544,7 +544,7 @@ static resurf_status read_binary_element(ply_reader *r, ply_element *e, const un
         }
     }
     if (idx != small)
-        free(idx);
+        resurfi_free(r->ld->alloc, idx);
     *pp = p;
     return st;
 }
@@ -632,13 +632,13 @@ static resurf_status read_ascii_element(ply_reader *r, ply_element *e)
                 break;
             }
             if ((size_t)n > idx_cap) {
-                uint32_t *bigger = resurfi_alloc_array((size_t)n, sizeof *bigger);
+                uint32_t *bigger = resurfi_alloc(r->ld->alloc, (size_t)n, sizeof *bigger);
                 if (!bigger) {
                     st = resurfi_load_oom(r->ld, "faces");
                     break;
                 }
                 if (idx != small)
-                    free(idx);
+                    resurfi_free(r->ld->alloc, idx);
                 idx = bigger;
                 idx_cap = (size_t)n;
             }
@@ -664,7 +664,7 @@ static resurf_status read_ascii_element(ply_reader *r, ply_element *e)
         }
     }
     if (idx != small)
-        free(idx);
+        resurfi_free(r->ld->alloc, idx);
     return st;
 }
 
@@ -691,7 +691,7 @@ resurf_status resurfi_read_ply(resurfi_load *ld, resurf_mesh **out)
     }
     if (st == RESURF_OK) {
         resurf_mesh *m = r.mesh;
-        free(m->indices);
+        resurfi_free(ld->alloc, m->indices);
         m->indices = r.indices;
         m->triangle_count = r.ntri;
         r.indices = NULL;

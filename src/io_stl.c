@@ -23,16 +23,16 @@ static resurf_status weld_soup(resurfi_load *ld, const double *soup, size_t tria
     if (corners > UINT32_MAX)
         return resurfi_fail(ld->error, RESURF_ERR_LIMIT, ld->path, 0, -1, "more than %u facet corners to weld",
                             UINT32_MAX);
-    uint32_t *remap = resurfi_alloc_array(corners, sizeof *remap);
+    uint32_t *remap = resurfi_alloc(ld->alloc, corners, sizeof *remap);
     if (!remap)
         return resurfi_load_oom(ld, "facets");
-    if (resurfi_weld_exact(soup, corners, remap, &count) != RESURF_OK) {
-        free(remap);
+    if (resurfi_weld_exact(ld->alloc, soup, corners, remap, &count) != RESURF_OK) {
+        resurfi_free(ld->alloc, remap);
         return resurfi_load_oom(ld, "facets");
     }
     resurf_mesh *m = NULL;
-    if (resurf_mesh_create(count, 0, 0, &m, NULL) != RESURF_OK) {
-        free(remap);
+    if (resurf_mesh_create_with(count, 0, 0, ld->alloc, &m, NULL) != RESURF_OK) {
+        resurfi_free(ld->alloc, remap);
         return resurfi_load_oom(ld, "facets");
     }
     /* A vertex takes the position of its first corner (all its corners have the same one). */
@@ -40,7 +40,7 @@ static resurf_status weld_soup(resurfi_load *ld, const double *soup, size_t tria
     for (size_t i = 0; i < corners; ++i)
         if (remap[i] == next)
             memcpy(m->positions + 3 * next++, soup + 3 * i, 3 * sizeof(double));
-    free(m->indices);
+    resurfi_free(ld->alloc, m->indices);
     m->indices = remap;
     m->triangle_count = triangles;
     *out = m;
@@ -74,7 +74,7 @@ static resurf_status read_binary(resurfi_load *ld, resurf_mesh **out)
     resurf_status st = resurfi_check_triangle_limit(ld, n, 0, 80);
     if (st != RESURF_OK)
         return st;
-    double *soup = resurfi_alloc_array(n, 9 * sizeof(double));
+    double *soup = resurfi_alloc(ld->alloc, n, 9 * sizeof(double));
     if (!soup)
         return resurfi_load_oom(ld, "facets");
     for (size_t t = 0; t < n && st == RESURF_OK; ++t) {
@@ -92,7 +92,7 @@ static resurf_status read_binary(resurfi_load *ld, resurf_mesh **out)
     }
     if (st == RESURF_OK)
         st = weld_soup(ld, soup, n, out);
-    free(soup);
+    resurfi_free(ld->alloc, soup);
     return st;
 }
 
@@ -186,7 +186,7 @@ static resurf_status read_facet(stl_text *r)
         return st;
     if (r->ntri + added > r->cap) {
         size_t cap = r->cap + r->cap / 2 + added + 64;
-        double *soup = resurfi_realloc_array(r->soup, cap, 9 * sizeof(double));
+        double *soup = resurfi_realloc(r->ld->alloc, r->soup, cap, 9 * sizeof(double));
         if (!soup)
             return resurfi_load_oom(r->ld, "facets");
         r->soup = soup;
@@ -233,7 +233,7 @@ static resurf_status read_ascii(resurfi_load *ld, resurf_mesh **out)
     }
     if (st == RESURF_OK)
         st = weld_soup(ld, r.soup, r.ntri, out);
-    free(r.soup);
+    resurfi_free(ld->alloc, r.soup);
     return st;
 }
 

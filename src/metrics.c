@@ -192,9 +192,9 @@ typedef struct side_stats {
 } side_stats;
 
 /* Cumulative triangle areas of a checked mesh. */
-static double *cumulative_areas(const resurf_mesh *m, double *out_total)
+static double *cumulative_areas(const resurf_allocator *alloc, const resurf_mesh *m, double *out_total)
 {
-    double *cum = resurfi_alloc_array(m->triangle_count, sizeof *cum);
+    double *cum = resurfi_alloc(alloc, m->triangle_count, sizeof *cum);
     if (!cum)
         return NULL;
     double total = 0;
@@ -269,9 +269,9 @@ static side_stats summarize(const side *s, const uint8_t *used)
     return st;
 }
 
-static uint8_t *used_vertices(const resurf_mesh *m)
+static uint8_t *used_vertices(const resurf_allocator *alloc, const resurf_mesh *m)
 {
-    uint8_t *used = resurfi_calloc_array(m->vertex_count, 1);
+    uint8_t *used = resurfi_calloc(alloc, m->vertex_count, 1);
     if (used)
         for (size_t i = 0; i < 3 * m->triangle_count; ++i)
             used[m->indices[i]] = 1;
@@ -285,20 +285,21 @@ typedef struct compare_work {
     double *ref_dist, *test_dist;
     double *angle, *weight;
     uint8_t *ref_used, *test_used;
+    const resurf_allocator *alloc; /* the call's, for everything above */
 } compare_work;
 
 static void compare_work_free(compare_work *w)
 {
     resurfi_bvh_free(w->ref_bvh);
     resurfi_bvh_free(w->test_bvh);
-    free(w->ref_cum);
-    free(w->test_cum);
-    free(w->ref_dist);
-    free(w->test_dist);
-    free(w->angle);
-    free(w->weight);
-    free(w->ref_used);
-    free(w->test_used);
+    resurfi_free(w->alloc, w->ref_cum);
+    resurfi_free(w->alloc, w->test_cum);
+    resurfi_free(w->alloc, w->ref_dist);
+    resurfi_free(w->alloc, w->test_dist);
+    resurfi_free(w->alloc, w->angle);
+    resurfi_free(w->alloc, w->weight);
+    resurfi_free(w->alloc, w->ref_used);
+    resurfi_free(w->alloc, w->test_used);
 }
 
 static resurf_status compare_fail(compare_work *w, resurf_error *error, resurf_status st, const char *what)
@@ -349,7 +350,7 @@ resurf_status resurf_compare(const resurf_mesh *ref, const resurf_mesh *test, co
     if (!ref || !test || !out_metrics)
         return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "%s is NULL",
                              !ref ? "ref" : !test ? "test" : "out_metrics");
-    RESURFI_CHECK_OPTIONS(options, resurf_compare_options, error);
+    RESURFI_CHECK_OPTIONS_ALLOC(options, resurf_compare_options, error);
     const resurf_compare_options o = options ? *options : resurf_compare_options_default();
     if (o.samples > 1000000000u)
         return resurfi_error(error, RESURF_ERR_INVALID_OPTIONS, "samples %zu is above 10^9", o.samples);
@@ -365,31 +366,32 @@ resurf_status resurf_compare(const resurf_mesh *ref, const resurf_mesh *test, co
 
     compare_work w;
     memset(&w, 0, sizeof w);
+    w.alloc = resurfi_allocator_of(o.allocator, ref);
     double ref_area = 0, test_area = 0;
-    w.ref_cum = cumulative_areas(ref, &ref_area);
-    w.test_cum = cumulative_areas(test, &test_area);
-    w.ref_used = used_vertices(ref);
-    w.test_used = used_vertices(test);
+    w.ref_cum = cumulative_areas(w.alloc, ref, &ref_area);
+    w.test_cum = cumulative_areas(w.alloc, test, &test_area);
+    w.ref_used = used_vertices(w.alloc, ref);
+    w.test_used = used_vertices(w.alloc, test);
     if (!w.ref_cum || !w.test_cum || !w.ref_used || !w.test_used)
         return compare_fail(&w, error, RESURF_ERR_OUT_OF_MEMORY, "preparing the comparison");
     /* A surface of zero area has nothing to sample: its vertices alone stand for it. */
     side test_side = {test, w.test_cum, test_area, test_area > 0 ? o.samples : 0, o.seed, NULL, NULL};
     side ref_side = {ref, w.ref_cum, ref_area, ref_area > 0 ? o.samples : 0, o.seed ^ 0xd1b54a32d192ed03ull, NULL,
                      NULL};
-    w.test_dist = resurfi_alloc_array(test_side.samples + test->vertex_count, sizeof *w.test_dist);
-    w.ref_dist = resurfi_alloc_array(ref_side.samples + ref->vertex_count, sizeof *w.ref_dist);
-    w.angle = resurfi_alloc_array(test->triangle_count, sizeof *w.angle);
-    w.weight = resurfi_alloc_array(test->triangle_count, sizeof *w.weight);
+    w.test_dist = resurfi_alloc(w.alloc, test_side.samples + test->vertex_count, sizeof *w.test_dist);
+    w.ref_dist = resurfi_alloc(w.alloc, ref_side.samples + ref->vertex_count, sizeof *w.ref_dist);
+    w.angle = resurfi_alloc(w.alloc, test->triangle_count, sizeof *w.angle);
+    w.weight = resurfi_alloc(w.alloc, test->triangle_count, sizeof *w.weight);
     if (!w.test_dist || !w.ref_dist || !w.angle || !w.weight)
         return compare_fail(&w, error, RESURF_ERR_OUT_OF_MEMORY, "allocating the samples");
 
     if (resurfi_progress(&o.progress, "compare", 0.0))
         return compare_fail(&w, error, RESURF_ERR_CANCELLED, NULL);
-    st = resurfi_bvh_build_threads(ref->positions, ref->vertex_count, ref->indices, ref->triangle_count, threads,
-                                   &w.ref_bvh);
+    st = resurfi_bvh_build_threads(w.alloc, ref->positions, ref->vertex_count, ref->indices, ref->triangle_count,
+                                   threads, &w.ref_bvh);
     if (st != RESURF_OK)
         return compare_fail(&w, error, st, "building REF's tree");
-    st = resurfi_bvh_build_threads(test->positions, test->vertex_count, test->indices, test->triangle_count,
+    st = resurfi_bvh_build_threads(w.alloc, test->positions, test->vertex_count, test->indices, test->triangle_count,
                                    threads, &w.test_bvh);
     if (st != RESURF_OK)
         return compare_fail(&w, error, st, "building TEST's tree");

@@ -94,10 +94,12 @@ typedef struct jet_ctx {
     const uint32_t *indices;
     const uint32_t *face_offset, *faces; /* faces around each vertex (valid faces only) */
     double *normals;                     /* in: angle-weighted normals; out: jet normals */
+    const resurf_allocator *alloc;       /* the call's, for the workers' scratch buffers */
 } jet_ctx;
 
 /* A growable scratch buffer per worker block. */
 typedef struct scratch {
+    const resurf_allocator *alloc;
     uint32_t *ids;
     size_t count, capacity;
     double *rows; /* (JET_UNKNOWNS + 1) per neighbour: the design row and the height */
@@ -107,11 +109,11 @@ static int scratch_push(scratch *s, uint32_t id)
 {
     if (s->count == s->capacity) {
         size_t cap = s->capacity ? 2 * s->capacity : 64;
-        uint32_t *ids = resurfi_realloc_array(s->ids, cap, sizeof *ids);
+        uint32_t *ids = resurfi_realloc(s->alloc, s->ids, cap, sizeof *ids);
         if (!ids)
             return -1;
         s->ids = ids;
-        double *rows = resurfi_realloc_array(s->rows, cap, (JET_UNKNOWNS + 1) * sizeof *rows);
+        double *rows = resurfi_realloc(s->alloc, s->rows, cap, (JET_UNKNOWNS + 1) * sizeof *rows);
         if (!rows)
             return -1;
         s->rows = rows, s->capacity = cap;
@@ -269,7 +271,7 @@ static int jet_block(void *p, size_t begin, size_t end, unsigned worker)
 {
     (void)worker;
     const jet_ctx *c = p;
-    scratch s = {0};
+    scratch s = {.alloc = c->alloc};
     int failed = 0;
     for (size_t v = begin; v < end && !failed; ++v) {
         vec3 n0 = v3_load(c->normals + 3 * v);
@@ -281,20 +283,20 @@ static int jet_block(void *p, size_t begin, size_t end, unsigned worker)
         }
         v3_store(c->normals + 3 * v, jet_normal(c, (uint32_t)v, n0, &s));
     }
-    free(s.ids);
-    free(s.rows);
+    resurfi_free(c->alloc, s.ids);
+    resurfi_free(c->alloc, s.rows);
     return failed;
 }
 
 /* Vertex → faces table over the valid faces. */
-static resurf_status build_vertex_faces(size_t vertex_count, const uint32_t *indices, size_t triangle_count,
-                                        uint32_t **out_offset, uint32_t **out_faces)
+static resurf_status build_vertex_faces(const resurf_allocator *alloc, size_t vertex_count, const uint32_t *indices,
+                                        size_t triangle_count, uint32_t **out_offset, uint32_t **out_faces)
 {
-    uint32_t *offset = resurfi_calloc_array(vertex_count + 1, sizeof *offset);
-    uint32_t *faces = resurfi_alloc_array(3 * triangle_count, sizeof *faces);
+    uint32_t *offset = resurfi_calloc(alloc, vertex_count + 1, sizeof *offset);
+    uint32_t *faces = resurfi_alloc(alloc, 3 * triangle_count, sizeof *faces);
     if (!offset || !faces) {
-        free(offset);
-        free(faces);
+        resurfi_free(alloc, offset);
+        resurfi_free(alloc, faces);
         return RESURF_ERR_OUT_OF_MEMORY;
     }
     for (size_t t = 0; t < triangle_count; ++t)
@@ -315,8 +317,9 @@ static resurf_status build_vertex_faces(size_t vertex_count, const uint32_t *ind
     return RESURF_OK;
 }
 
-resurf_status resurfi_vertex_normals(const double *positions, size_t vertex_count, const uint32_t *indices,
-                                     size_t triangle_count, resurf_normal_scheme scheme, double *out_normals)
+resurf_status resurfi_vertex_normals(const resurf_allocator *alloc, const double *positions, size_t vertex_count,
+                                     const uint32_t *indices, size_t triangle_count, resurf_normal_scheme scheme,
+                                     double *out_normals)
 {
     if ((vertex_count && (!positions || !out_normals)) || (triangle_count && !indices))
         return RESURF_ERR_INVALID_ARGUMENT;
@@ -330,16 +333,16 @@ resurf_status resurfi_vertex_normals(const double *positions, size_t vertex_coun
     if (scheme != RESURF_NORMALS_JET)
         return RESURF_OK;
 
-    jet_ctx c = {positions, vertex_count, indices, NULL, NULL, out_normals};
+    jet_ctx c = {positions, vertex_count, indices, NULL, NULL, out_normals, alloc};
     uint32_t *offset, *faces;
-    resurf_status st = build_vertex_faces(vertex_count, indices, triangle_count, &offset, &faces);
+    resurf_status st = build_vertex_faces(alloc, vertex_count, indices, triangle_count, &offset, &faces);
     if (st != RESURF_OK)
         return st;
     c.face_offset = offset, c.faces = faces;
     /* Each vertex reads only its own starting normal and writes only its own result: fitting in place is safe and
      * the result does not depend on the thread count. */
     int failed = resurfi_parallel_for(vertex_count, 4096, resurfi_thread_count(0), jet_block, &c);
-    free(offset);
-    free(faces);
+    resurfi_free(alloc, offset);
+    resurfi_free(alloc, faces);
     return failed ? RESURF_ERR_OUT_OF_MEMORY : RESURF_OK;
 }

@@ -109,13 +109,14 @@ static int same_vertex(const resurf_mesh *m, const uint32_t *pos_id, size_t v, s
 }
 
 /* group_first[v] = lowest vertex with v's position id and attributes (open addressing over vertex numbers). */
-static resurf_status group_by_attributes(const resurf_mesh *m, const uint32_t *pos_id, uint32_t *group_first)
+static resurf_status group_by_attributes(const resurf_allocator *alloc, const resurf_mesh *m, const uint32_t *pos_id,
+                                         uint32_t *group_first)
 {
     const size_t nv = m->vertex_count;
     size_t size = 16;
     while (size < 2 * nv)
         size *= 2;
-    uint32_t *slot = resurfi_calloc_array(size, sizeof *slot); /* vertex + 1; 0 = empty */
+    uint32_t *slot = resurfi_calloc(alloc, size, sizeof *slot); /* vertex + 1; 0 = empty */
     if (!slot)
         return RESURF_ERR_OUT_OF_MEMORY;
     for (size_t v = 0; v < nv; ++v) {
@@ -132,7 +133,7 @@ static resurf_status group_by_attributes(const resurf_mesh *m, const uint32_t *p
             }
         }
     }
-    free(slot);
+    resurfi_free(alloc, slot);
     return RESURF_OK;
 }
 
@@ -150,11 +151,11 @@ static void compact_array(void *data, size_t width, const uint32_t *new_id, size
 }
 
 /* Shrinks an owned array to its new size; a failed shrink keeps the larger, still valid block. */
-static void *shrink(void *p, size_t count, size_t width)
+static void *shrink(const resurf_allocator *alloc, void *p, size_t count, size_t width)
 {
     if (!p)
         return NULL;
-    void *q = resurfi_realloc_array(p, count, width);
+    void *q = resurfi_realloc(alloc, p, count, width);
     return q ? q : p;
 }
 
@@ -173,7 +174,7 @@ enum { KEEP = 0, DROP_INVALID, DROP_DEGENERATE, DROP_ZERO_AREA };
 resurf_status resurf_mesh_repair(resurf_mesh *mesh, const resurf_repair_options *options,
                                  resurf_repair_report *out_report, resurf_error *error)
 {
-    RESURFI_CHECK_OPTIONS(options, resurf_repair_options, error);
+    RESURFI_CHECK_OPTIONS_ALLOC(options, resurf_repair_options, error);
     const resurf_repair_options o = options ? *options : resurf_repair_options_default();
     if (o.flags & ~(unsigned)RESURF_REPAIR_ALL)
         return resurfi_error(error, RESURF_ERR_INVALID_OPTIONS, "unknown repair flags 0x%x",
@@ -192,12 +193,14 @@ resurf_status resurf_mesh_repair(resurf_mesh *mesh, const resurf_repair_options 
     resurf_repair_report report;
     memset(&report, 0, sizeof report);
     const int weld = (o.flags & RESURF_REPAIR_WELD) != 0;
-    uint8_t *drop = resurfi_calloc_array(nt, 1);
-    uint32_t *pos_id = resurfi_alloc_array(nv, sizeof *pos_id);
-    uint32_t *first_of_pos = resurfi_alloc_array(nv, sizeof *first_of_pos);
-    uint32_t *group_first = resurfi_alloc_array(nv, sizeof *group_first);
-    uint32_t *new_id = resurfi_alloc_array(nv, sizeof *new_id);
-    uint8_t *referenced = resurfi_calloc_array(nv, 1);
+    const resurf_allocator *alloc = resurfi_allocator_of(o.allocator, mesh); /* the temporaries */
+    const resurf_allocator *own = &mesh->allocator;                          /* the mesh's arrays */
+    uint8_t *drop = resurfi_calloc(alloc, nt, 1);
+    uint32_t *pos_id = resurfi_alloc(alloc, nv, sizeof *pos_id);
+    uint32_t *first_of_pos = resurfi_alloc(alloc, nv, sizeof *first_of_pos);
+    uint32_t *group_first = resurfi_alloc(alloc, nv, sizeof *group_first);
+    uint32_t *new_id = resurfi_alloc(alloc, nv, sizeof *new_id);
+    uint8_t *referenced = resurfi_calloc(alloc, nv, 1);
     double *snapped = NULL; /* positions after the weld's snap: read-only copy used by the decisions */
     resurf_status status = RESURF_ERR_OUT_OF_MEMORY;
     int error_set = 0; /* a failing step below that fills *error itself sets this */
@@ -215,10 +218,10 @@ resurf_status resurf_mesh_repair(resurf_mesh *mesh, const resurf_repair_options 
     /* 2. Position ids (welded within the tolerance, or exact), and each vertex's merge target. */
     size_t position_count = 0;
     if (weld) {
-        status = resurf_mesh_weld_map(mesh, o.weld_tolerance_rel, pos_id, &position_count, error);
+        status = resurfi_weld_map(alloc, mesh, o.weld_tolerance_rel, pos_id, &position_count, error);
         error_set = 1;
     } else {
-        status = resurfi_weld_exact(mesh->positions, nv, pos_id, &position_count);
+        status = resurfi_weld_exact(alloc, mesh->positions, nv, pos_id, &position_count);
     }
     if (status != RESURF_OK)
         goto done;
@@ -229,7 +232,7 @@ resurf_status resurf_mesh_repair(resurf_mesh *mesh, const resurf_repair_options 
             first_of_pos[seen++] = (uint32_t)v;
     /* A tolerance weld moves every vertex onto its cluster's first position, seams included, so no crack stays
      * between vertices kept apart by their attributes. */
-    if (!(snapped = resurfi_alloc_array(nv, 3 * sizeof *snapped)))
+    if (!(snapped = resurfi_alloc(alloc, nv, 3 * sizeof *snapped)))
         goto done;
     for (size_t v = 0; v < nv; ++v) {
         size_t from = weld ? first_of_pos[pos_id[v]] : v;
@@ -241,7 +244,7 @@ resurf_status resurf_mesh_repair(resurf_mesh *mesh, const resurf_repair_options 
     } else if (o.weld_ignore_attributes) {
         for (size_t v = 0; v < nv; ++v)
             group_first[v] = first_of_pos[pos_id[v]];
-    } else if ((status = group_by_attributes(mesh, pos_id, group_first)) != RESURF_OK) {
+    } else if ((status = group_by_attributes(alloc, mesh, pos_id, group_first)) != RESURF_OK) {
         goto done;
     }
 
@@ -341,30 +344,30 @@ resurf_status resurf_mesh_repair(resurf_mesh *mesh, const resurf_repair_options 
     mesh->triangle_count = kept_triangles;
     mesh->vertex_count = kept_vertices;
     if (kept_triangles < nt) {
-        mesh->indices = shrink(mesh->indices, kept_triangles, 3 * sizeof(uint32_t));
-        mesh->triangle_groups = shrink(mesh->triangle_groups, kept_triangles, sizeof(uint32_t));
+        mesh->indices = shrink(own, mesh->indices, kept_triangles, 3 * sizeof(uint32_t));
+        mesh->triangle_groups = shrink(own, mesh->triangle_groups, kept_triangles, sizeof(uint32_t));
     }
     if (kept_vertices < nv) {
-        mesh->positions = shrink(mesh->positions, kept_vertices, 3 * sizeof(double));
-        mesh->normals = shrink(mesh->normals, kept_vertices, 3 * sizeof(double));
+        mesh->positions = shrink(own, mesh->positions, kept_vertices, 3 * sizeof(double));
+        mesh->normals = shrink(own, mesh->normals, kept_vertices, 3 * sizeof(double));
         for (unsigned k = 0; k < RESURF_MAX_TEXCOORD_SETS; ++k)
-            mesh->texcoords[k] = shrink(mesh->texcoords[k], kept_vertices, 2 * sizeof(double));
-        mesh->colors = shrink(mesh->colors, kept_vertices, 4 * sizeof(double));
+            mesh->texcoords[k] = shrink(own, mesh->texcoords[k], kept_vertices, 2 * sizeof(double));
+        mesh->colors = shrink(own, mesh->colors, kept_vertices, 4 * sizeof(double));
         for (size_t e = 0; e < mesh->extra_count; ++e) {
             resurf_attribute *a = &mesh->extras[e];
-            a->data = shrink(a->data, kept_vertices, a->components * sizeof(float));
+            a->data = shrink(own, a->data, kept_vertices, a->components * sizeof(float));
         }
     }
     status = RESURF_OK;
 
 done:
-    free(drop);
-    free(pos_id);
-    free(first_of_pos);
-    free(group_first);
-    free(new_id);
-    free(referenced);
-    free(snapped);
+    resurfi_free(alloc, drop);
+    resurfi_free(alloc, pos_id);
+    resurfi_free(alloc, first_of_pos);
+    resurfi_free(alloc, group_first);
+    resurfi_free(alloc, new_id);
+    resurfi_free(alloc, referenced);
+    resurfi_free(alloc, snapped);
     if (status != RESURF_OK) {
         if (!error_set)
             resurfi_error(error, status, "repairing a mesh of %zu vertices and %zu triangles: %s", nv, nt,

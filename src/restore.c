@@ -62,6 +62,7 @@ enum { FEATURE_NONE = 0, FEATURE_BOUNDARY = 1, FEATURE_CREASE = 2 };
 
 struct resurfi_restorer {
     resurf_restore_options opt;
+    resurf_allocator alloc; /* a copy of the call's allocator: every block of the restorer comes from it */
     size_t position_count, triangle_count;
     double *positions;      /* welded positions, 3 per position id */
     uint32_t *tris;         /* 3 per triangle: welded position ids */
@@ -115,7 +116,7 @@ resurf_restore_options resurf_restore_options_paper(void)
 
 static resurf_status check_options(const resurf_restore_options *o, resurf_error *error)
 {
-    RESURFI_CHECK_OPTIONS(o, resurf_restore_options, error);
+    RESURFI_CHECK_OPTIONS_ALLOC(o, resurf_restore_options, error);
     if (!o)
         return RESURF_OK; /* the defaults */
     const char *bad = NULL;
@@ -189,26 +190,26 @@ static resurf_status weld_original(resurfi_restorer *r, const resurf_mesh *m, re
                 return resurfi_error(error, RESURF_ERR_INVALID_MESH, "original vertex %u has a non-finite position",
                                      v);
         }
-    uint32_t *remap = resurfi_alloc_array(m->vertex_count, sizeof *remap);
+    uint32_t *remap = resurfi_alloc(&r->alloc, m->vertex_count, sizeof *remap);
     if (!remap)
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory welding the original mesh");
-    resurf_status s = resurfi_weld_exact(m->positions, m->vertex_count, remap, &r->position_count);
+    resurf_status s = resurfi_weld_exact(&r->alloc, m->positions, m->vertex_count, remap, &r->position_count);
     if (s != RESURF_OK) {
-        free(remap);
+        resurfi_free(&r->alloc, remap);
         return resurfi_error(error, s, "cannot weld the original mesh");
     }
     r->triangle_count = m->triangle_count;
-    r->positions = resurfi_alloc_array(r->position_count, 3 * sizeof(double));
-    r->tris = resurfi_alloc_array(m->triangle_count, 3 * sizeof(uint32_t));
+    r->positions = resurfi_alloc(&r->alloc, r->position_count, 3 * sizeof(double));
+    r->tris = resurfi_alloc(&r->alloc, m->triangle_count, 3 * sizeof(uint32_t));
     if (!r->positions || !r->tris) {
-        free(remap);
+        resurfi_free(&r->alloc, remap);
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory welding the original mesh");
     }
     for (size_t v = 0; v < m->vertex_count; ++v)
         memcpy(r->positions + 3 * (size_t)remap[v], m->positions + 3 * v, 3 * sizeof(double));
     for (size_t i = 0; i < 3 * m->triangle_count; ++i)
         r->tris[i] = remap[m->indices[i]];
-    free(remap);
+    resurfi_free(&r->alloc, remap);
     return RESURF_OK;
 }
 
@@ -241,11 +242,11 @@ static int split_input_normals(const resurfi_restorer *r, const resurf_mesh *m, 
 /* Phase 2: topology, crease and boundary edges. */
 static resurf_status classify_edges(resurfi_restorer *r, const resurf_mesh *m, resurf_error *error)
 {
-    resurf_status s = resurfi_adjacency_build(r->tris, r->triangle_count, r->position_count, &r->adj);
+    resurf_status s = resurfi_adjacency_build(&r->alloc, r->tris, r->triangle_count, r->position_count, &r->adj);
     if (s != RESURF_OK)
         return resurfi_error(error, s, "cannot build the original mesh's adjacency");
     const resurfi_adjacency *adj = &r->adj;
-    r->edge_kind = resurfi_calloc_array(adj->edge_count ? adj->edge_count : 1, 1);
+    r->edge_kind = resurfi_calloc(&r->alloc, adj->edge_count ? adj->edge_count : 1, 1);
     if (!r->edge_kind)
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory classifying edges");
     double crease_cos = cos(r->opt.crease_angle_deg * (M_PI / 180.0));
@@ -284,17 +285,17 @@ static resurf_status split_fans(resurfi_restorer *r, resurf_error *error)
 {
     const resurfi_adjacency *adj = &r->adj;
     size_t nt = r->triangle_count;
-    r->corner_split = resurfi_alloc_array(nt, 3 * sizeof(uint32_t));
+    r->corner_split = resurfi_alloc(&r->alloc, nt, 3 * sizeof(uint32_t));
     size_t max_degree = 1;
     for (size_t v = 0; v < r->position_count; ++v) {
         size_t d = adj->vertex_face_offset[v + 1] - adj->vertex_face_offset[v];
         max_degree = d > max_degree ? d : max_degree;
     }
-    uint32_t *parent = resurfi_alloc_array(max_degree, sizeof *parent);
-    uint32_t *fan_id = resurfi_alloc_array(max_degree, sizeof *fan_id);
+    uint32_t *parent = resurfi_alloc(&r->alloc, max_degree, sizeof *parent);
+    uint32_t *fan_id = resurfi_alloc(&r->alloc, max_degree, sizeof *fan_id);
     if (!r->corner_split || !parent || !fan_id) {
-        free(parent);
-        free(fan_id);
+        resurfi_free(&r->alloc, parent);
+        resurfi_free(&r->alloc, fan_id);
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory splitting crease fans");
     }
     for (size_t i = 0; i < 3 * nt; ++i)
@@ -348,8 +349,8 @@ static resurf_status split_fans(resurfi_restorer *r, resurf_error *error)
                 r->corner_split[3 * t + k] = next++;
             }
         }
-    free(parent);
-    free(fan_id);
+    resurfi_free(&r->alloc, parent);
+    resurfi_free(&r->alloc, fan_id);
     r->split_count = next;
     return RESURF_OK;
 }
@@ -360,7 +361,7 @@ static resurf_status split_fans(resurfi_restorer *r, resurf_error *error)
 static resurf_status take_input_normals(resurfi_restorer *r, const resurf_mesh *m)
 {
     size_t ns = r->split_count;
-    double *sum = resurfi_calloc_array(ns ? ns : 1, 3 * sizeof(double));
+    double *sum = resurfi_calloc(&r->alloc, ns ? ns : 1, 3 * sizeof(double));
     if (!sum)
         return RESURF_ERR_OUT_OF_MEMORY;
     for (size_t i = 0; i < 3 * r->triangle_count; ++i) {
@@ -375,7 +376,7 @@ static resurf_status take_input_normals(resurfi_restorer *r, const resurf_mesh *
         if (v3_len2(n) > 0)
             v3_store(r->split_normals + 3 * v, n);
     }
-    free(sum);
+    resurfi_free(&r->alloc, sum);
     return RESURF_OK;
 }
 
@@ -383,41 +384,41 @@ static resurf_status take_input_normals(resurfi_restorer *r, const resurf_mesh *
 static resurf_status estimate_normals(resurfi_restorer *r, const resurf_mesh *m, resurf_error *error)
 {
     size_t ns = r->split_count, nt = r->triangle_count;
-    double *split_positions = resurfi_alloc_array(ns ? ns : 1, 3 * sizeof(double));
-    r->split_normals = resurfi_calloc_array(ns ? ns : 1, 3 * sizeof(double));
+    double *split_positions = resurfi_alloc(&r->alloc, ns ? ns : 1, 3 * sizeof(double));
+    r->split_normals = resurfi_calloc(&r->alloc, ns ? ns : 1, 3 * sizeof(double));
     if (!split_positions || !r->split_normals) {
-        free(split_positions);
+        resurfi_free(&r->alloc, split_positions);
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory estimating normals");
     }
     for (size_t i = 0; i < 3 * nt; ++i)
         memcpy(split_positions + 3 * (size_t)r->corner_split[i], r->positions + 3 * (size_t)r->tris[i],
                3 * sizeof(double));
-    resurf_status s =
-        resurfi_vertex_normals(split_positions, ns, r->corner_split, nt, r->opt.normals, r->split_normals);
+    resurf_status s = resurfi_vertex_normals(&r->alloc, split_positions, ns, r->corner_split, nt, r->opt.normals,
+                                             r->split_normals);
     if (s != RESURF_OK) {
-        free(split_positions);
+        resurfi_free(&r->alloc, split_positions);
         return resurfi_error(error, s, "cannot estimate the original mesh's vertex normals");
     }
     if (r->opt.use_input_normals == 2 && m->normals && take_input_normals(r, m) != RESURF_OK) {
-        free(split_positions);
+        resurfi_free(&r->alloc, split_positions);
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory taking the input normals");
     }
     if (r->opt.side_rule == RESURF_SIDE_CURVATURE && r->opt.displacement == RESURF_DISPLACEMENT_PAPER) {
-        r->k1 = resurfi_alloc_array(ns ? ns : 1, sizeof(double));
-        r->k2 = resurfi_alloc_array(ns ? ns : 1, sizeof(double));
-        r->dir1 = resurfi_alloc_array(ns ? ns : 1, 3 * sizeof(double));
-        r->dir2 = resurfi_alloc_array(ns ? ns : 1, 3 * sizeof(double));
+        r->k1 = resurfi_alloc(&r->alloc, ns ? ns : 1, sizeof(double));
+        r->k2 = resurfi_alloc(&r->alloc, ns ? ns : 1, sizeof(double));
+        r->dir1 = resurfi_alloc(&r->alloc, ns ? ns : 1, 3 * sizeof(double));
+        r->dir2 = resurfi_alloc(&r->alloc, ns ? ns : 1, 3 * sizeof(double));
         if (!r->k1 || !r->k2 || !r->dir1 || !r->dir2)
             s = RESURF_ERR_OUT_OF_MEMORY;
         else
-            s = resurfi_principal_curvatures(split_positions, ns, r->corner_split, nt, r->split_normals, r->k1,
-                                             r->k2, r->dir1, r->dir2);
+            s = resurfi_principal_curvatures(&r->alloc, split_positions, ns, r->corner_split, nt, r->split_normals,
+                                             r->k1, r->k2, r->dir1, r->dir2);
         if (s != RESURF_OK) {
-            free(split_positions);
+            resurfi_free(&r->alloc, split_positions);
             return resurfi_error(error, s, "cannot estimate the original mesh's curvatures");
         }
     }
-    free(split_positions);
+    resurfi_free(&r->alloc, split_positions);
     return RESURF_OK;
 }
 
@@ -427,12 +428,12 @@ static resurf_status trace_features(resurfi_restorer *r, resurf_error *error)
 {
     const resurfi_adjacency *adj = &r->adj;
     size_t nv = r->position_count, ne = adj->edge_count;
-    r->local_length = resurfi_calloc_array(nv, sizeof(double));
-    r->feature_offset = resurfi_calloc_array(nv + 1, sizeof(uint32_t));
-    r->tangent = resurfi_calloc_array(nv, 3 * sizeof(double));
-    uint32_t *edge_count = resurfi_calloc_array(nv, sizeof(uint32_t));
+    r->local_length = resurfi_calloc(&r->alloc, nv, sizeof(double));
+    r->feature_offset = resurfi_calloc(&r->alloc, nv + 1, sizeof(uint32_t));
+    r->tangent = resurfi_calloc(&r->alloc, nv, 3 * sizeof(double));
+    uint32_t *edge_count = resurfi_calloc(&r->alloc, nv, sizeof(uint32_t));
     if (!r->local_length || !r->feature_offset || !r->tangent || !edge_count) {
-        free(edge_count);
+        resurfi_free(&r->alloc, edge_count);
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory tracing feature curves");
     }
     for (size_t e = 0; e < ne; ++e) {
@@ -449,10 +450,10 @@ static resurf_status trace_features(resurfi_restorer *r, resurf_error *error)
         r->feature_offset[v + 1] += r->feature_offset[v];
     }
     size_t nf = r->feature_offset[nv];
-    r->feature_vertex = resurfi_alloc_array(nf ? nf : 1, sizeof(uint32_t));
-    r->feature_edge = resurfi_alloc_array(nf ? nf : 1, sizeof(uint32_t));
+    r->feature_vertex = resurfi_alloc(&r->alloc, nf ? nf : 1, sizeof(uint32_t));
+    r->feature_edge = resurfi_alloc(&r->alloc, nf ? nf : 1, sizeof(uint32_t));
     if (!r->feature_vertex || !r->feature_edge) {
-        free(edge_count);
+        resurfi_free(&r->alloc, edge_count);
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory tracing feature curves");
     }
     memset(edge_count, 0, nv * sizeof(uint32_t)); /* now the fill cursor */
@@ -464,7 +465,7 @@ static resurf_status trace_features(resurfi_restorer *r, resurf_error *error)
         r->feature_vertex[ia] = b, r->feature_edge[ia] = (uint32_t)e;
         r->feature_vertex[ib] = a, r->feature_edge[ib] = (uint32_t)e;
     }
-    free(edge_count);
+    resurfi_free(&r->alloc, edge_count);
     /* Tangents where the curve passes smoothly: two feature edges of one kind, turning by at most the crease
      * angle. The circle through prev, v, next has the tangent e1/|e1|² + e2/|e2|² at v (e1 = v − prev,
      * e2 = next − v). */
@@ -490,7 +491,7 @@ static resurf_status trace_features(resurfi_restorer *r, resurf_error *error)
  * apart gives no meaningful optimal direction; the search then goes to the triangles around it. */
 static resurf_status mark_usable(resurfi_restorer *r, resurf_error *error)
 {
-    r->usable = resurfi_alloc_array(r->triangle_count, 1);
+    r->usable = resurfi_alloc(&r->alloc, r->triangle_count, 1);
     if (!r->usable)
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory marking triangles");
     for (size_t t = 0; t < r->triangle_count; ++t) {
@@ -516,24 +517,25 @@ void resurfi_restorer_free(resurfi_restorer *r)
 {
     if (!r)
         return;
-    free(r->positions);
-    free(r->tris);
+    const resurf_allocator alloc = r->alloc; /* the struct holding it goes last */
+    resurfi_free(&alloc, r->positions);
+    resurfi_free(&alloc, r->tris);
     resurfi_adjacency_free(&r->adj);
     resurfi_bvh_free(r->bvh);
-    free(r->corner_split);
-    free(r->split_normals);
-    free(r->k1);
-    free(r->k2);
-    free(r->dir1);
-    free(r->dir2);
-    free(r->local_length);
-    free(r->edge_kind);
-    free(r->feature_offset);
-    free(r->feature_vertex);
-    free(r->feature_edge);
-    free(r->tangent);
-    free(r->usable);
-    free(r);
+    resurfi_free(&alloc, r->corner_split);
+    resurfi_free(&alloc, r->split_normals);
+    resurfi_free(&alloc, r->k1);
+    resurfi_free(&alloc, r->k2);
+    resurfi_free(&alloc, r->dir1);
+    resurfi_free(&alloc, r->dir2);
+    resurfi_free(&alloc, r->local_length);
+    resurfi_free(&alloc, r->edge_kind);
+    resurfi_free(&alloc, r->feature_offset);
+    resurfi_free(&alloc, r->feature_vertex);
+    resurfi_free(&alloc, r->feature_edge);
+    resurfi_free(&alloc, r->tangent);
+    resurfi_free(&alloc, r->usable);
+    resurfi_free(&alloc, r);
 }
 
 resurf_status resurfi_restorer_create(const resurf_mesh *original, const resurf_restore_options *options,
@@ -547,15 +549,18 @@ resurf_status resurfi_restorer_create(const resurf_mesh *original, const resurf_
     resurf_status s = check_options(options, error);
     if (s != RESURF_OK)
         return s;
-    resurfi_restorer *r = calloc(1, sizeof *r);
+    const resurf_allocator *alloc = resurfi_allocator_of(options ? options->allocator : NULL, original);
+    resurfi_restorer *r = resurfi_calloc(alloc, 1, sizeof *r);
     if (!r)
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory creating the restorer");
+    if (alloc)
+        r->alloc = *alloc;
     r->opt = options ? *options : resurf_restore_options_default();
     if ((s = weld_original(r, original, error)) == RESURF_OK && (s = classify_edges(r, original, error)) == RESURF_OK &&
         (s = split_fans(r, error)) == RESURF_OK && (s = estimate_normals(r, original, error)) == RESURF_OK &&
         (s = trace_features(r, error)) == RESURF_OK && (s = mark_usable(r, error)) == RESURF_OK) {
-        s = resurfi_bvh_build_threads(r->positions, r->position_count, r->tris, r->triangle_count, r->opt.threads,
-                                      &r->bvh);
+        s = resurfi_bvh_build_threads(&r->alloc, r->positions, r->position_count, r->tris, r->triangle_count,
+                                      r->opt.threads, &r->bvh);
         if (s != RESURF_OK)
             resurfi_error(error, s, "cannot build the original mesh's BVH");
     }
@@ -951,11 +956,12 @@ resurf_status resurf_restore(const resurf_mesh *original, resurf_mesh *processed
     if ((s = resurfi_restorer_create(original, &opt, &r, error)) != RESURF_OK)
         return s;
     size_t n = processed->vertex_count;
-    double *out = resurfi_alloc_array(n, 3 * sizeof(double));
-    uint8_t *outcome = resurfi_alloc_array(n, 1);
+    const resurf_allocator *alloc = resurfi_allocator_of(opt.allocator, original);
+    double *out = resurfi_alloc(alloc, n, 3 * sizeof(double));
+    uint8_t *outcome = resurfi_alloc(alloc, n, 1);
     if (!out || !outcome) {
-        free(out);
-        free(outcome);
+        resurfi_free(alloc, out);
+        resurfi_free(alloc, outcome);
         resurfi_restorer_free(r);
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory restoring %zu vertices", n);
     }
@@ -966,8 +972,8 @@ resurf_status resurf_restore(const resurf_mesh *original, resurf_mesh *processed
         restore_job chunk = {r, job.in + 3 * begin, job.out + 3 * begin, job.outcome + begin};
         resurfi_parallel_for(count, BLOCK_VERTICES, threads, restore_block, &chunk);
         if (resurfi_progress(&opt.progress, "restore", (double)(begin + count) / (double)n)) {
-            free(out);
-            free(outcome);
+            resurfi_free(alloc, out);
+            resurfi_free(alloc, outcome);
             resurfi_restorer_free(r);
             return resurfi_error(error, RESURF_ERR_CANCELLED, "restore cancelled");
         }
@@ -994,8 +1000,8 @@ resurf_status resurf_restore(const resurf_mesh *original, resurf_mesh *processed
     }
     rep.mean_displacement = rep.moved ? total / (double)rep.moved : 0;
     memcpy(processed->positions, out, n * 3 * sizeof(double));
-    free(out);
-    free(outcome);
+    resurfi_free(alloc, out);
+    resurfi_free(alloc, outcome);
     resurfi_restorer_free(r);
     if (out_report)
         *out_report = rep;

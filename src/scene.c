@@ -57,20 +57,19 @@ int resurfi_ends_with_nocase(const char *s, const char *suffix)
 
 static resurf_status add_warning(resurf_scene *s, const char *text)
 {
-    char **list = resurfi_realloc_array(s->warnings, s->warning_count + 1, sizeof *list);
+    char **list = resurfi_realloc(&s->alloc, s->warnings, s->warning_count + 1, sizeof *list);
     if (!list)
         return RESURF_ERR_OUT_OF_MEMORY;
     s->warnings = list;
-    size_t n = strlen(text) + 1;
-    if (!(list[s->warning_count] = malloc(n)))
+    if (!(list[s->warning_count] = resurfi_strdup(&s->alloc, text)))
         return RESURF_ERR_OUT_OF_MEMORY;
-    memcpy(list[s->warning_count++], text, n);
+    s->warning_count++;
     return RESURF_OK;
 }
 
 /* Reads a whole regular file (at most max_bytes). */
-static resurf_status read_whole(const char *path, uint64_t max_bytes, unsigned char **out, size_t *out_size,
-                                resurf_error *error)
+static resurf_status read_whole(const resurf_allocator *alloc, const char *path, uint64_t max_bytes,
+                                unsigned char **out, size_t *out_size, resurf_error *error)
 {
     int fd = open(path, O_RDONLY | O_CLOEXEC);
     if (fd < 0)
@@ -86,7 +85,7 @@ static resurf_status read_whole(const char *path, uint64_t max_bytes, unsigned c
                             (unsigned long long)max_bytes);
     }
     size_t size = (size_t)st.st_size, done = 0;
-    unsigned char *data = malloc(size + 1);
+    unsigned char *data = resurfi_alloc(alloc, size + 1, 1);
     if (!data) {
         close(fd);
         return resurfi_fail(error, RESURF_ERR_OUT_OF_MEMORY, path, 0, -1, "out of memory reading %zu bytes", size);
@@ -97,7 +96,7 @@ static resurf_status read_whole(const char *path, uint64_t max_bytes, unsigned c
             continue;
         if (n <= 0) {
             int e = n < 0 ? errno : 0;
-            free(data);
+            resurfi_free(alloc, data);
             close(fd);
             return resurfi_fail(error, RESURF_ERR_IO, path, 0, -1, "cannot read: %s",
                                 e ? strerror(e) : "the file shrank while being read");
@@ -142,48 +141,53 @@ static long long json_too_deep(const char *p, size_t size)
 
 /* ---- the scene object ---------------------------------------------------------------------------------------- */
 
-static void free_prim(resurfi_scene_prim *p)
+static void free_prim(resurfi_scene_prim *p, const resurf_allocator *alloc)
 {
     resurf_mesh_free(p->mesh);
-    free(p->formats);
+    resurfi_free(alloc, p->formats);
     for (size_t k = 0; k < p->lod_count; ++k)
         resurf_mesh_free(p->lods[k]);
-    free(p->lods);
+    resurfi_free(alloc, p->lods);
 }
 
 void resurf_scene_free(resurf_scene *scene)
 {
     if (!scene)
         return;
-    for (size_t i = 0; i < scene->prim_count; ++i)
-        free_prim(&scene->prims[i]);
-    free(scene->prims);
+    const resurf_allocator alloc = scene->alloc; /* the struct holding it goes last */
+    const resurf_allocator *a = &alloc;
+    if (scene->prims)
+        for (size_t i = 0; i < scene->prim_count; ++i)
+            free_prim(&scene->prims[i], a);
+    resurfi_free(a, scene->prims);
     if (scene->coverage)
         for (size_t m = 0; m < scene->mesh_count; ++m)
-            free(scene->coverage[m]);
-    free(scene->coverage);
-    free(scene->coverage_count);
-    free(scene->mesh_first);
-    free(scene->world);
+            resurfi_free(a, scene->coverage[m]);
+    resurfi_free(a, scene->coverage);
+    resurfi_free(a, scene->coverage_count);
+    resurfi_free(a, scene->mesh_first);
+    resurfi_free(a, scene->world);
     for (size_t i = 0; i < scene->warning_count; ++i)
-        free(scene->warnings[i]);
-    free(scene->warnings);
+        resurfi_free(a, scene->warnings[i]);
+    resurfi_free(a, scene->warnings);
     resurfi_gltf_doc_free(scene->doc);
-    free(scene);
+    resurfi_free(a, scene);
 }
 
-/* A scene of mesh_count meshes and prim_count primitives, all zeroed. */
-static resurf_scene *scene_new(size_t mesh_count, size_t prim_count)
+/* A scene of mesh_count meshes and prim_count primitives, all zeroed, whose blocks come from alloc. */
+static resurf_scene *scene_new(const resurf_allocator *alloc, size_t mesh_count, size_t prim_count)
 {
-    resurf_scene *s = calloc(1, sizeof *s);
+    resurf_scene *s = resurfi_calloc(alloc, 1, sizeof *s);
     if (!s)
         return NULL;
+    if (alloc)
+        s->alloc = *alloc;
     s->mesh_count = mesh_count;
     s->prim_count = prim_count;
-    s->mesh_first = resurfi_calloc_array(mesh_count + 1, sizeof *s->mesh_first);
-    s->coverage = resurfi_calloc_array(mesh_count, sizeof *s->coverage);
-    s->coverage_count = resurfi_calloc_array(mesh_count, sizeof *s->coverage_count);
-    s->prims = resurfi_calloc_array(prim_count, sizeof *s->prims);
+    s->mesh_first = resurfi_calloc(alloc, mesh_count + 1, sizeof *s->mesh_first);
+    s->coverage = resurfi_calloc(alloc, mesh_count, sizeof *s->coverage);
+    s->coverage_count = resurfi_calloc(alloc, mesh_count, sizeof *s->coverage_count);
+    s->prims = resurfi_calloc(alloc, prim_count, sizeof *s->prims);
     if (!s->mesh_first || !s->coverage || !s->coverage_count || !s->prims) {
         resurf_scene_free(s);
         return NULL;
@@ -194,7 +198,7 @@ static resurf_scene *scene_new(size_t mesh_count, size_t prim_count)
 /* A one-mesh scene that takes ownership of mesh (freed on failure too). */
 static resurf_status scene_of_mesh(resurf_mesh *mesh, resurf_scene **out, resurf_error *error)
 {
-    resurf_scene *s = scene_new(1, 1);
+    resurf_scene *s = scene_new(&mesh->allocator, 1, 1);
     if (!s) {
         resurf_mesh_free(mesh);
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory creating a scene");
@@ -220,6 +224,7 @@ typedef struct load_ctx {
     size_t max_triangles, triangles;
     uint64_t buffer_bytes;  /* all buffers together: what zero-filled accessors may claim at most */
     const resurf_progress *progress;
+    const resurf_allocator *alloc; /* the call's: the scene, its meshes and the temporaries */
 } load_ctx;
 
 #define FAIL(ctx, ...) resurfi_fail((ctx)->error, RESURF_ERR_PARSE, (ctx)->path, 0, -1, __VA_ARGS__)
@@ -478,9 +483,9 @@ static resurf_status check_nodes(load_ctx *c, resurf_scene *s)
 {
     const resurfi_gltf_view *v = c->v;
     size_t n = v->node_count;
-    long long *parent = resurfi_alloc_array(n, sizeof *parent);
-    unsigned char *state = resurfi_calloc_array(n, 1);
-    s->world = resurfi_alloc_array(n, sizeof *s->world);
+    long long *parent = resurfi_alloc(c->alloc, n, sizeof *parent);
+    unsigned char *state = resurfi_calloc(c->alloc, n, 1);
+    s->world = resurfi_alloc(&s->alloc, n, sizeof *s->world);
     resurf_status status = RESURF_OK;
     if (!parent || !state || !s->world) {
         status = resurfi_fail(c->error, RESURF_ERR_OUT_OF_MEMORY, c->path, 0, -1, "out of memory checking nodes");
@@ -550,8 +555,8 @@ static resurf_status check_nodes(load_ctx *c, resurf_scene *s)
         }
     }
 done:
-    free(parent);
-    free(state);
+    resurfi_free(c->alloc, parent);
+    resurfi_free(c->alloc, state);
     return status;
 }
 
@@ -592,6 +597,10 @@ static resurf_status decode_draco(load_ctx *c, const resurfi_gltf_primitive *gp,
             return FAIL(c, "%s: KHR_draco_mesh_compression compresses %s, which is not an attribute of the primitive",
                         where, d->name);
     }
+    /* A points primitive is copied untouched; its payload, a point cloud, is never decoded (resurfi_draco_decode
+     * refuses point clouds, whose header counts Draco trusts for its allocations). */
+    if (gp->mode == 0)
+        return RESURF_OK;
     /* The view's range was checked against its buffer by check_buffer_views. */
     const resurfi_gltf_buffer_view *bv = &v->buffer_views[gp->draco_view];
     const unsigned char *bytes = v->buffers[bv->buffer].data + bv->byte_offset;
@@ -620,9 +629,6 @@ static resurf_status decode_draco(load_ctx *c, const resurfi_gltf_primitive *gp,
             return FAIL(c, "%s: the accessor of %s counts %llu vertices, the Draco data %zu", where, d->name,
                         (unsigned long long)a->count, dm->point_count);
     }
-    for (size_t i = 0; i < 3 * dm->face_count; ++i)
-        if (dm->faces[i] >= dm->point_count)
-            return FAIL(c, "%s: the Draco data has a face on point %u of %zu", where, dm->faces[i], dm->point_count);
     if (gp->indices != RESURFI_GLTF_NONE && gp->mode == 4 && v->accessors[gp->indices].count != 3 * dm->face_count)
         return FAIL(c, "%s: the indices accessor counts %llu, the Draco data has %zu triangles", where,
                     (unsigned long long)v->accessors[gp->indices].count, dm->face_count);
@@ -641,7 +647,7 @@ static resurf_status build_triangles(load_ctx *c, const char *where, int mode, c
     if (mode == 4 && index_count % 3)
         return FAIL(c, "%s: %zu indices are not a multiple of 3", where, index_count);
     size_t cap = mode == 4 ? index_count / 3 : index_count >= 3 ? index_count - 2 : 0;
-    uint32_t *t = resurfi_alloc_array(cap, 3 * sizeof *t);
+    uint32_t *t = resurfi_alloc(c->alloc, cap, 3 * sizeof *t);
     if (!t)
         return oom(c);
     size_t n = 0;
@@ -683,20 +689,20 @@ static resurf_status store_attribute(load_ctx *c, const char *where, resurf_mesh
         if (comps != 3 || a->accessor->matrix)
             return FAIL(c, "%s: %s is not VEC3", where, name);
         double *dst = name[0] == 'P' ? m->positions : m->normals;
-        if (!dst && !(dst = m->normals = resurfi_alloc_array(n, 3 * sizeof(double))))
+        if (!dst && !(dst = m->normals = resurfi_alloc(&m->allocator, n, 3 * sizeof(double))))
             return oom(c);
         memcpy(dst, a->values, n * 3 * sizeof(double));
     } else if (tex >= 0 && (unsigned)tex == m->texcoord_count) {
         if (comps != 2 || a->accessor->matrix)
             return FAIL(c, "%s: %s is not VEC2", where, name);
-        if (!(m->texcoords[tex] = resurfi_alloc_array(n, 2 * sizeof(double))))
+        if (!(m->texcoords[tex] = resurfi_alloc(&m->allocator, n, 2 * sizeof(double))))
             return oom(c);
         memcpy(m->texcoords[tex], a->values, n * 2 * sizeof(double));
         m->texcoord_count = (unsigned)tex + 1;
     } else if (!strcmp(name, "COLOR_0")) {
         if ((comps != 3 && comps != 4) || a->accessor->matrix)
             return FAIL(c, "%s: COLOR_0 is not VEC3 or VEC4", where);
-        if (!(m->colors = resurfi_alloc_array(n, 4 * sizeof(double))))
+        if (!(m->colors = resurfi_alloc(&m->allocator, n, 4 * sizeof(double))))
             return oom(c);
         for (size_t i = 0; i < n; ++i)
             for (size_t k = 0; k < 4; ++k)
@@ -785,7 +791,7 @@ static resurf_status decode_primitive(load_ctx *c, size_t mesh_index, size_t pri
         return resurfi_fail(c->error, RESURF_ERR_LIMIT, c->path, 0, -1, "%s: more than 2^32 - 2 vertices", where);
     }
     size_t n = (size_t)count;
-    attr_values *attrs = resurfi_calloc_array(gp->attribute_count, sizeof *attrs);
+    attr_values *attrs = resurfi_calloc(c->alloc, gp->attribute_count, sizeof *attrs);
     double *index_values = NULL;
     uint32_t *triangles = NULL;
     size_t triangle_count = 0, index_count = 0;
@@ -813,7 +819,7 @@ static resurf_status decode_primitive(load_ctx *c, size_t mesh_index, size_t pri
         if (status != RESURF_OK)
             goto done;
         size_t comps = (size_t)a->accessor->components;
-        if (!(a->values = resurfi_alloc_array(n, comps * sizeof(double)))) {
+        if (!(a->values = resurfi_alloc(c->alloc, n, comps * sizeof(double)))) {
             status = oom(c);
             goto done;
         }
@@ -828,7 +834,7 @@ static resurf_status decode_primitive(load_ctx *c, size_t mesh_index, size_t pri
     }
     if (dm && dm->face_count) {
         index_count = 3 * dm->face_count;
-        if (!(index_values = resurfi_alloc_array(index_count, sizeof *index_values))) {
+        if (!(index_values = resurfi_alloc(c->alloc, index_count, sizeof *index_values))) {
             status = oom(c);
             goto done;
         }
@@ -847,14 +853,14 @@ static resurf_status decode_primitive(load_ctx *c, size_t mesh_index, size_t pri
             goto done;
         }
         index_count = (size_t)ia->count;
-        if (!(index_values = resurfi_alloc_array(index_count, sizeof *index_values))) {
+        if (!(index_values = resurfi_alloc(c->alloc, index_count, sizeof *index_values))) {
             status = oom(c);
             goto done;
         }
         read_accessor(v, ia, index_values);
     } else {
         index_count = n;
-        if (!(index_values = resurfi_alloc_array(n, sizeof *index_values))) {
+        if (!(index_values = resurfi_alloc(c->alloc, n, sizeof *index_values))) {
             status = oom(c);
             goto done;
         }
@@ -870,12 +876,12 @@ static resurf_status decode_primitive(load_ctx *c, size_t mesh_index, size_t pri
                               "more than %zu triangles (the max_triangles limit)", c->max_triangles);
         goto done;
     }
-    if (resurf_mesh_create(n, triangle_count, 0, &mesh, NULL) != RESURF_OK) {
+    if (resurf_mesh_create_with(n, triangle_count, 0, c->alloc, &mesh, NULL) != RESURF_OK) {
         status = oom(c);
         goto done;
     }
     memcpy(mesh->indices, triangles, triangle_count * 3 * sizeof *triangles);
-    if (!(out->formats = resurfi_calloc_array(gp->attribute_count, sizeof *out->formats))) {
+    if (!(out->formats = resurfi_calloc(c->alloc, gp->attribute_count, sizeof *out->formats))) {
         status = oom(c);
         goto done;
     }
@@ -900,10 +906,10 @@ static resurf_status decode_primitive(load_ctx *c, size_t mesh_index, size_t pri
 done:
     if (attrs)
         for (size_t i = 0; i < gp->attribute_count; ++i)
-            free(attrs[i].values);
-    free(attrs);
-    free(index_values);
-    free(triangles);
+            resurfi_free(c->alloc, attrs[i].values);
+    resurfi_free(c->alloc, attrs);
+    resurfi_free(c->alloc, index_values);
+    resurfi_free(c->alloc, triangles);
     resurf_mesh_free(mesh);
     resurfi_draco_mesh_free(dm);
     return status;
@@ -937,7 +943,7 @@ static resurf_status build_scene(load_ctx *c, resurfi_gltf_doc *doc, resurf_scen
     size_t prim_count = 0;
     for (size_t m = 0; m < v->mesh_count; ++m)
         prim_count += v->meshes[m].primitive_count;
-    resurf_scene *s = scene_new(v->mesh_count, prim_count);
+    resurf_scene *s = scene_new(c->alloc, v->mesh_count, prim_count);
     if (!s)
         return oom(c);
     s->view = v;
@@ -988,7 +994,7 @@ static resurf_status load_drc(const unsigned char *data, size_t size, load_ctx *
     else if (c->max_triangles && dm->face_count > c->max_triangles)
         status = resurfi_fail(c->error, RESURF_ERR_LIMIT, c->path, 0, -1,
                               "more than %zu triangles (the max_triangles limit)", c->max_triangles);
-    else if (resurf_mesh_create(dm->point_count, dm->face_count, 0, &m, NULL) != RESURF_OK)
+    else if (resurf_mesh_create_with(dm->point_count, dm->face_count, 0, c->alloc, &m, NULL) != RESURF_OK)
         status = oom(c);
     size_t n = dm->point_count, generic = 0;
     int has_position = 0;
@@ -1002,11 +1008,11 @@ static resurf_status load_drc(const unsigned char *data, size_t size, load_ctx *
             has_position = 1;
             scale = 1.0;
         } else if (a->type == RESURFI_DRACO_NORMAL && comps == 3 && !m->normals) {
-            dst = m->normals = resurfi_alloc_array(n, 3 * sizeof(double));
+            dst = m->normals = resurfi_alloc(&m->allocator, n, 3 * sizeof(double));
         } else if (a->type == RESURFI_DRACO_TEX_COORD && comps == 2 && m->texcoord_count < RESURF_MAX_TEXCOORD_SETS) {
-            dst = m->texcoords[m->texcoord_count++] = resurfi_alloc_array(n, 2 * sizeof(double));
+            dst = m->texcoords[m->texcoord_count++] = resurfi_alloc(&m->allocator, n, 2 * sizeof(double));
         } else if (a->type == RESURFI_DRACO_COLOR && (comps == 3 || comps == 4) && !m->colors) {
-            if ((m->colors = resurfi_alloc_array(n, 4 * sizeof(double))))
+            if ((m->colors = resurfi_alloc(&m->allocator, n, 4 * sizeof(double))))
                 for (size_t v = 0; v < n; ++v)
                     for (size_t k = 0; k < 4; ++k)
                         m->colors[4 * v + k] = k < comps ? a->values[comps * v + k] / scale : 1.0;
@@ -1067,64 +1073,36 @@ resurf_status resurf_scene_from_mesh(const resurf_mesh *mesh, resurf_scene **out
     return status;
 }
 
-resurf_status resurf_scene_load(const char *path, const resurf_load_options *options, resurf_scene **out_scene,
-                                resurf_error *error)
+/* What a scene source holds. */
+typedef enum scene_kind { KIND_MESH, KIND_GLTF, KIND_GLB, KIND_DRC } scene_kind;
+
+/* glTF and Draco by their first bytes; anything else is taken for a mesh file. */
+static scene_kind kind_of_content(const unsigned char *head, size_t got)
 {
-    if (!path || !out_scene)
-        return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "path or out_scene is NULL");
-    *out_scene = NULL;
-    RESURFI_CHECK_OPTIONS(options, resurf_load_options, error);
-    resurf_load_options opts = options ? *options : resurf_load_options_default();
-    if ((unsigned)opts.format >= RESURF_FORMAT_COUNT)
-        return resurfi_error(error, RESURF_ERR_INVALID_OPTIONS, "unknown format %d", (int)opts.format);
+    size_t i = 0;
+    while (i < got && (head[i] == ' ' || head[i] == '\n' || head[i] == '\r' || head[i] == '\t'))
+        ++i;
+    if (got >= 4 && !memcmp(head, "glTF", 4))
+        return KIND_GLB;
+    if (got >= 5 && !memcmp(head, "DRACO", 5))
+        return KIND_DRC;
+    if (i < got && head[i] == '{')
+        return KIND_GLTF;
+    return KIND_MESH;
+}
 
-    enum { KIND_MESH, KIND_GLTF, KIND_GLB, KIND_DRC } kind = KIND_MESH;
-    if (opts.format == RESURF_FORMAT_AUTO) {
-        if (resurfi_ends_with_nocase(path, ".gltf"))
-            kind = KIND_GLTF;
-        else if (resurfi_ends_with_nocase(path, ".glb"))
-            kind = KIND_GLB;
-        else if (resurfi_ends_with_nocase(path, ".drc"))
-            kind = KIND_DRC;
-        else if (resurf_format_from_path(path) == RESURF_FORMAT_AUTO) {
-            /* No known extension: glTF and Draco by their first bytes, anything else as a mesh file. */
-            unsigned char head[8] = {0};
-            FILE *f = fopen(path, "rb");
-            size_t got = f ? fread(head, 1, sizeof head, f) : 0;
-            if (f)
-                fclose(f);
-            size_t i = 0;
-            while (i < got && (head[i] == ' ' || head[i] == '\n' || head[i] == '\r' || head[i] == '\t'))
-                ++i;
-            if (got >= 4 && !memcmp(head, "glTF", 4))
-                kind = KIND_GLB;
-            else if (got >= 5 && !memcmp(head, "DRACO", 5))
-                kind = KIND_DRC;
-            else if (i < got && head[i] == '{')
-                kind = KIND_GLTF;
-        }
-    }
-    if (kind == KIND_MESH) {
-        resurf_mesh *mesh = NULL;
-        resurf_status status = resurf_mesh_load(path, &opts, &mesh, error);
-        if (status == RESURF_OK)
-            status = scene_of_mesh(mesh, out_scene, error);
-        return status;
-    }
-
-    unsigned char *data = NULL;
-    size_t size = 0;
-    resurf_status status = read_whole(path, (uint64_t)1 << 32, &data, &size, error);
-    if (status != RESURF_OK)
-        return status;
-    load_ctx c = {.path = path, .error = error, .max_triangles = opts.max_triangles, .progress = &opts.progress};
-    if (kind == KIND_DRC) {
-        status = load_drc(data, size, &c, out_scene);
-        free(data);
-        if (status == RESURF_OK)
-            resurfi_clear_error(error);
-        return status;
-    }
+/* Loads a glTF (.gltf, .glb) or Draco document from bytes, for resurf_scene_load() and resurf_scene_load_memory().
+ * dir: the folder external buffers are read from, or NULL for a document in memory, which may refer to none;
+ * path: the source for messages (NULL in memory). */
+static resurf_status load_document(const unsigned char *data, size_t size, scene_kind kind, const char *dir,
+                                   const char *path, const resurf_load_options *opts, resurf_scene **out_scene,
+                                   resurf_error *error)
+{
+    resurf_status status = RESURF_OK;
+    load_ctx c = {.path = path, .error = error, .max_triangles = opts->max_triangles, .progress = &opts->progress,
+                  .alloc = opts->allocator};
+    if (kind == KIND_DRC)
+        return load_drc(data, size, &c, out_scene);
 
     /* The JSON, and a .glb's BIN chunk (glTF 2.0 4.4: header, then chunks of length, type and data). */
     const char *json = (const char *)data;
@@ -1169,28 +1147,115 @@ resurf_status resurf_scene_load(const char *path, const resurf_load_options *opt
                               "the JSON nests deeper than %d levels", MAX_JSON_DEPTH);
     resurfi_gltf_doc *doc = NULL;
     if (status == RESURF_OK) {
-        /* External files are relative to the document's folder. */
-        const char *slash = strrchr(path, '/');
-        size_t dir_len = slash ? (size_t)(slash - path) + 1 : 0;
-        char *dir = malloc(dir_len + 1);
-        if (!dir)
-            status = resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
-        else {
-            memcpy(dir, path, dir_len);
-            dir[dir_len] = 0;
-            status = resurfi_gltf_parse(json, json_size, bin, bin_size, kind == KIND_GLB, dir, path,
-                                        (uint64_t)1 << 32, &doc, error);
-            if (status != RESURF_OK && error && error->offset >= 0)
-                error->offset += (long long)json_offset;
-            free(dir);
-        }
+        status = resurfi_gltf_parse(json, json_size, bin, bin_size, kind == KIND_GLB, dir, path, (uint64_t)1 << 32,
+                                    &doc, error);
+        if (status != RESURF_OK && error && error->offset >= 0)
+            error->offset += (long long)json_offset;
     }
-    free(data);
     if (status == RESURF_OK) {
         status = build_scene(&c, doc, out_scene);
         if (status != RESURF_OK)
             resurfi_gltf_doc_free(doc);
     }
+    /* Messages quote names from the document (extensions, attributes, JSON keys), which JSON escapes may fill
+     * with line breaks and other control characters: the message stays one printable line. */
+    if (status != RESURF_OK && error)
+        for (char *m = error->message; *m; ++m)
+            if ((unsigned char)*m < 0x20 || *m == 0x7f)
+                *m = '?';
+    return status;
+}
+
+resurf_status resurf_scene_load(const char *path, const resurf_load_options *options, resurf_scene **out_scene,
+                                resurf_error *error)
+{
+    if (!path || !out_scene)
+        return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "path or out_scene is NULL");
+    *out_scene = NULL;
+    RESURFI_CHECK_OPTIONS_ALLOC(options, resurf_load_options, error);
+    resurf_load_options opts = options ? *options : resurf_load_options_default();
+    if ((unsigned)opts.format >= RESURF_FORMAT_COUNT)
+        return resurfi_error(error, RESURF_ERR_INVALID_OPTIONS, "unknown format %d", (int)opts.format);
+
+    scene_kind kind = KIND_MESH;
+    if (opts.format == RESURF_FORMAT_AUTO) {
+        if (resurfi_ends_with_nocase(path, ".gltf"))
+            kind = KIND_GLTF;
+        else if (resurfi_ends_with_nocase(path, ".glb"))
+            kind = KIND_GLB;
+        else if (resurfi_ends_with_nocase(path, ".drc"))
+            kind = KIND_DRC;
+        else if (resurf_format_from_path(path) == RESURF_FORMAT_AUTO) {
+            /* No known extension: glTF and Draco by their first bytes, anything else as a mesh file. */
+            unsigned char head[8] = {0};
+            FILE *f = fopen(path, "rb");
+            size_t got = f ? fread(head, 1, sizeof head, f) : 0;
+            if (f)
+                fclose(f);
+            kind = kind_of_content(head, got);
+        }
+    }
+    if (kind == KIND_MESH) {
+        resurf_mesh *mesh = NULL;
+        resurf_status status = resurf_mesh_load(path, &opts, &mesh, error);
+        if (status == RESURF_OK)
+            status = scene_of_mesh(mesh, out_scene, error);
+        return status;
+    }
+
+    unsigned char *data = NULL;
+    size_t size = 0;
+    resurf_status status = read_whole(opts.allocator, path, (uint64_t)1 << 32, &data, &size, error);
+    if (status != RESURF_OK)
+        return status;
+    /* External files are relative to the document's folder. */
+    const char *slash = strrchr(path, '/');
+    size_t dir_len = slash ? (size_t)(slash - path) + 1 : 0;
+    char *dir = resurfi_alloc(opts.allocator, dir_len + 1, 1);
+    if (!dir) {
+        status = resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
+    } else {
+        memcpy(dir, path, dir_len);
+        dir[dir_len] = 0;
+        status = load_document(data, size, kind, dir, path, &opts, out_scene, error);
+        resurfi_free(opts.allocator, dir);
+    }
+    resurfi_free(opts.allocator, data);
+    if (status == RESURF_OK)
+        resurfi_clear_error(error);
+    return status;
+}
+
+resurf_status resurf_scene_load_memory(const void *data, size_t size, resurf_scene_format format,
+                                       const resurf_load_options *options, resurf_scene **out_scene,
+                                       resurf_error *error)
+{
+    if (!out_scene || (!data && size))
+        return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "data or out_scene is NULL");
+    *out_scene = NULL;
+    RESURFI_CHECK_OPTIONS_ALLOC(options, resurf_load_options, error);
+    resurf_load_options opts = options ? *options : resurf_load_options_default();
+    if ((unsigned)format >= RESURF_SCENE_FORMAT_COUNT)
+        return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "unknown scene format %d", (int)format);
+    if ((unsigned)opts.format >= RESURF_FORMAT_COUNT)
+        return resurfi_error(error, RESURF_ERR_INVALID_OPTIONS, "unknown format %d", (int)opts.format);
+    static const unsigned char nothing[1] = {0};
+    const unsigned char *bytes = size ? data : nothing;
+    scene_kind kind = format == RESURF_SCENE_FORMAT_GLTF  ? KIND_GLTF
+                      : format == RESURF_SCENE_FORMAT_GLB ? KIND_GLB
+                      : format == RESURF_SCENE_FORMAT_DRC ? KIND_DRC
+                      : format == RESURF_SCENE_FORMAT_MESH || opts.format != RESURF_FORMAT_AUTO
+                          ? KIND_MESH
+                          : kind_of_content(bytes, size < 8 ? size : 8);
+    resurf_status status;
+    if (kind == KIND_MESH) {
+        resurf_mesh *mesh = NULL;
+        status = resurf_mesh_load_memory(bytes, size, RESURF_FORMAT_AUTO, NULL, &opts, &mesh, error);
+        if (status == RESURF_OK)
+            status = scene_of_mesh(mesh, out_scene, error);
+        return status;
+    }
+    status = load_document(bytes, size, kind, NULL, NULL, &opts, out_scene, error);
     if (status == RESURF_OK)
         resurfi_clear_error(error);
     return status;
@@ -1274,21 +1339,22 @@ resurf_status resurf_scene_set_lods(resurf_scene *scene, size_t index, const res
         if (status != RESURF_OK)
             return status;
     }
-    resurf_mesh **copies = lod_count ? resurfi_calloc_array(lod_count, sizeof *copies) : NULL;
+    const resurf_allocator *alloc = &scene->alloc;
+    resurf_mesh **copies = lod_count ? resurfi_calloc(alloc, lod_count, sizeof *copies) : NULL;
     if (lod_count && !copies)
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory copying levels of detail");
     for (size_t k = 0; k < lod_count; ++k) {
-        resurf_status status = resurf_mesh_clone(lods[k], &copies[k], error);
+        resurf_status status = resurf_mesh_clone_with(lods[k], alloc, &copies[k], error);
         if (status != RESURF_OK) {
             for (size_t j = 0; j < k; ++j)
                 resurf_mesh_free(copies[j]);
-            free(copies);
+            resurfi_free(alloc, copies);
             return status;
         }
     }
     for (size_t k = 0; k < p->lod_count; ++k)
         resurf_mesh_free(p->lods[k]);
-    free(p->lods);
+    resurfi_free(alloc, p->lods);
     p->lods = copies;
     p->lod_count = lod_count;
     resurfi_clear_error(error);
@@ -1311,11 +1377,11 @@ resurf_status resurf_scene_set_screen_coverage(resurf_scene *scene, size_t mesh,
                                  "coverage[%zu] = %g: values must lie in [0, 1] and never increase", k, coverage[k]);
     double *copy = NULL;
     if (count) {
-        if (!(copy = resurfi_alloc_array(count, sizeof *copy)))
+        if (!(copy = resurfi_alloc(&scene->alloc, count, sizeof *copy)))
             return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
         memcpy(copy, coverage, count * sizeof *copy);
     }
-    free(scene->coverage[mesh]);
+    resurfi_free(&scene->alloc, scene->coverage[mesh]);
     scene->coverage[mesh] = copy;
     scene->coverage_count[mesh] = count;
     resurfi_clear_error(error);

@@ -38,6 +38,8 @@ struct resurf_scene {
     int unknown_extensions; /* the source uses an extension that may refer to accessors or bufferViews */
     size_t warning_count;
     char **warnings;
+    resurf_allocator alloc; /* the scene's C blocks and meshes come from it (all zero: the C heap); the document
+                               (doc, view) lives on the C++ heap */
 };
 
 /* The effective mesh of primitive p at level k (its last level when it has fewer). */

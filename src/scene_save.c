@@ -72,12 +72,19 @@ typedef struct packed {
     size_t bytes;
 } packed;
 
+/* A block freed at the end, with the allocator it came from (Draco's encoded bytes come from the C heap). */
+typedef struct owned_block {
+    void *block;
+    const resurf_allocator *alloc;
+} owned_block;
+
 typedef struct save_ctx {
     const resurf_scene *s;
     const resurf_scene_save_options *o;
+    const resurf_allocator *alloc; /* the call's: options, else the scene's */
     const char *path;
     resurf_error *error;
-    void **owned;
+    owned_block *owned;
     size_t owned_count, owned_cap;
     resurfi_gltf_out_accessor *acc;
     size_t acc_count, acc_cap;
@@ -91,47 +98,48 @@ static resurf_status oom(save_ctx *c)
     return resurfi_fail(c->error, RESURF_ERR_OUT_OF_MEMORY, c->path, 0, -1, "out of memory writing the scene");
 }
 
-/* Remembers p for freeing at the end; NULL stays NULL (and frees p when the list cannot grow). */
-static void *own(save_ctx *c, void *p)
+/* Remembers p (a block of allocator a) for freeing at the end; NULL stays NULL (and frees p when the list cannot
+ * grow). */
+static void *own_from(save_ctx *c, void *p, const resurf_allocator *a)
 {
     if (!p)
         return NULL;
     if (c->owned_count == c->owned_cap) {
         size_t cap = c->owned_cap ? 2 * c->owned_cap : 64;
-        void **list = resurfi_realloc_array(c->owned, cap, sizeof *list);
+        owned_block *list = resurfi_realloc(c->alloc, c->owned, cap, sizeof *list);
         if (!list) {
-            free(p);
+            resurfi_free(a, p);
             return NULL;
         }
         c->owned = list;
         c->owned_cap = cap;
     }
-    return c->owned[c->owned_count++] = p;
+    c->owned[c->owned_count++] = (owned_block){p, a};
+    return p;
 }
+
+/* The same for a block of the call's allocator. */
+static void *own(save_ctx *c, void *p) { return own_from(c, p, c->alloc); }
 
 static void free_owned(save_ctx *c)
 {
     for (size_t i = 0; i < c->owned_count; ++i)
-        free(c->owned[i]);
-    free(c->owned);
-    free(c->acc);
-    free(c->cache);
+        resurfi_free(c->owned[i].alloc, c->owned[i].block);
+    resurfi_free(c->alloc, c->owned);
+    resurfi_free(c->alloc, c->acc);
+    resurfi_free(c->alloc, c->cache);
 }
 
 static char *own_string(save_ctx *c, const char *s)
 {
-    size_t n = strlen(s) + 1;
-    char *p = own(c, malloc(n));
-    if (p)
-        memcpy(p, s, n);
-    return p;
+    return own(c, resurfi_strdup(c->alloc, s));
 }
 
 static long long add_accessor(save_ctx *c, const resurfi_gltf_out_accessor *a)
 {
     if (c->acc_count == c->acc_cap) {
         size_t cap = c->acc_cap ? 2 * c->acc_cap : 64;
-        resurfi_gltf_out_accessor *list = resurfi_realloc_array(c->acc, cap, sizeof *list);
+        resurfi_gltf_out_accessor *list = resurfi_realloc(c->alloc, c->acc, cap, sizeof *list);
         if (!list)
             return -1;
         c->acc = list;
@@ -282,12 +290,12 @@ static void put_value(unsigned char *p, int type, int normalized, double x)
         p[i] = (unsigned char)((uint64_t)v >> (8 * i));
 }
 
-/* Packs one attribute of n vertices in its component type (malloc'ed, owned by c). bounds (may be NULL) receive
+/* Packs one attribute of n vertices in its component type (allocated, owned by c). bounds (may be NULL) receive
  * min/max of the values as written. */
 static unsigned char *pack_attribute(save_ctx *c, const out_attr *a, size_t n, double *min, double *max)
 {
     size_t csize = resurfi_gltf_component_size(a->component_type), comps = (size_t)a->components;
-    unsigned char *data = own(c, resurfi_alloc_array(n, comps * csize));
+    unsigned char *data = own(c, resurfi_alloc(c->alloc, n, comps * csize));
     if (!data)
         return NULL;
     for (size_t k = 0; k < comps && min; ++k)
@@ -347,7 +355,7 @@ static resurf_status pack_draco(save_ctx *c, const resurfi_scene_prim *p, size_t
     resurf_status status = resurfi_draco_encode(&in, &enc, &derr);
     if (status != RESURF_OK)
         return resurfi_fail(c->error, status, c->path, 0, -1, "%s level %zu: %s", p->info.name, level, derr.message);
-    own(c, enc.data);
+    own_from(c, enc.data, NULL); /* malloc'ed by the Draco shim: the C heap */
     if (!enc.data)
         return oom(c);
     resurfi_draco_mesh *dm = NULL;
@@ -397,8 +405,8 @@ static resurf_status pack_draco(save_ctx *c, const resurfi_scene_prim *p, size_t
 
     out->draco = enc.data;
     out->draco_size = enc.size;
-    out->attributes = own(c, resurfi_alloc_array(attr_count, sizeof *out->attributes));
-    out->draco_ids = own(c, resurfi_alloc_array(attr_count, sizeof *out->draco_ids));
+    out->attributes = own(c, resurfi_alloc(c->alloc, attr_count, sizeof *out->attributes));
+    out->draco_ids = own(c, resurfi_alloc(c->alloc, attr_count, sizeof *out->draco_ids));
     if (!out->attributes || !out->draco_ids)
         return oom(c);
     for (size_t i = 0; i < attr_count; ++i) {
@@ -466,7 +474,7 @@ static resurf_status pack(save_ctx *c, size_t prim, size_t level, packed **out)
     if (c->o->draco)
         return pack_draco(c, p, level, m, attrs, n, values, pk);
 
-    pk->attributes = own(c, resurfi_alloc_array(n, sizeof *pk->attributes));
+    pk->attributes = own(c, resurfi_alloc(c->alloc, n, sizeof *pk->attributes));
     if (!pk->attributes)
         return oom(c);
     for (size_t i = 0; i < n; ++i) {
@@ -494,7 +502,7 @@ static resurf_status pack(save_ctx *c, size_t prim, size_t level, packed **out)
     /* Unsigned short indices while they fit: 65535 itself is the primitive-restart value, never an index. */
     int wide = m->vertex_count > 65535;
     size_t isize = wide ? 4 : 2;
-    unsigned char *idx = own(c, resurfi_alloc_array(3 * m->triangle_count, isize));
+    unsigned char *idx = own(c, resurfi_alloc(c->alloc, 3 * m->triangle_count, isize));
     if (!idx)
         return oom(c);
     for (size_t i = 0; i < 3 * m->triangle_count; ++i)
@@ -531,7 +539,7 @@ static resurf_status plan_mesh(save_ctx *c, size_t m, size_t level, resurfi_gltf
 {
     const resurf_scene *s = c->s;
     size_t first = s->mesh_first[m], count = s->mesh_first[m + 1] - first;
-    resurfi_gltf_out_primitive *prims = own(c, resurfi_calloc_array(count, sizeof *prims));
+    resurfi_gltf_out_primitive *prims = own(c, resurfi_calloc(c->alloc, count, sizeof *prims));
     if (!prims)
         return oom(c);
     size_t n = 0;
@@ -620,9 +628,9 @@ static resurf_status build_plan(save_ctx *c, int level, resurfi_gltf_layout layo
     plan->layout = levels > 1 ? layout : RESURFI_GLTF_PLAIN;
     plan->source_mesh_count = meshes;
     plan->level_count = levels;
-    long long *table = own(c, resurfi_alloc_array(levels * meshes + 1, sizeof *table));
-    resurfi_gltf_out_mesh *out = own(c, resurfi_calloc_array(levels * meshes + 1, sizeof *out));
-    double *coverage = own(c, resurfi_calloc_array(levels * meshes + 1, sizeof *coverage));
+    long long *table = own(c, resurfi_alloc(c->alloc, levels * meshes + 1, sizeof *table));
+    resurfi_gltf_out_mesh *out = own(c, resurfi_calloc(c->alloc, levels * meshes + 1, sizeof *out));
+    double *coverage = own(c, resurfi_calloc(c->alloc, levels * meshes + 1, sizeof *coverage));
     if (!table || !out || !coverage)
         return oom(c);
     size_t n = 0;
@@ -653,7 +661,7 @@ static resurf_status build_plan(save_ctx *c, int level, resurfi_gltf_layout layo
                                                             : 0.0;
     }
     if (s->doc) {
-        unsigned char *restructure = own(c, resurfi_calloc_array(s->view->node_count + 1, 1));
+        unsigned char *restructure = own(c, resurfi_calloc(c->alloc, s->view->node_count + 1, 1));
         if (!restructure)
             return oom(c);
         for (size_t i = 0; i < s->view->node_count; ++i)
@@ -704,13 +712,12 @@ static resurf_status write_temp(save_ctx *c, pending_list *list, const char *pat
     const char *slash = strrchr(path, '/');
     int dir_len = slash ? (int)(slash - path) + 1 : 0;
     size_t tmp_size = strlen(path) + 32;
-    char *tmp = malloc(tmp_size), *copy = malloc(strlen(path) + 1);
+    char *tmp = resurfi_alloc(c->alloc, tmp_size, 1), *copy = resurfi_strdup(c->alloc, path);
     if (!tmp || !copy) {
-        free(tmp);
-        free(copy);
+        resurfi_free(c->alloc, tmp);
+        resurfi_free(c->alloc, copy);
         return oom(c);
     }
-    strcpy(copy, path);
     struct timespec now;
     clock_gettime(CLOCK_REALTIME, &now);
     uint64_t seed = mix64((uint64_t)now.tv_nsec ^ (uint64_t)now.tv_sec << 32 ^ (uint64_t)getpid() ^
@@ -730,8 +737,8 @@ static resurf_status write_temp(save_ctx *c, pending_list *list, const char *pat
     }
     if (fd < 0) {
         int e = errno;
-        free(tmp);
-        free(copy);
+        resurfi_free(c->alloc, tmp);
+        resurfi_free(c->alloc, copy);
         return resurfi_fail(c->error, RESURF_ERR_IO, path, 0, -1, "cannot create a temporary file: %s", strerror(e));
     }
     const unsigned char *p = data;
@@ -750,8 +757,8 @@ static resurf_status write_temp(save_ctx *c, pending_list *list, const char *pat
         err = errno ? errno : EIO;
     if (err) {
         unlink(tmp);
-        free(tmp);
-        free(copy);
+        resurfi_free(c->alloc, tmp);
+        resurfi_free(c->alloc, copy);
         return resurfi_fail(c->error, RESURF_ERR_IO, path, 0, -1, "cannot write: %s", strerror(err));
     }
     list->items[list->count].path = copy;
@@ -775,8 +782,8 @@ static resurf_status finish_files(save_ctx *c, pending_list *list, int commit)
         }
         if (!renamed)
             unlink(list->items[i].tmp);
-        free(list->items[i].tmp);
-        free(list->items[i].path);
+        resurfi_free(c->alloc, list->items[i].tmp);
+        resurfi_free(c->alloc, list->items[i].path);
     }
     list->count = 0;
     return status;
@@ -845,8 +852,8 @@ static resurf_status write_document(save_ctx *c, pending_list *files, const char
                     report->level_bytes[lv] += pk->bytes;
             }
     }
-    free(json);
-    free(bin);
+    resurfi_free(NULL, json); /* malloc'ed by the glTF shim: the C heap */
+    resurfi_free(NULL, bin);
     return status;
 }
 
@@ -885,7 +892,7 @@ resurf_status resurf_scene_save(const resurf_scene *scene, const char *path, con
 {
     if (!scene || !path || !*path)
         return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "scene or path is NULL or empty");
-    RESURFI_CHECK_OPTIONS(options, resurf_scene_save_options, error);
+    RESURFI_CHECK_OPTIONS_ALLOC(options, resurf_scene_save_options, error);
     resurf_scene_save_options o = options ? *options : resurf_scene_save_options_default();
     int bits[5] = {o.position_bits, o.normal_bits, o.texcoord_bits, o.color_bits, o.generic_bits};
     for (int i = 0; i < 5; ++i)
@@ -920,20 +927,21 @@ resurf_status resurf_scene_save(const resurf_scene *scene, const char *path, con
         return resurfi_fail(error, RESURF_ERR_UNSUPPORTED, path, 0, -1,
                             "a .drc file holds one level: choose one or use the files layout");
 
-    save_ctx c = {.s = scene, .o = &o, .path = path, .error = error};
-    c.cache = resurfi_alloc_array(scene->prim_count * RESURF_SCENE_MAX_LEVELS + 1, sizeof *c.cache);
+    save_ctx c = {.s = scene, .o = &o, .alloc = o.allocator ? o.allocator : &scene->alloc, .path = path,
+                  .error = error};
+    c.cache = resurfi_alloc(c.alloc, scene->prim_count * RESURF_SCENE_MAX_LEVELS + 1, sizeof *c.cache);
     if (!c.cache)
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
     resurf_scene_save_report report;
     memset(&report, 0, sizeof report);
     report.levels = levels;
-    pending_list *files = calloc(1, sizeof *files);
+    pending_list *files = resurfi_calloc(c.alloc, 1, sizeof *files);
     resurf_status status = files ? RESURF_OK : oom(&c);
     resurfi_gltf_layout layout = o.layout == RESURF_LOD_SIDE_BY_SIDE ? RESURFI_GLTF_SIDE_BY_SIDE
                                                                      : RESURFI_GLTF_MSFT_LOD;
     for (size_t k = 0; k < (per_file ? levels : 1) && status == RESURF_OK; ++k) {
         size_t name_size = resurf_scene_level_path(NULL, 0, path, (unsigned)k) + 1;
-        char *name = malloc(name_size);
+        char *name = resurfi_alloc(c.alloc, name_size, 1);
         if (!name) {
             status = oom(&c);
             break;
@@ -947,7 +955,7 @@ resurf_status resurf_scene_save(const resurf_scene *scene, const char *path, con
             status = write_drc(&c, files, name, level < 0 ? 0 : (size_t)level, &report);
         else
             status = write_document(&c, files, name, format, level, layout, &report);
-        free(name);
+        resurfi_free(c.alloc, name);
     }
     /* Triangles per level, each mesh once. */
     for (size_t k = 0; k < levels; ++k)
@@ -956,7 +964,7 @@ resurf_status resurf_scene_save(const resurf_scene *scene, const char *path, con
                 report.level_triangles[k] += resurfi_scene_level_mesh(&scene->prims[i], k)->triangle_count;
     if (files)
         status = finish_files(&c, files, status == RESURF_OK) == RESURF_OK ? status : RESURF_ERR_IO;
-    free(files);
+    resurfi_free(c.alloc, files);
     free_owned(&c);
     if (status == RESURF_OK) {
         (void)resurfi_progress(&o.progress, "save", 1.0);

@@ -79,6 +79,7 @@ typedef struct fan_pair {
 } fan_pair;
 
 typedef struct scratch {
+    const resurf_allocator *alloc; /* the call's */
     u32vec fan;
     fan_pair *pairs;
     uint32_t *uf;
@@ -130,6 +131,7 @@ typedef struct pending {
 typedef struct simplifier {
     const resurf_mesh *in;
     resurf_simplify_options opt;
+    const resurf_allocator *alloc; /* the call's (options, else the input's): temporaries and the output */
     unsigned threads;
     double diagonal, max_error;
     vec3 origin;         /* the bounding box's centre: quadrics are built around it, where their expanded form
@@ -139,7 +141,8 @@ typedef struct simplifier {
     work_tri *tri;
     uint32_t *src;     /* input triangle of each working triangle */
     size_t pos_count, alive_positions;
-    work_pos *P;
+    work_pos *P;         /* inside P_mem, 64-byte aligned */
+    void *P_mem;
     uint32_t *mark;    /* scratch stamps, see next_stamp */
     uint32_t stamp;
 
@@ -164,11 +167,11 @@ typedef struct simplifier {
 
 /* ---- small helpers ------------------------------------------------------------------------------------------- */
 
-static int vec_push(u32vec *v, uint32_t x)
+static int vec_push(const resurf_allocator *alloc, u32vec *v, uint32_t x)
 {
     if (v->count == v->cap) {
         size_t cap = v->cap ? 2 * v->cap : 32;
-        uint32_t *d = resurfi_realloc_array(v->data, cap, sizeof *d);
+        uint32_t *d = resurfi_realloc(alloc, v->data, cap, sizeof *d);
         if (!d)
             return 0;
         v->data = d;
@@ -180,9 +183,9 @@ static int vec_push(u32vec *v, uint32_t x)
 
 static void scratch_free(scratch *s)
 {
-    free(s->fan.data);
-    free(s->pairs);
-    free(s->uf);
+    resurfi_free(s->alloc, s->fan.data);
+    resurfi_free(s->alloc, s->pairs);
+    resurfi_free(s->alloc, s->uf);
 }
 
 /* A fresh stamp for the mark array: a position is "marked" when mark[p] equals it. */
@@ -217,7 +220,7 @@ static int gather_fan(simplifier *s, uint32_t v, u32vec *out, int unlink)
                 prev = c;
             }
         } else {
-            if (!vec_push(out, c))
+            if (!vec_push(s->alloc, out, c))
                 return 0;
             prev = c;
         }
@@ -240,8 +243,8 @@ static size_t fan_pairs(const simplifier *s, const u32vec *fan, scratch *sc)
 {
     size_t n = 2 * fan->count;
     if (n > sc->pairs_cap) {
-        fan_pair *p = resurfi_realloc_array(sc->pairs, n, sizeof *p);
-        uint32_t *uf = resurfi_realloc_array(sc->uf, fan->count, sizeof *uf);
+        fan_pair *p = resurfi_realloc(s->alloc, sc->pairs, n, sizeof *p);
+        uint32_t *uf = resurfi_realloc(s->alloc, sc->uf, fan->count, sizeof *uf);
         if (p)
             sc->pairs = p;
         if (uf)
@@ -349,21 +352,21 @@ static resurf_status prepare_mesh(simplifier *s, resurf_error *error)
 {
     const resurf_mesh *in = s->in;
     size_t nv = in->vertex_count;
-    uint32_t *remap = resurfi_alloc_array(nv, sizeof *remap);
-    uint32_t *rep = resurfi_alloc_array(nv, sizeof *rep);
+    uint32_t *remap = resurfi_alloc(s->alloc, nv, sizeof *remap);
+    uint32_t *rep = resurfi_alloc(s->alloc, nv, sizeof *rep);
     uint32_t *first = NULL, *chain = NULL;
     resurf_status st = RESURF_ERR_OUT_OF_MEMORY;
     if (!remap || !rep)
         goto done;
     size_t pc = 0;
-    if ((st = resurfi_weld_exact(in->positions, nv, remap, &pc)) != RESURF_OK)
+    if ((st = resurfi_weld_exact(s->alloc, in->positions, nv, remap, &pc)) != RESURF_OK)
         goto done;
     st = RESURF_ERR_OUT_OF_MEMORY;
     s->pos_count = pc;
 
     /* Wedges: at each position, a vertex joins the lowest earlier vertex with equal attributes. Positions hold few
      * vertices, so the pairwise test is cheap. */
-    if (!(first = resurfi_alloc_array(pc, sizeof *first)) || !(chain = resurfi_alloc_array(nv, sizeof *chain)))
+    if (!(first = resurfi_alloc(s->alloc, pc, sizeof *first)) || !(chain = resurfi_alloc(s->alloc, nv, sizeof *chain)))
         goto done;
     memset(first, 0xff, pc * sizeof *first);
     int attrs = has_attributes(in);
@@ -391,13 +394,12 @@ static resurf_status prepare_mesh(simplifier *s, resurf_error *error)
         nt += a != b && b != c && a != c;
     }
     s->tri_count = s->alive_tris = nt;
-    s->tri = resurfi_calloc_array(nt, sizeof *s->tri);
-    s->src = resurfi_alloc_array(nt, sizeof *s->src);
-    if (pc <= SIZE_MAX / sizeof *s->P && posix_memalign((void **)&s->P, 64, (pc ? pc : 1) * sizeof *s->P) == 0)
-        memset(s->P, 0, pc * sizeof *s->P);
-    else
-        s->P = NULL;
-    s->mark = resurfi_calloc_array(pc, sizeof *s->mark);
+    s->tri = resurfi_calloc(s->alloc, nt, sizeof *s->tri);
+    s->src = resurfi_alloc(s->alloc, nt, sizeof *s->src);
+    /* the allocator promises malloc's alignment only: the block has room to align within */
+    if (pc <= (SIZE_MAX - 63) / sizeof *s->P && (s->P_mem = resurfi_calloc(s->alloc, pc * sizeof *s->P + 63, 1)))
+        s->P = (work_pos *)(((uintptr_t)s->P_mem + 63) & ~(uintptr_t)63);
+    s->mark = resurfi_calloc(s->alloc, pc, sizeof *s->mark);
     if (!s->tri || !s->src || !s->P || !s->mark)
         goto done;
     nt = 0;
@@ -429,10 +431,10 @@ static resurf_status prepare_mesh(simplifier *s, resurf_error *error)
     }
     st = RESURF_OK;
 done:
-    free(remap);
-    free(rep);
-    free(first);
-    free(chain);
+    resurfi_free(s->alloc, remap);
+    resurfi_free(s->alloc, rep);
+    resurfi_free(s->alloc, first);
+    resurfi_free(s->alloc, chain);
     if (st == RESURF_ERR_OUT_OF_MEMORY)
         return resurfi_error(error, st, "out of memory preparing %zu triangles for simplification",
                              in->triangle_count);
@@ -576,11 +578,11 @@ static int analyse_block(void *ctx, size_t begin, size_t end, unsigned worker)
  * its attributes from the closest input triangle of its wedge's chart, so texcoords never come from across a seam. */
 static resurf_status find_charts(simplifier *s, scratch *sc)
 {
-    uint32_t *parent = resurfi_alloc_array(s->tri_count, sizeof *parent);
-    s->chart_of_input_tri = resurfi_alloc_array(s->in->triangle_count, sizeof *s->chart_of_input_tri);
-    s->chart_of_wedge = resurfi_alloc_array(s->in->vertex_count, sizeof *s->chart_of_wedge);
+    uint32_t *parent = resurfi_alloc(s->alloc, s->tri_count, sizeof *parent);
+    s->chart_of_input_tri = resurfi_alloc(s->alloc, s->in->triangle_count, sizeof *s->chart_of_input_tri);
+    s->chart_of_wedge = resurfi_alloc(s->alloc, s->in->vertex_count, sizeof *s->chart_of_wedge);
     if (!parent || !s->chart_of_input_tri || !s->chart_of_wedge) {
-        free(parent);
+        resurfi_free(s->alloc, parent);
         return RESURF_ERR_OUT_OF_MEMORY;
     }
     for (size_t t = 0; t < s->tri_count; ++t)
@@ -589,12 +591,12 @@ static resurf_status find_charts(simplifier *s, scratch *sc)
         if (s->P[a].flags & POS_DEAD)
             continue;
         if (!gather_fan(s, (uint32_t)a, &sc->fan, 0)) {
-            free(parent);
+            resurfi_free(s->alloc, parent);
             return RESURF_ERR_OUT_OF_MEMORY;
         }
         size_t n = fan_pairs(s, &sc->fan, sc);
         if (n == SIZE_MAX) {
-            free(parent);
+            resurfi_free(s->alloc, parent);
             return RESURF_ERR_OUT_OF_MEMORY;
         }
         for (size_t i = 0; i + 1 < n; ++i) {
@@ -620,7 +622,7 @@ static resurf_status find_charts(simplifier *s, scratch *sc)
             if (s->chart_of_wedge[TW(3 * t + k)] == NONE)
                 s->chart_of_wedge[TW(3 * t + k)] = c;
     }
-    free(parent);
+    resurfi_free(s->alloc, parent);
     return RESURF_OK;
 }
 
@@ -829,14 +831,14 @@ static void heap_sift_up(heap_entry *h, size_t i)
 /* (Re)allocates the heap for cap entries, keeping the first `keep`; 0 when out of memory. */
 static int heap_reserve(simplifier *s, size_t cap, size_t keep)
 {
-    void *mem = resurfi_alloc_array(cap + 4, sizeof(heap_entry));
+    void *mem = resurfi_alloc(s->alloc, cap + 4, sizeof(heap_entry));
     if (!mem)
         return 0;
     uintptr_t base = (uintptr_t)mem, first = (base + sizeof(heap_entry) + 63) & ~(uintptr_t)63;
     heap_entry *h = (heap_entry *)(first - sizeof(heap_entry));
     if (keep)
         memcpy(h, s->heap, keep * sizeof *h);
-    free(s->heap_mem);
+    resurfi_free(s->alloc, s->heap_mem);
     s->heap_mem = mem;
     s->heap = h;
     s->heap_cap = cap;
@@ -945,7 +947,7 @@ static int seed_block(void *ctx, size_t begin, size_t end, unsigned worker)
 /* up: per position, its neighbours above it (from analyse_position): the slots of its edges. */
 static resurf_status seed_heap(simplifier *s, scratch *scratch, const uint32_t *up)
 {
-    size_t *offset = resurfi_alloc_array(s->pos_count + 1, sizeof *offset);
+    size_t *offset = resurfi_alloc(s->alloc, s->pos_count + 1, sizeof *offset);
     if (!offset)
         return RESURF_ERR_OUT_OF_MEMORY;
     size_t total = 0;
@@ -956,15 +958,15 @@ static resurf_status seed_heap(simplifier *s, scratch *scratch, const uint32_t *
     offset[s->pos_count] = total;
     /* room for the first collapses' candidates before stale entries are dropped (heap_make_room) */
     if (!heap_reserve(s, total + total / 2 + 64, 0)) {
-        free(offset);
+        resurfi_free(s->alloc, offset);
         return RESURF_ERR_OUT_OF_MEMORY;
     }
     seed_job job = {s, scratch, offset};
     if (resurfi_parallel_for(s->pos_count, BLOCK_POSITIONS, s->threads, seed_block, &job)) {
-        free(offset);
+        resurfi_free(s->alloc, offset);
         return RESURF_ERR_OUT_OF_MEMORY;
     }
-    free(offset);
+    resurfi_free(s->alloc, offset);
     for (unsigned w = 0; w < s->threads; ++w)
         for (int reason = 0; reason < 5; ++reason) {
             size_t n = scratch[w].blocked[reason];
@@ -1171,7 +1173,7 @@ static int apply_collapse(simplifier *s, uint32_t keep, uint32_t gone, vec3 p, c
     for (int side = 0; side < 2; ++side)
         for (size_t i = 0; i < fans[side]->count; ++i) {
             uint32_t c = fans[side]->data[i];
-            if (!s->tri[c / 3].dead && !vec_push(&s->fan_c, c))
+            if (!s->tri[c / 3].dead && !vec_push(s->alloc, &s->fan_c, c))
                 return 0;
         }
     uint32_t st = next_stamp(s);
@@ -1186,7 +1188,7 @@ static int apply_collapse(simplifier *s, uint32_t keep, uint32_t gone, vec3 p, c
             int again = (s->P[x].flags & POS_BLOCKED) != 0;
             if ((x == opposite[0] || x == opposite[1]) && (s->P[x].flags & (POS_SEAM | POS_COMPLEX)))
                 again = 1;
-            if (again && !vec_push(&s->touched, x))
+            if (again && !vec_push(s->alloc, &s->touched, x))
                 return 0;
         }
     }
@@ -1440,26 +1442,26 @@ typedef struct output {
     size_t samples;
 } output;
 
-static void output_free(output *o)
+static void output_free(output *o, const resurf_allocator *alloc)
 {
-    free(o->tris);
-    free(o->pos_index);
-    free(o->upos);
-    free(o->ufirst);
-    free(o->ov_next);
-    free(o->ov_u);
-    free(o->ov_wedge);
-    free(o->corner_ov);
-    free(o->base);
-    free(o->final);
-    free(o->normal);
-    free(o->sag_sum);
-    free(o->len);
-    free(o->sag_count);
-    free(o->outcome);
-    free(o->area_prefix);
-    free(o->block_max);
-    free(o->block_sum);
+    resurfi_free(alloc, o->tris);
+    resurfi_free(alloc, o->pos_index);
+    resurfi_free(alloc, o->upos);
+    resurfi_free(alloc, o->ufirst);
+    resurfi_free(alloc, o->ov_next);
+    resurfi_free(alloc, o->ov_u);
+    resurfi_free(alloc, o->ov_wedge);
+    resurfi_free(alloc, o->corner_ov);
+    resurfi_free(alloc, o->base);
+    resurfi_free(alloc, o->final);
+    resurfi_free(alloc, o->normal);
+    resurfi_free(alloc, o->sag_sum);
+    resurfi_free(alloc, o->len);
+    resurfi_free(alloc, o->sag_count);
+    resurfi_free(alloc, o->outcome);
+    resurfi_free(alloc, o->area_prefix);
+    resurfi_free(alloc, o->block_max);
+    resurfi_free(alloc, o->block_sum);
 }
 
 typedef struct output_job {
@@ -1661,15 +1663,15 @@ static resurf_status number_output(simplifier *s, output *o)
 {
     size_t nt = s->alive_tris;
     o->nt = nt;
-    o->tris = resurfi_alloc_array(nt, sizeof *o->tris);
-    o->pos_index = resurfi_alloc_array(s->pos_count, sizeof *o->pos_index);
+    o->tris = resurfi_alloc(s->alloc, nt, sizeof *o->tris);
+    o->pos_index = resurfi_alloc(s->alloc, s->pos_count, sizeof *o->pos_index);
     size_t cap_u = 3 * nt < s->pos_count ? 3 * nt : s->pos_count;
-    o->upos = resurfi_alloc_array(cap_u, sizeof *o->upos);
-    o->ufirst = resurfi_alloc_array(cap_u, sizeof *o->ufirst);
-    o->ov_next = resurfi_alloc_array(3 * nt, sizeof *o->ov_next);
-    o->ov_u = resurfi_alloc_array(3 * nt, sizeof *o->ov_u);
-    o->ov_wedge = resurfi_alloc_array(3 * nt, sizeof *o->ov_wedge);
-    o->corner_ov = resurfi_alloc_array(3 * nt, sizeof *o->corner_ov);
+    o->upos = resurfi_alloc(s->alloc, cap_u, sizeof *o->upos);
+    o->ufirst = resurfi_alloc(s->alloc, cap_u, sizeof *o->ufirst);
+    o->ov_next = resurfi_alloc(s->alloc, 3 * nt, sizeof *o->ov_next);
+    o->ov_u = resurfi_alloc(s->alloc, 3 * nt, sizeof *o->ov_u);
+    o->ov_wedge = resurfi_alloc(s->alloc, 3 * nt, sizeof *o->ov_wedge);
+    o->corner_ov = resurfi_alloc(s->alloc, 3 * nt, sizeof *o->corner_ov);
     if (!o->tris || !o->pos_index || !o->upos || !o->ufirst || !o->ov_next || !o->ov_u || !o->ov_wedge ||
         !o->corner_ov)
         return RESURF_ERR_OUT_OF_MEMORY;
@@ -1723,9 +1725,9 @@ static void measure_edges(output *o)
 static resurf_status place_output(simplifier *s, output *o)
 {
     size_t nu = o->nu;
-    o->base = resurfi_alloc_array(nu, sizeof *o->base);
-    o->final = resurfi_alloc_array(nu, sizeof *o->final);
-    o->len = resurfi_calloc_array(nu, sizeof *o->len);
+    o->base = resurfi_alloc(s->alloc, nu, sizeof *o->base);
+    o->final = resurfi_alloc(s->alloc, nu, sizeof *o->final);
+    o->len = resurfi_calloc(s->alloc, nu, sizeof *o->len);
     if (!o->base || !o->final || !o->len)
         return RESURF_ERR_OUT_OF_MEMORY;
     for (size_t u = 0; u < nu; ++u)
@@ -1733,7 +1735,7 @@ static resurf_status place_output(simplifier *s, output *o)
     measure_edges(o);
     output_job job = {s, o, NULL};
     if (s->opt.restore == RESURF_RESTORE_POST && s->restorer) {
-        if (!(o->outcome = resurfi_alloc_array(nu, 1)))
+        if (!(o->outcome = resurfi_alloc(s->alloc, nu, 1)))
             return RESURF_ERR_OUT_OF_MEMORY;
         resurfi_parallel_for(nu, BLOCK_POSITIONS, s->threads, post_restore_block, &job);
         s->rep.restored += nu;
@@ -1742,9 +1744,9 @@ static resurf_status place_output(simplifier *s, output *o)
     }
     int offset = s->restorer && s->opt.restore != RESURF_RESTORE_NONE && s->opt.sag_offset > 0;
     if (offset) {
-        o->normal = resurfi_alloc_array(nu, sizeof *o->normal);
-        o->sag_sum = resurfi_calloc_array(nu, sizeof *o->sag_sum);
-        o->sag_count = resurfi_calloc_array(nu, sizeof *o->sag_count);
+        o->normal = resurfi_alloc(s->alloc, nu, sizeof *o->normal);
+        o->sag_sum = resurfi_calloc(s->alloc, nu, sizeof *o->sag_sum);
+        o->sag_count = resurfi_calloc(s->alloc, nu, sizeof *o->sag_count);
         if (!o->normal || !o->sag_sum || !o->sag_count)
             return RESURF_ERR_OUT_OF_MEMORY;
         resurfi_parallel_for(nu, BLOCK_POSITIONS, s->threads, normal_block, &job);
@@ -1781,7 +1783,7 @@ static resurf_status measure_output(simplifier *s, output *o, resurf_simplify_re
     rep->max_distance = rep->mean_distance = rep->max_distance_rel = rep->mean_distance_rel = NAN;
     if (!s->opt.measure_samples || o->nt == 0 || !s->bvh)
         return RESURF_OK;
-    o->area_prefix = resurfi_alloc_array(o->nt + 1, sizeof *o->area_prefix);
+    o->area_prefix = resurfi_alloc(s->alloc, o->nt + 1, sizeof *o->area_prefix);
     if (!o->area_prefix)
         return RESURF_ERR_OUT_OF_MEMORY;
     o->area_prefix[0] = 0;
@@ -1794,8 +1796,8 @@ static resurf_status measure_output(simplifier *s, output *o, resurf_simplify_re
     o->samples = o->area_prefix[o->nt] > 0 ? s->opt.measure_samples : 0;
     size_t total = o->samples + o->nu;
     size_t blocks = (total + BLOCK_SAMPLES - 1) / BLOCK_SAMPLES;
-    o->block_max = resurfi_alloc_array(blocks, sizeof *o->block_max);
-    o->block_sum = resurfi_alloc_array(blocks, sizeof *o->block_sum);
+    o->block_max = resurfi_alloc(s->alloc, blocks, sizeof *o->block_max);
+    o->block_sum = resurfi_alloc(s->alloc, blocks, sizeof *o->block_sum);
     if (!o->block_max || !o->block_sum)
         return RESURF_ERR_OUT_OF_MEMORY;
     output_job job = {s, o, NULL};
@@ -1815,7 +1817,8 @@ static resurf_status measure_output(simplifier *s, output *o, resurf_simplify_re
 }
 
 /* An empty mesh (or one of the given counts) with the input's attribute layout. */
-static resurf_status create_like(const resurf_mesh *in, size_t nv, size_t nt, resurf_mesh **out, resurf_error *error)
+static resurf_status create_like(const resurf_allocator *alloc, const resurf_mesh *in, size_t nv, size_t nt,
+                                 resurf_mesh **out, resurf_error *error)
 {
     unsigned attrs = 0;
     if (in->normals)
@@ -1825,7 +1828,7 @@ static resurf_status create_like(const resurf_mesh *in, size_t nv, size_t nt, re
     for (unsigned k = 0; k < in->texcoord_count && k < RESURF_MAX_TEXCOORD_SETS; ++k)
         if (in->texcoords[k])
             attrs |= RESURF_ATTR_TEXCOORD0 << k;
-    resurf_status st = resurf_mesh_create(nv, nt, attrs, out, error);
+    resurf_status st = resurf_mesh_create_with(nv, nt, attrs, alloc, out, error);
     if (st != RESURF_OK)
         return st;
     resurf_mesh *m = *out;
@@ -1837,8 +1840,8 @@ static resurf_status create_like(const resurf_mesh *in, size_t nv, size_t nt, re
             break;
     }
     if (st == RESURF_OK && in->triangle_groups && in->group_count) {
-        m->triangle_groups = resurfi_calloc_array(nt, sizeof *m->triangle_groups);
-        m->group_names = resurfi_calloc_array(in->group_count, sizeof *m->group_names);
+        m->triangle_groups = resurfi_calloc(&m->allocator, nt, sizeof *m->triangle_groups);
+        m->group_names = resurfi_calloc(&m->allocator, in->group_count, sizeof *m->group_names);
         if (!m->triangle_groups || !m->group_names)
             st = RESURF_ERR_OUT_OF_MEMORY;
         else
@@ -1846,7 +1849,7 @@ static resurf_status create_like(const resurf_mesh *in, size_t nv, size_t nt, re
         for (size_t g = 0; st == RESURF_OK && g < in->group_count; ++g) {
             const char *name = in->group_names[g] ? in->group_names[g] : "";
             size_t len = strlen(name);
-            if (!(m->group_names[g] = malloc(len + 1)))
+            if (!(m->group_names[g] = resurfi_alloc(&m->allocator, len + 1, 1)))
                 st = RESURF_ERR_OUT_OF_MEMORY;
             else
                 memcpy(m->group_names[g], name, len + 1);
@@ -1869,8 +1872,8 @@ static resurf_status build_output(simplifier *s, resurf_mesh **out, resurf_simpl
     resurf_status st = number_output(s, &o);
     if (st == RESURF_OK)
         st = place_output(s, &o);
-    if (st == RESURF_OK && (st = create_like(s->in, o.nv, o.nt, &m, error)) != RESURF_OK) {
-        output_free(&o);
+    if (st == RESURF_OK && (st = create_like(s->alloc, s->in, o.nv, o.nt, &m, error)) != RESURF_OK) {
+        output_free(&o, s->alloc);
         return st;
     }
     if (st == RESURF_OK) {
@@ -1890,7 +1893,7 @@ static resurf_status build_output(simplifier *s, resurf_mesh **out, resurf_simpl
         rep->positions = o.nu;
         st = measure_output(s, &o, rep);
     }
-    output_free(&o);
+    output_free(&o, s->alloc);
     if (st != RESURF_OK) {
         resurf_mesh_free(m);
         return resurfi_error(error, st, "out of memory building the simplified mesh");
@@ -1918,7 +1921,7 @@ resurf_simplify_options resurf_simplify_options_default(void)
 
 static resurf_status check_options(const resurf_simplify_options *o, resurf_error *error)
 {
-    RESURFI_CHECK_OPTIONS(o, resurf_simplify_options, error);
+    RESURFI_CHECK_OPTIONS_ALLOC(o, resurf_simplify_options, error);
     if (!o)
         return RESURF_OK;
     const char *bad = NULL;
@@ -1949,18 +1952,18 @@ static resurf_status check_options(const resurf_simplify_options *o, resurf_erro
 
 static void simplifier_free(simplifier *s)
 {
-    free(s->tri);
-    free(s->src);
-    free(s->P);
-    free(s->mark);
-    free(s->chart_of_input_tri);
-    free(s->chart_of_wedge);
-    free(s->heap_mem);
-    free(s->fan_a.data);
-    free(s->fan_b.data);
-    free(s->fan_c.data);
-    free(s->touched.data);
-    free(s->pend);
+    resurfi_free(s->alloc, s->tri);
+    resurfi_free(s->alloc, s->src);
+    resurfi_free(s->alloc, s->P_mem);
+    resurfi_free(s->alloc, s->mark);
+    resurfi_free(s->alloc, s->chart_of_input_tri);
+    resurfi_free(s->alloc, s->chart_of_wedge);
+    resurfi_free(s->alloc, s->heap_mem);
+    resurfi_free(s->alloc, s->fan_a.data);
+    resurfi_free(s->alloc, s->fan_b.data);
+    resurfi_free(s->alloc, s->fan_c.data);
+    resurfi_free(s->alloc, s->touched.data);
+    resurfi_free(s->alloc, s->pend);
     resurfi_restorer_free(s->restorer);
     resurfi_bvh_free(s->own_bvh);
 }
@@ -1998,37 +2001,38 @@ static resurf_status start(simplifier *s, scratch *scratch, resurf_error *error)
             ro = *s->opt.restore_options;
         ro.threads = s->opt.threads;
         ro.progress = (resurf_progress){NULL, NULL};
+        ro.allocator = s->alloc;
         if ((st = resurfi_restorer_create(s->in, &ro, &s->restorer, error)) != RESURF_OK)
             return st;
         s->bvh = resurfi_restorer_bvh(s->restorer);
     } else if (has_attributes(s->in) || s->opt.measure_samples) {
-        st = resurfi_bvh_build_threads(s->in->positions, s->in->vertex_count, s->in->indices, s->in->triangle_count,
-                                       s->opt.threads, &s->own_bvh);
+        st = resurfi_bvh_build_threads(s->alloc, s->in->positions, s->in->vertex_count, s->in->indices,
+                                       s->in->triangle_count, s->opt.threads, &s->own_bvh);
         if (st != RESURF_OK)
             return resurfi_error(error, st, "cannot build the input's BVH");
         s->bvh = s->own_bvh;
     }
     if (resurfi_progress(&s->opt.progress, "prepare", 0.5))
         return resurfi_error(error, RESURF_ERR_CANCELLED, "simplification cancelled");
-    uint32_t *up = resurfi_alloc_array(s->pos_count, sizeof *up);
+    uint32_t *up = resurfi_alloc(s->alloc, s->pos_count, sizeof *up);
     analyse_job aj = {s, scratch, up};
     if (!up || resurfi_parallel_for(s->pos_count, BLOCK_POSITIONS, s->threads, analyse_block, &aj)) {
-        free(up);
+        resurfi_free(s->alloc, up);
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory analysing the mesh");
     }
     int seams = 0;
     for (size_t p = 0; p < s->pos_count && !seams; ++p)
         seams = (s->P[p].flags & (POS_SEAM | POS_COMPLEX)) != 0;
     if (seams && has_attributes(s->in) && find_charts(s, &scratch[0]) != RESURF_OK) {
-        free(up);
+        resurfi_free(s->alloc, up);
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory finding attribute charts");
     }
     st = seed_heap(s, scratch, up);
-    free(up);
+    resurfi_free(s->alloc, up);
     if (st != RESURF_OK)
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory queueing %zu edges",
                              3 * s->tri_count / 2);
-    if (s->opt.restore == RESURF_RESTORE_INLINE && !(s->pend = resurfi_alloc_array(BATCH, sizeof *s->pend)))
+    if (s->opt.restore == RESURF_RESTORE_INLINE && !(s->pend = resurfi_alloc(s->alloc, BATCH, sizeof *s->pend)))
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
     if (resurfi_progress(&s->opt.progress, "prepare", 1))
         return resurfi_error(error, RESURF_ERR_CANCELLED, "simplification cancelled");
@@ -2045,9 +2049,12 @@ static resurf_status simplify_levels(const resurf_mesh *in, const resurf_simplif
     s.in = in;
     s.opt = options ? *options : resurf_simplify_options_default();
     s.threads = resurfi_thread_count(s.opt.threads);
-    scratch *sc = resurfi_calloc_array(s.threads, sizeof *sc);
+    s.alloc = resurfi_allocator_of(s.opt.allocator, in);
+    scratch *sc = resurfi_calloc(s.alloc, s.threads, sizeof *sc);
     if (!sc)
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory starting the simplification");
+    for (unsigned w = 0; w < s.threads; ++w)
+        sc[w].alloc = s.alloc;
     resurf_status st = RESURF_OK;
     if (resurfi_progress(&s.opt.progress, "prepare", 0))
         st = resurfi_error(error, RESURF_ERR_CANCELLED, "simplification cancelled");
@@ -2070,7 +2077,7 @@ static resurf_status simplify_levels(const resurf_mesh *in, const resurf_simplif
         st = resurfi_error(error, RESURF_ERR_CANCELLED, "simplification cancelled");
     for (unsigned w = 0; w < s.threads; ++w)
         scratch_free(&sc[w]);
-    free(sc);
+    resurfi_free(s.alloc, sc);
     simplifier_free(&s);
     if (st != RESURF_OK)
         for (size_t i = 0; i < count; ++i) {
@@ -2122,18 +2129,19 @@ resurf_status resurf_simplify_lods(const resurf_mesh *in, const resurf_simplify_
     resurf_status st = check_options(options, error);
     if (st != RESURF_OK)
         return st;
-    size_t *targets = resurfi_alloc_array(count, sizeof *targets);
+    const resurf_allocator *alloc = resurfi_allocator_of(options ? options->allocator : NULL, in);
+    size_t *targets = resurfi_alloc(alloc, count, sizeof *targets);
     if (!targets)
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
     for (size_t i = 0; i < count; ++i) {
         if (!(ratios[i] > 0 && ratios[i] <= 1) || (i > 0 && ratios[i] > ratios[i - 1])) {
-            free(targets);
+            resurfi_free(alloc, targets);
             return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT,
                                  "ratio %zu (%g) must be in (0, 1] and not above the previous one", i, ratios[i]);
         }
         targets[i] = (size_t)floor(ratios[i] * (double)in->triangle_count * (1 + 1e-12));
     }
     st = simplify_levels(in, options, targets, count, out_levels, out_reports, error);
-    free(targets);
+    resurfi_free(alloc, targets);
     return st;
 }

@@ -36,19 +36,20 @@ typedef struct smoother {
     uint32_t *tri;            /* 3 × triangle_count welded indices */
     size_t tri_count;
     resurfi_adjacency adj;
+    const resurf_allocator *alloc; /* the call's, for everything above */
 } smoother;
 
 static void smoother_free(smoother *s)
 {
-    free(s->p);
-    free(s->lap);
-    free(s->lap2);
-    free(s->ring_offset);
-    free(s->ring);
-    free(s->ring_edge);
-    free(s->fixed);
-    free(s->edge_weight);
-    free(s->tri);
+    resurfi_free(s->alloc, s->p);
+    resurfi_free(s->alloc, s->lap);
+    resurfi_free(s->alloc, s->lap2);
+    resurfi_free(s->alloc, s->ring_offset);
+    resurfi_free(s->alloc, s->ring);
+    resurfi_free(s->alloc, s->ring_edge);
+    resurfi_free(s->alloc, s->fixed);
+    resurfi_free(s->alloc, s->edge_weight);
+    resurfi_free(s->alloc, s->tri);
     resurfi_adjacency_free(&s->adj);
 }
 
@@ -72,12 +73,12 @@ static resurf_status smoother_init(smoother *s, const resurf_mesh *m, const uint
                                    int with_lap2)
 {
     size_t n = s->n;
-    s->p = resurfi_alloc_array(3 * n, sizeof *s->p);
-    s->lap = resurfi_calloc_array(n, sizeof *s->lap);
-    s->lap2 = with_lap2 ? resurfi_calloc_array(n, sizeof *s->lap2) : NULL;
-    s->tri = resurfi_alloc_array(3 * m->triangle_count, sizeof *s->tri);
-    s->fixed = resurfi_alloc_array(n, sizeof *s->fixed);
-    s->ring_offset = resurfi_calloc_array(n + 1, sizeof *s->ring_offset);
+    s->p = resurfi_alloc(s->alloc, 3 * n, sizeof *s->p);
+    s->lap = resurfi_calloc(s->alloc, n, sizeof *s->lap);
+    s->lap2 = with_lap2 ? resurfi_calloc(s->alloc, n, sizeof *s->lap2) : NULL;
+    s->tri = resurfi_alloc(s->alloc, 3 * m->triangle_count, sizeof *s->tri);
+    s->fixed = resurfi_alloc(s->alloc, n, sizeof *s->fixed);
+    s->ring_offset = resurfi_calloc(s->alloc, n + 1, sizeof *s->ring_offset);
     if (!s->p || !s->lap || (with_lap2 && !s->lap2) || !s->tri || !s->fixed || !s->ring_offset)
         return RESURF_ERR_OUT_OF_MEMORY;
     /* The first vertex of each position id carries its coordinates (all of them are equal by construction). */
@@ -87,15 +88,15 @@ static resurf_status smoother_init(smoother *s, const resurf_mesh *m, const uint
     for (size_t i = 0; i < 3 * m->triangle_count; ++i)
         s->tri[i] = remap[m->indices[i]];
 
-    resurf_status st = resurfi_adjacency_build(s->tri, s->tri_count, n, &s->adj);
+    resurf_status st = resurfi_adjacency_build(s->alloc, s->tri, s->tri_count, n, &s->adj);
     if (st != RESURF_OK)
         return st;
     size_t ne = s->adj.edge_count;
     if (2 * ne > UINT32_MAX)
         return RESURF_ERR_LIMIT;
-    s->ring = resurfi_alloc_array(2 * ne, sizeof *s->ring);
-    s->ring_edge = resurfi_alloc_array(2 * ne, sizeof *s->ring_edge);
-    s->edge_weight = with_cot ? resurfi_alloc_array(ne, sizeof *s->edge_weight) : NULL;
+    s->ring = resurfi_alloc(s->alloc, 2 * ne, sizeof *s->ring);
+    s->ring_edge = resurfi_alloc(s->alloc, 2 * ne, sizeof *s->ring_edge);
+    s->edge_weight = with_cot ? resurfi_alloc(s->alloc, ne, sizeof *s->edge_weight) : NULL;
     if (!s->ring || !s->ring_edge || (with_cot && !s->edge_weight))
         return RESURF_ERR_OUT_OF_MEMORY;
     /* Counting sort of the edge ends into per-position rings. */
@@ -105,7 +106,7 @@ static resurf_status smoother_init(smoother *s, const resurf_mesh *m, const uint
     }
     for (size_t v = 0; v < n; ++v)
         s->ring_offset[v + 1] += s->ring_offset[v];
-    uint32_t *fill = resurfi_alloc_array(n, sizeof *fill);
+    uint32_t *fill = resurfi_alloc(s->alloc, n, sizeof *fill);
     if (!fill)
         return RESURF_ERR_OUT_OF_MEMORY;
     memcpy(fill, s->ring_offset, n * sizeof *fill);
@@ -114,7 +115,7 @@ static resurf_status smoother_init(smoother *s, const resurf_mesh *m, const uint
         s->ring[fill[a]] = b, s->ring_edge[fill[a]++] = (uint32_t)e;
         s->ring[fill[b]] = a, s->ring_edge[fill[b]++] = (uint32_t)e;
     }
-    free(fill);
+    resurfi_free(s->alloc, fill);
     /* A boundary position would be pulled inwards by its one-sided umbrella, and a non-manifold one by several
      * sheets at once: both stay where they are, as do positions with no neighbour at all. */
     for (size_t v = 0; v < n; ++v)
@@ -236,7 +237,7 @@ resurf_status resurf_smooth(resurf_mesh *mesh, const resurf_smooth_options *opti
     resurfi_clear_error(error);
     if (!mesh)
         return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "mesh is NULL");
-    RESURFI_CHECK_OPTIONS(options, resurf_smooth_options, error);
+    RESURFI_CHECK_OPTIONS_ALLOC(options, resurf_smooth_options, error);
     resurf_smooth_options o = options ? *options : resurf_smooth_options_default();
     if ((unsigned)o.method >= RESURF_SMOOTH_COUNT)
         return resurfi_error(error, RESURF_ERR_INVALID_OPTIONS, "unknown smoothing method %d", (int)o.method);
@@ -263,11 +264,12 @@ resurf_status resurf_smooth(resurf_mesh *mesh, const resurf_smooth_options *opti
 
     smoother s;
     memset(&s, 0, sizeof s);
-    uint32_t *remap = resurfi_alloc_array(mesh->vertex_count, sizeof *remap);
+    s.alloc = resurfi_allocator_of(o.allocator, mesh);
+    uint32_t *remap = resurfi_alloc(s.alloc, mesh->vertex_count, sizeof *remap);
     if (!remap)
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory welding %zu vertices",
                              mesh->vertex_count);
-    st = resurfi_weld_exact(mesh->positions, mesh->vertex_count, remap, &s.n);
+    st = resurfi_weld_exact(s.alloc, mesh->positions, mesh->vertex_count, remap, &s.n);
     if (st == RESURF_OK)
         st = smoother_init(&s, mesh, remap, o.method == RESURF_SMOOTH_TAUBIN_COT,
                            o.method == RESURF_SMOOTH_BILAPLACIAN);
@@ -280,7 +282,7 @@ resurf_status resurf_smooth(resurf_mesh *mesh, const resurf_smooth_options *opti
         compute_cot_weights(&s);
     if (st != RESURF_OK) {
         smoother_free(&s);
-        free(remap);
+        resurfi_free(s.alloc, remap);
         return resurfi_error(error, st, "%s while preparing to smooth %zu vertices, %zu triangles",
                              resurf_status_string(st), mesh->vertex_count, mesh->triangle_count);
     }
@@ -288,7 +290,7 @@ resurf_status resurf_smooth(resurf_mesh *mesh, const resurf_smooth_options *opti
     for (unsigned it = 0; it < o.iterations; ++it) {
         if (resurfi_progress(&o.progress, "smooth", (double)it / o.iterations)) {
             smoother_free(&s);
-            free(remap);
+            resurfi_free(s.alloc, remap);
             return resurfi_error(error, RESURF_ERR_CANCELLED, "smoothing cancelled at iteration %u of %u", it,
                                  o.iterations);
         }
@@ -308,12 +310,12 @@ resurf_status resurf_smooth(resurf_mesh *mesh, const resurf_smooth_options *opti
     }
     if (resurfi_progress(&o.progress, "smooth", 1.0)) {
         smoother_free(&s);
-        free(remap);
+        resurfi_free(s.alloc, remap);
         return resurfi_error(error, RESURF_ERR_CANCELLED, "smoothing cancelled at the end");
     }
     for (size_t v = 0; v < mesh->vertex_count; ++v)
         memcpy(mesh->positions + 3 * v, s.p + 3 * (size_t)remap[v], 3 * sizeof(double));
     smoother_free(&s);
-    free(remap);
+    resurfi_free(s.alloc, remap);
     return RESURF_OK;
 }

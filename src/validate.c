@@ -66,11 +66,12 @@ resurf_status resurf_mesh_validate(const resurf_mesh *mesh, resurf_validation *o
     r.first_nonfinite_vertex = r.first_out_of_range_triangle = r.first_degenerate_triangle = -1;
     r.first_zero_area_triangle = r.first_nonmanifold_edge_vertex = r.first_inconsistent_triangle = -1;
 
-    uint32_t *pos = resurfi_alloc_array(nv, sizeof *pos);
-    uint32_t *wi = resurfi_alloc_array(nt, 3 * sizeof *wi);
-    uint32_t *first_vertex = resurfi_alloc_array(nv, sizeof *first_vertex);
-    uint8_t *referenced = resurfi_calloc_array(nv, 1);
-    uint32_t *component = resurfi_alloc_array(nt, sizeof *component);
+    const resurf_allocator *alloc = &mesh->allocator; /* validate has no options: the mesh's own */
+    uint32_t *pos = resurfi_alloc(alloc, nv, sizeof *pos);
+    uint32_t *wi = resurfi_alloc(alloc, nt, 3 * sizeof *wi);
+    uint32_t *first_vertex = resurfi_alloc(alloc, nv, sizeof *first_vertex);
+    uint8_t *referenced = resurfi_calloc(alloc, nv, 1);
+    uint32_t *component = resurfi_alloc(alloc, nt, sizeof *component);
     resurfi_adjacency adj;
     memset(&adj, 0, sizeof adj);
     resurf_status status = RESURF_ERR_OUT_OF_MEMORY;
@@ -86,7 +87,7 @@ resurf_status resurf_mesh_validate(const resurf_mesh *mesh, resurf_validation *o
             set_first(&r.first_nonfinite_vertex, v);
         }
     }
-    if ((status = resurfi_weld_exact(mesh->positions, nv, pos, &r.position_count)) != RESURF_OK)
+    if ((status = resurfi_weld_exact(alloc, mesh->positions, nv, pos, &r.position_count)) != RESURF_OK)
         goto done;
     for (size_t v = 0, seen = 0; v < nv; ++v)
         if (pos[v] == seen)
@@ -131,7 +132,7 @@ resurf_status resurf_mesh_validate(const resurf_mesh *mesh, resurf_validation *o
         r.unreferenced_vertices += !referenced[v];
 
     /* Topology over positions. */
-    if ((status = resurfi_adjacency_build(wi, nt, r.position_count, &adj)) != RESURF_OK)
+    if ((status = resurfi_adjacency_build(alloc, wi, nt, r.position_count, &adj)) != RESURF_OK)
         goto done;
     long long first_bad_triangle = -1;
     for (size_t e = 0; e < adj.edge_count; ++e) {
@@ -161,11 +162,11 @@ resurf_status resurf_mesh_validate(const resurf_mesh *mesh, resurf_validation *o
 
 done:
     resurfi_adjacency_free(&adj);
-    free(pos);
-    free(wi);
-    free(first_vertex);
-    free(referenced);
-    free(component);
+    resurfi_free(alloc, pos);
+    resurfi_free(alloc, wi);
+    resurfi_free(alloc, first_vertex);
+    resurfi_free(alloc, referenced);
+    resurfi_free(alloc, component);
     if (status != RESURF_OK)
         return resurfi_error(error, status, "validating a mesh of %zu vertices and %zu triangles: %s", nv, nt,
                              resurf_status_string(status));

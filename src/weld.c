@@ -55,13 +55,14 @@ static size_t table_size_for(size_t n)
     return size;
 }
 
-resurf_status resurfi_weld_exact(const double *positions, size_t vertex_count, uint32_t *remap, size_t *out_count)
+resurf_status resurfi_weld_exact(const resurf_allocator *alloc, const double *positions, size_t vertex_count,
+                                 uint32_t *remap, size_t *out_count)
 {
     if (vertex_count > UINT32_MAX || (vertex_count && (!positions || !remap)))
         return RESURF_ERR_INVALID_ARGUMENT;
     size_t size = table_size_for(vertex_count), mask = size - 1;
     /* Each slot holds the first vertex of a position (+1; 0 marks an empty slot). */
-    uint32_t *slot = resurfi_calloc_array(size, sizeof *slot);
+    uint32_t *slot = resurfi_calloc(alloc, size, sizeof *slot);
     if (!slot)
         return RESURF_ERR_OUT_OF_MEMORY;
     size_t count = 0;
@@ -81,7 +82,7 @@ resurf_status resurfi_weld_exact(const double *positions, size_t vertex_count, u
             }
         }
     }
-    free(slot);
+    resurfi_free(alloc, slot);
     if (out_count)
         *out_count = count;
     return RESURF_OK;
@@ -169,19 +170,19 @@ static size_t grid_find(const grid *g, const cell_key *k)
 
 /* Clusters the distinct positions `unique` (count of them, finite or not) into cluster ids numbered by first
  * appearance. Non-finite positions stay clusters of their own (they have no place in a grid). */
-static resurf_status cluster_positions(const double *unique, size_t count, double tolerance, uint32_t *cluster,
-                                       size_t *out_clusters)
+static resurf_status cluster_positions(const resurf_allocator *alloc, const double *unique, size_t count,
+                                       double tolerance, uint32_t *cluster, size_t *out_clusters)
 {
     grid g = {0};
     size_t size = table_size_for(count);
     g.mask = size - 1;
-    g.keys = resurfi_alloc_array(size, sizeof *g.keys);
-    g.head = resurfi_calloc_array(size, sizeof *g.head);
-    g.next = resurfi_alloc_array(count, sizeof *g.next);
+    g.keys = resurfi_alloc(alloc, size, sizeof *g.keys);
+    g.head = resurfi_calloc(alloc, size, sizeof *g.head);
+    g.next = resurfi_alloc(alloc, count, sizeof *g.next);
     if (!g.keys || !g.head || !g.next) {
-        free(g.keys);
-        free(g.head);
-        free(g.next);
+        resurfi_free(alloc, g.keys);
+        resurfi_free(alloc, g.head);
+        resurfi_free(alloc, g.next);
         return RESURF_ERR_OUT_OF_MEMORY;
     }
     vec3 lo = v3(INFINITY, INFINITY, INFINITY), hi = v3(-INFINITY, -INFINITY, -INFINITY);
@@ -238,15 +239,22 @@ static resurf_status cluster_positions(const double *unique, size_t count, doubl
         g.next[i] = g.head[s];
         g.head[s] = (uint32_t)i + 1;
     }
-    free(g.keys);
-    free(g.head);
-    free(g.next);
+    resurfi_free(alloc, g.keys);
+    resurfi_free(alloc, g.head);
+    resurfi_free(alloc, g.next);
     *out_clusters = clusters;
     return RESURF_OK;
 }
 
 resurf_status resurf_mesh_weld_map(const resurf_mesh *mesh, double tolerance_rel, uint32_t *out_position_of_vertex,
                                    size_t *out_position_count, resurf_error *error)
+{
+    return resurfi_weld_map(mesh ? &mesh->allocator : NULL, mesh, tolerance_rel, out_position_of_vertex,
+                            out_position_count, error);
+}
+
+resurf_status resurfi_weld_map(const resurf_allocator *alloc, const resurf_mesh *mesh, double tolerance_rel,
+                               uint32_t *out_position_of_vertex, size_t *out_position_count, resurf_error *error)
 {
     if (!mesh || (!out_position_of_vertex && mesh->vertex_count) || (mesh->vertex_count && !mesh->positions))
         return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "mesh or out_position_of_vertex is NULL");
@@ -255,14 +263,14 @@ resurf_status resurf_mesh_weld_map(const resurf_mesh *mesh, double tolerance_rel
                              "weld tolerance_rel must be a finite number >= 0 (got %g)", tolerance_rel);
     const size_t n = mesh->vertex_count;
     size_t unique_count = 0;
-    resurf_status status = resurfi_weld_exact(mesh->positions, n, out_position_of_vertex, &unique_count);
+    resurf_status status = resurfi_weld_exact(alloc, mesh->positions, n, out_position_of_vertex, &unique_count);
     if (status != RESURF_OK)
         return resurfi_error(error, status, "welding %zu vertices: %s", n, resurf_status_string(status));
     const double tolerance = tolerance_rel * resurfi_finite_diagonal(mesh);
     if (tolerance > 0 && unique_count > 1) {
         /* Cluster the distinct positions (each stored once, in order of first appearance), then map through. */
-        double *unique = resurfi_alloc_array(unique_count, 3 * sizeof(double));
-        uint32_t *cluster = resurfi_alloc_array(unique_count, sizeof *cluster);
+        double *unique = resurfi_alloc(alloc, unique_count, 3 * sizeof(double));
+        uint32_t *cluster = resurfi_alloc(alloc, unique_count, sizeof *cluster);
         status = RESURF_ERR_OUT_OF_MEMORY;
         size_t clusters = 0;
         if (unique && cluster) {
@@ -270,15 +278,15 @@ resurf_status resurf_mesh_weld_map(const resurf_mesh *mesh, double tolerance_rel
             for (size_t v = 0; v < n; ++v)
                 if (out_position_of_vertex[v] == filled)
                     memcpy(unique + 3 * filled++, mesh->positions + 3 * v, 3 * sizeof(double));
-            status = cluster_positions(unique, unique_count, tolerance, cluster, &clusters);
+            status = cluster_positions(alloc, unique, unique_count, tolerance, cluster, &clusters);
         }
         if (status == RESURF_OK) {
             for (size_t v = 0; v < n; ++v)
                 out_position_of_vertex[v] = cluster[out_position_of_vertex[v]];
             unique_count = clusters;
         }
-        free(unique);
-        free(cluster);
+        resurfi_free(alloc, unique);
+        resurfi_free(alloc, cluster);
         if (status != RESURF_OK)
             return resurfi_error(error, status, "out of memory welding %zu vertices", n);
     }

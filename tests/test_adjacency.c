@@ -7,7 +7,7 @@
 static resurfi_adjacency build(const resurf_mesh *m)
 {
     resurfi_adjacency adj;
-    ck_assert_int_eq(resurfi_adjacency_build(m->indices, m->triangle_count, m->vertex_count, &adj), RESURF_OK);
+    ck_assert_int_eq(resurfi_adjacency_build(NULL, m->indices, m->triangle_count, m->vertex_count, &adj), RESURF_OK);
     ck_assert_uint_eq(adj.vertex_count, m->vertex_count);
     ck_assert_uint_eq(adj.triangle_count, m->triangle_count);
     return adj;
@@ -328,7 +328,7 @@ END_TEST
 START_TEST(adjacency_empty)
 {
     resurfi_adjacency adj;
-    ck_assert_int_eq(resurfi_adjacency_build(NULL, 0, 0, &adj), RESURF_OK);
+    ck_assert_int_eq(resurfi_adjacency_build(NULL, NULL, 0, 0, &adj), RESURF_OK);
     ck_assert_uint_eq(adj.edge_count, 0);
     ck_assert_uint_eq(resurfi_adjacency_components(&adj, NULL, NULL), 0);
     ck_assert_uint_eq(resurfi_adjacency_boundary_loops(&adj), 0);
@@ -336,10 +336,10 @@ START_TEST(adjacency_empty)
     resurfi_adjacency_free(&adj); /* freeing twice is harmless: free leaves it empty */
 
     /* Vertices without triangles: all unreferenced. */
-    ck_assert_int_eq(resurfi_adjacency_build(NULL, 0, 3, &adj), RESURF_OK);
+    ck_assert_int_eq(resurfi_adjacency_build(NULL, NULL, 0, 3, &adj), RESURF_OK);
     ck_assert_uint_eq(count_flag(&adj, RESURFI_VERTEX_UNREFERENCED), 3);
     resurfi_adjacency_free(&adj);
-    ck_assert_int_eq(resurfi_adjacency_build(NULL, 1, 3, &adj), RESURF_ERR_INVALID_ARGUMENT);
+    ck_assert_int_eq(resurfi_adjacency_build(NULL, NULL, 1, 3, &adj), RESURF_ERR_INVALID_ARGUMENT);
 }
 END_TEST
 

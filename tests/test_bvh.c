@@ -146,7 +146,8 @@ START_TEST(closest_matches_brute_force_on_sphere)
     resurf_mesh *m = shape_mesh(SHAPE_SPHERE, 4000, 0.3, 7, 0);
     ck_assert_ptr_nonnull(m);
     resurfi_bvh *bvh = NULL;
-    ck_assert_int_eq(resurfi_bvh_build(m->positions, m->vertex_count, m->indices, m->triangle_count, &bvh), RESURF_OK);
+    ck_assert_int_eq(resurfi_bvh_build(NULL, m->positions, m->vertex_count, m->indices, m->triangle_count, &bvh),
+                     RESURF_OK);
     ck_assert_uint_eq(resurfi_bvh_triangle_count(bvh), m->triangle_count);
     uint64_t rng = 11;
     size_t n = 0;
@@ -205,7 +206,7 @@ START_TEST(closest_matches_brute_force_on_soup)
     idx[3 * 17 + 1] = 3 * T + 5;   /* out of range */
     pos[9 * 29 + 4] = NAN;         /* a non-finite corner */
     resurfi_bvh *bvh = NULL;
-    ck_assert_int_eq(resurfi_bvh_build(pos, 3 * T, idx, T, &bvh), RESURF_OK);
+    ck_assert_int_eq(resurfi_bvh_build(NULL, pos, 3 * T, idx, T, &bvh), RESURF_OK);
     ck_assert_uint_eq(resurfi_bvh_triangle_count(bvh), T - 2);
     for (int i = 0; i < 2000; ++i)
         check_against_brute_force(bvh, pos, 3 * T, idx, T, random_in_box(&rng, i % 4 ? -0.1 : -3, i % 4 ? 1.1 : 4));
@@ -235,7 +236,7 @@ START_TEST(closest_same_for_any_thread_count)
     resurfi_bvh *trees[3] = {NULL, NULL, NULL};
     const unsigned threads[3] = {1, 2, 3};
     for (int k = 0; k < 3; ++k)
-        ck_assert_int_eq(resurfi_bvh_build_threads(m->positions, m->vertex_count, m->indices, m->triangle_count,
+        ck_assert_int_eq(resurfi_bvh_build_threads(NULL, m->positions, m->vertex_count, m->indices, m->triangle_count,
                                                    threads[k], &trees[k]),
                          RESURF_OK);
     uint64_t rng = 99;
@@ -261,7 +262,8 @@ START_TEST(closest_respects_max_distance)
     resurf_mesh *m = shape_mesh(SHAPE_SPHERE, 2000, 0.2, 1, 0);
     ck_assert_ptr_nonnull(m);
     resurfi_bvh *bvh = NULL;
-    ck_assert_int_eq(resurfi_bvh_build(m->positions, m->vertex_count, m->indices, m->triangle_count, &bvh), RESURF_OK);
+    ck_assert_int_eq(resurfi_bvh_build(NULL, m->positions, m->vertex_count, m->indices, m->triangle_count, &bvh),
+                     RESURF_OK);
     uint64_t rng = 5;
     for (int i = 0; i < 300; ++i) {
         vec3 p = v3_scale(random_direction(&rng), 1.5 + shape_rand_unit(&rng));
@@ -287,17 +289,17 @@ END_TEST
 START_TEST(empty_tree_finds_nothing)
 {
     resurfi_bvh *bvh = NULL;
-    ck_assert_int_eq(resurfi_bvh_build(NULL, 0, NULL, 0, &bvh), RESURF_OK);
+    ck_assert_int_eq(resurfi_bvh_build(NULL, NULL, 0, NULL, 0, &bvh), RESURF_OK);
     ck_assert_uint_eq(resurfi_bvh_closest(bvh, v3(0, 0, 0), INFINITY, NULL, NULL, NULL), UINT32_MAX);
     resurfi_bvh_free(bvh);
     /* Only invalid triangles. */
     const double pos[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
     const uint32_t idx[6] = {0, 1, 3, 5, 1, 2};
-    ck_assert_int_eq(resurfi_bvh_build(pos, 3, idx, 2, &bvh), RESURF_OK);
+    ck_assert_int_eq(resurfi_bvh_build(NULL, pos, 3, idx, 2, &bvh), RESURF_OK);
     ck_assert_uint_eq(resurfi_bvh_triangle_count(bvh), 0);
     ck_assert_uint_eq(resurfi_bvh_closest(bvh, v3(0, 0, 0), INFINITY, NULL, NULL, NULL), UINT32_MAX);
     resurfi_bvh_free(bvh);
-    ck_assert_int_eq(resurfi_bvh_build(NULL, 3, idx, 2, &bvh), RESURF_ERR_INVALID_ARGUMENT);
+    ck_assert_int_eq(resurfi_bvh_build(NULL, NULL, 3, idx, 2, &bvh), RESURF_ERR_INVALID_ARGUMENT);
     ck_assert_ptr_null(bvh);
     resurfi_bvh_free(NULL);
 }
@@ -333,7 +335,8 @@ START_TEST(within_finds_every_triangle_in_reach)
     resurf_mesh *m = shape_mesh(SHAPE_TORUS, 3000, 0.3, 2, 0);
     ck_assert_ptr_nonnull(m);
     resurfi_bvh *bvh = NULL;
-    ck_assert_int_eq(resurfi_bvh_build(m->positions, m->vertex_count, m->indices, m->triangle_count, &bvh), RESURF_OK);
+    ck_assert_int_eq(resurfi_bvh_build(NULL, m->positions, m->vertex_count, m->indices, m->triangle_count, &bvh),
+                     RESURF_OK);
     unsigned char *seen = calloc(m->triangle_count, 1);
     uint64_t rng = 8;
     for (int i = 0; i < 200; ++i) {
@@ -385,7 +388,8 @@ START_TEST(queries_are_thread_safe)
     enum { N = 20000 };
     resurf_mesh *m = shape_mesh(SHAPE_SPHERE, 20000, 0.3, 4, 0);
     resurfi_bvh *bvh = NULL;
-    ck_assert_int_eq(resurfi_bvh_build(m->positions, m->vertex_count, m->indices, m->triangle_count, &bvh), RESURF_OK);
+    ck_assert_int_eq(resurfi_bvh_build(NULL, m->positions, m->vertex_count, m->indices, m->triangle_count, &bvh),
+                     RESURF_OK);
     vec3 *pts = malloc(N * sizeof *pts);
     uint32_t *r1 = malloc(N * sizeof *r1), *r2 = malloc(N * sizeof *r2);
     double *d1 = malloc(N * sizeof *d1), *d2 = malloc(N * sizeof *d2);

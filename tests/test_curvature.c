@@ -16,7 +16,7 @@ static curvatures curvatures_of(const resurf_mesh *m, const double *normals)
     curvatures c = {malloc(m->vertex_count * sizeof(double)), malloc(m->vertex_count * sizeof(double)),
                     malloc(3 * m->vertex_count * sizeof(double)), malloc(3 * m->vertex_count * sizeof(double))};
     ck_assert(c.k1 && c.k2 && c.d1 && c.d2);
-    ck_assert_int_eq(resurfi_principal_curvatures(m->positions, m->vertex_count, m->indices, m->triangle_count,
+    ck_assert_int_eq(resurfi_principal_curvatures(NULL, m->positions, m->vertex_count, m->indices, m->triangle_count,
                                                   normals, c.k1, c.k2, c.d1, c.d2),
                      RESURF_OK);
     return c;
@@ -28,7 +28,8 @@ static double *estimated_normals(const resurf_mesh *m, resurf_normal_scheme sche
 {
     double *n = malloc(3 * m->vertex_count * sizeof *n);
     ck_assert_ptr_nonnull(n);
-    ck_assert_int_eq(resurfi_vertex_normals(m->positions, m->vertex_count, m->indices, m->triangle_count, scheme, n),
+    ck_assert_int_eq(resurfi_vertex_normals(NULL, m->positions, m->vertex_count, m->indices, m->triangle_count,
+                                            scheme, n),
                      RESURF_OK);
     return n;
 }
@@ -248,12 +249,12 @@ START_TEST(isolated_and_bad_input)
     const double nrm[] = {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
     const uint32_t idx[] = {0, 1, 2, 0, 1, 9};
     double k1[4], k2[4];
-    ck_assert_int_eq(resurfi_principal_curvatures(pos, 4, idx, 2, nrm, k1, k2, NULL, NULL), RESURF_OK);
+    ck_assert_int_eq(resurfi_principal_curvatures(NULL, pos, 4, idx, 2, nrm, k1, k2, NULL, NULL), RESURF_OK);
     for (int v = 0; v < 4; ++v)
         ck_assert(k1[v] == 0 && k2[v] == 0);
-    ck_assert_int_eq(resurfi_principal_curvatures(pos, 4, idx, 2, NULL, k1, k2, NULL, NULL),
+    ck_assert_int_eq(resurfi_principal_curvatures(NULL, pos, 4, idx, 2, NULL, k1, k2, NULL, NULL),
                      RESURF_ERR_INVALID_ARGUMENT);
-    ck_assert_int_eq(resurfi_principal_curvatures(NULL, 0, NULL, 0, NULL, NULL, NULL, NULL, NULL), RESURF_OK);
+    ck_assert_int_eq(resurfi_principal_curvatures(NULL, NULL, 0, NULL, 0, NULL, NULL, NULL, NULL, NULL), RESURF_OK);
 }
 END_TEST
 

@@ -1102,6 +1102,101 @@ static const hostile_case hostile_cases[] = {
      RESURF_ERR_UNSUPPORTED, "EXT_meshopt_compression"},
 };
 
+/* The same files from memory: a .glb, a .gltf with its buffer in a data: URI and a .drc written by the library,
+ * read back with the format named and by content, give the mesh that was saved (float-exact without Draco, within
+ * a 14-bit quantization step with it); OBJ text becomes a one-mesh scene. */
+START_TEST(gltf_load_memory_reads_what_was_saved)
+{
+    char *dir = tu_tempdir();
+    resurf_mesh *m = rich_sphere(300);
+    resurf_scene *s = NULL;
+    ck_assert_int_eq(resurf_scene_from_mesh(m, &s, NULL), RESURF_OK);
+    const struct {
+        const char *file;
+        resurf_scene_format format;
+        double tolerance;
+    } cases[] = {{"m.glb", RESURF_SCENE_FORMAT_GLB, 0},
+                 {"m.gltf", RESURF_SCENE_FORMAT_GLTF, 0},
+                 {"m.drc", RESURF_SCENE_FORMAT_DRC, 2.0 / ((1 << 14) - 1)}}; /* extent 2 on a 14-bit grid */
+    for (size_t i = 0; i < sizeof cases / sizeof *cases; ++i) {
+        char *path = tu_path(dir, cases[i].file);
+        resurf_scene_save_options o = resurf_scene_save_options_default();
+        o.embed_buffers = 1;
+        save_ok(s, path, &o, NULL);
+        size_t size = 0;
+        char *data = tu_read_file(path, &size);
+        ck_assert_ptr_nonnull(data);
+        for (int by_content = 0; by_content < 2; ++by_content) {
+            resurf_scene *t = NULL;
+            resurf_error e;
+            resurf_status st = resurf_scene_load_memory(data, size, by_content ? RESURF_SCENE_FORMAT_AUTO
+                                                                               : cases[i].format,
+                                                        NULL, &t, &e);
+            ck_assert_msg(st == RESURF_OK, "%s: %s", cases[i].file, e.message);
+            ck_assert_uint_eq(resurf_scene_primitive_count(t), 1);
+            const resurf_mesh *r = resurf_scene_primitive_mesh(t, 0);
+            ck_assert_uint_eq(r->vertex_count, m->vertex_count);
+            ck_assert_uint_eq(r->triangle_count, m->triangle_count);
+            ck_assert_ptr_nonnull(r->normals);
+            ck_assert_uint_eq(r->texcoord_count, 1);
+            if (cases[i].tolerance == 0) {
+                ck_assert_mem_eq(r->indices, m->indices, 3 * m->triangle_count * sizeof(uint32_t));
+                for (size_t k = 0; k < 3 * m->vertex_count; ++k)
+                    ck_assert(r->positions[k] == (double)(float)m->positions[k]);
+            } else {
+                /* Draco may reorder vertices: every decoded vertex lies within a step of a saved one. */
+                ck_assert(max_nearest(r->positions, r->vertex_count, m->positions, m->vertex_count, 3) <=
+                          cases[i].tolerance);
+            }
+            resurf_scene_free(t);
+        }
+        free(data);
+        free(path);
+    }
+    const char obj[] = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    resurf_scene *t = NULL;
+    ck_assert_int_eq(resurf_scene_load_memory(obj, sizeof obj - 1, RESURF_SCENE_FORMAT_AUTO, NULL, &t, NULL),
+                     RESURF_OK);
+    ck_assert_uint_eq(resurf_scene_primitive_mesh(t, 0)->triangle_count, 1);
+    resurf_scene_free(t);
+    resurf_scene_free(s);
+    resurf_mesh_free(m);
+    tu_rmtree(dir);
+    free(dir);
+}
+END_TEST
+
+/* A document in memory has no folder: a buffer uri that is not a data: URI is refused by name, even when a file of
+ * that name exists in the current folder, and an unknown format value is refused. */
+START_TEST(gltf_load_memory_refuses_external_files)
+{
+    const struct {
+        const char *uri, *printed;
+    } cases[] = {{"h.bin", "h.bin"}, {"/etc/passwd", "/etc/passwd"}, {"a\\nb.bin", "a?b.bin"}};
+    for (size_t i = 0; i < sizeof cases / sizeof *cases; ++i) {
+        char *json = strf(H_HEAD H_MESH "\"accessors\":[" TETRA_ACCESSORS "],\"bufferViews\":[" TETRA_VIEWS "],"
+                          "\"buffers\":[{\"byteLength\":72,\"uri\":\"%s\"}]}",
+                          cases[i].uri);
+        char *expected = strf("buffers[0]: the uri '%s' names an external file, which a document loaded from memory "
+                              "cannot refer to",
+                              cases[i].printed);
+        resurf_scene *s = NULL;
+        resurf_error e;
+        ck_assert_int_eq(resurf_scene_load_memory(json, strlen(json), RESURF_SCENE_FORMAT_GLTF, NULL, &s, &e),
+                         RESURF_ERR_PARSE);
+        ck_assert_ptr_null(s);
+        ck_assert_str_eq(e.message, expected);
+        free(expected);
+        free(json);
+    }
+    resurf_scene *s = NULL;
+    ck_assert_int_eq(resurf_scene_load_memory("{}", 2, RESURF_SCENE_FORMAT_COUNT, NULL, &s, NULL),
+                     RESURF_ERR_INVALID_ARGUMENT);
+    ck_assert_int_eq(resurf_scene_load_memory(NULL, 4, RESURF_SCENE_FORMAT_GLB, NULL, &s, NULL),
+                     RESURF_ERR_INVALID_ARGUMENT);
+}
+END_TEST
+
 /* Every hostile document fails with the expected status and a one-line message, and loading writes nothing. */
 START_TEST(gltf_hostile_documents_fail_cleanly)
 {
@@ -1211,6 +1306,52 @@ START_TEST(gltf_hostile_draco_fails_cleanly)
     free(good.data);
     tu_rmtree(dir);
     free(dir);
+}
+END_TEST
+
+/* Inputs the fuzz harnesses (tests/fuzz/fuzz_scene.c) found, kept in tests/corpus-gltf/: each fails with its status
+ * and exact message, from its path and from memory alike. The messages were checked against the bytes by other
+ * means: draco_decoder decodes drc_face_past_points.drc to 22 points with face 3 on point 249 (0-based); byte 7
+ * of drc_point_cloud_claims_too_many.drc is 0 (a point cloud), whose bytes 11..14 claim 0x1fff0016 points: Draco
+ * allocated 6 GB for them before a point cloud was refused without decoding; drc_edgebreaker_claims_too_many.drc
+ * is an Edgebreaker mesh (byte 8 is 1) of bitstream 1.254, whose uint32 counts after the traversal byte claim
+ * 0x29000806 new vertices and 0x29292929 faces (Draco reserved 2.7 GB for those); the JSON of
+ * glb_extension_name_with_line_break.glb requires "KHR_draco_mesh_compressi\n" (a JSON escape), whose line break
+ * once split the message. */
+START_TEST(gltf_fuzz_findings_fail_with_their_messages)
+{
+    const struct {
+        const char *file;
+        resurf_scene_format format;
+        resurf_status status;
+        const char *message;
+    } cases[] = {
+        {"drc_face_past_points.drc", RESURF_SCENE_FORMAT_DRC, RESURF_ERR_PARSE,
+         "the Draco data is corrupt: face 3 refers to point 249 of 22"},
+        {"drc_point_cloud_claims_too_many.drc", RESURF_SCENE_FORMAT_DRC, RESURF_ERR_UNSUPPORTED,
+         "the Draco data is a point cloud"},
+        {"drc_edgebreaker_claims_too_many.drc", RESURF_SCENE_FORMAT_DRC, RESURF_ERR_LIMIT,
+         "the Draco data claims 687867910 vertices, more than its 189 bytes can justify"},
+        {"glb_extension_name_with_line_break.glb", RESURF_SCENE_FORMAT_GLB, RESURF_ERR_UNSUPPORTED,
+         "the document requires the extension KHR_draco_mesh_compressi?, which resurf does not support"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof *cases; ++i) {
+        char *path = strf("%s/tests/corpus-gltf/%s", RESURF_SOURCE_DIR, cases[i].file);
+        size_t size = 0;
+        char *data = tu_read_file(path, &size);
+        ck_assert_msg(data != NULL, "cannot read %s", path);
+        for (int from_memory = 0; from_memory < 2; ++from_memory) {
+            resurf_scene *s = NULL;
+            resurf_error e;
+            resurf_status st = from_memory ? resurf_scene_load_memory(data, size, cases[i].format, NULL, &s, &e)
+                                           : resurf_scene_load(path, NULL, &s, &e);
+            ck_assert_msg(st == cases[i].status, "%s: status %d (%s)", cases[i].file, st, e.message);
+            ck_assert_ptr_null(s);
+            ck_assert_str_eq(e.message, cases[i].message);
+        }
+        free(data);
+        free(path);
+    }
 }
 END_TEST
 
@@ -1352,6 +1493,8 @@ Suite *make_suite(void)
     tcase_add_test(read, gltf_morph_targets_and_points_pass_through);
     tcase_add_test(read, gltf_keeps_everything_else);
     tcase_add_test(read, gltf_draco_input_decodes);
+    tcase_add_test(read, gltf_load_memory_reads_what_was_saved);
+    tcase_add_test(read, gltf_load_memory_refuses_external_files);
     suite_add_tcase(s, read);
     TCase *lod = tcase_create("lod");
     tcase_add_test(lod, gltf_msft_lod_structure);
@@ -1364,6 +1507,7 @@ Suite *make_suite(void)
     tcase_add_test(hostile, gltf_hostile_documents_fail_cleanly);
     tcase_add_test(hostile, gltf_hostile_draco_fails_cleanly);
     tcase_add_test(hostile, gltf_hostile_glb_container);
+    tcase_add_test(hostile, gltf_fuzz_findings_fail_with_their_messages);
     tcase_add_test(hostile, gltf_save_failures_write_nothing);
     suite_add_tcase(s, hostile);
     return s;

@@ -188,19 +188,23 @@ END_TEST
 /* The allocation helpers refuse a count × size that overflows, and give a valid block for a count of 0. */
 START_TEST(mesh_alloc_helpers)
 {
-    ck_assert_ptr_null(resurfi_alloc_array(SIZE_MAX / 2, 4));
-    ck_assert_ptr_null(resurfi_calloc_array(SIZE_MAX / 8 + 1, 16));
-    void *p = resurfi_alloc_array(0, 8);
+    ck_assert_ptr_null(resurfi_alloc(NULL, SIZE_MAX / 2, 4));
+    ck_assert_ptr_null(resurfi_calloc(NULL, SIZE_MAX / 8 + 1, 16));
+    void *p = resurfi_alloc(NULL, 0, 8);
     ck_assert_ptr_nonnull(p);
-    void *q = resurfi_realloc_array(p, SIZE_MAX / 4, 8);
+    void *q = resurfi_realloc(NULL, p, SIZE_MAX / 4, 8);
     ck_assert_ptr_null(q); /* p is still ours */
-    q = resurfi_realloc_array(p, 4, sizeof(double));
+    q = resurfi_realloc(NULL, p, 4, sizeof(double));
     ck_assert_ptr_nonnull(q);
-    free(q);
-    double *z = resurfi_calloc_array(5, sizeof *z);
+    resurfi_free(NULL, q);
+    double *z = resurfi_calloc(NULL, 5, sizeof *z);
     for (int i = 0; i < 5; ++i)
         ck_assert_double_eq(z[i], 0);
-    free(z);
+    free(z); /* NULL is the C heap */
+    resurfi_free(NULL, NULL);
+    char *d = resurfi_strdup(NULL, "seam");
+    ck_assert_str_eq(d, "seam");
+    free(d);
 }
 END_TEST
 

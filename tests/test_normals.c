@@ -13,7 +13,8 @@ static double *normals_of(const resurf_mesh *m, resurf_normal_scheme scheme)
 {
     double *n = malloc(3 * m->vertex_count * sizeof *n);
     ck_assert_ptr_nonnull(n);
-    ck_assert_int_eq(resurfi_vertex_normals(m->positions, m->vertex_count, m->indices, m->triangle_count, scheme, n),
+    ck_assert_int_eq(resurfi_vertex_normals(NULL, m->positions, m->vertex_count, m->indices, m->triangle_count,
+                                            scheme, n),
                      RESURF_OK);
     return n;
 }
@@ -83,11 +84,11 @@ START_TEST(max_exact_on_spherical_one_ring)
     for (uint32_t i = 0; i < 7; ++i)
         idx[3 * i] = 0, idx[3 * i + 1] = i + 1, idx[3 * i + 2] = (i + 1) % 7 + 1;
     double n[3 * 8];
-    ck_assert_int_eq(resurfi_vertex_normals(pos, 8, idx, 7, RESURF_NORMALS_MAX, n), RESURF_OK);
+    ck_assert_int_eq(resurfi_vertex_normals(NULL, pos, 8, idx, 7, RESURF_NORMALS_MAX, n), RESURF_OK);
     ck_assert_msg(v3_dist(v3_load(n), out) < 1e-12, "max: error %g", v3_dist(v3_load(n), out));
     /* The fan is irregular enough that the other 1-ring schemes are visibly off. */
     for (int s = RESURF_NORMALS_INVERSE_AREA; s <= RESURF_NORMALS_ANGLE; ++s) {
-        ck_assert_int_eq(resurfi_vertex_normals(pos, 8, idx, 7, (resurf_normal_scheme)s, n), RESURF_OK);
+        ck_assert_int_eq(resurfi_vertex_normals(NULL, pos, 8, idx, 7, (resurf_normal_scheme)s, n), RESURF_OK);
         ck_assert_msg(angle_deg(v3_load(n), out) > 0.1, "%s: %g°", scheme_names[s], angle_deg(v3_load(n), out));
     }
 }
@@ -162,7 +163,7 @@ START_TEST(degenerate_faces_and_isolated_vertices)
     for (int s = 0; s < RESURF_NORMALS_COUNT; ++s) {
         double n[18];
         memset(n, 0x7f, sizeof n); /* every output is written */
-        ck_assert_int_eq(resurfi_vertex_normals(pos, 6, idx, 4, (resurf_normal_scheme)s, n), RESURF_OK);
+        ck_assert_int_eq(resurfi_vertex_normals(NULL, pos, 6, idx, 4, (resurf_normal_scheme)s, n), RESURF_OK);
         for (int v = 0; v < 3; ++v)
             ck_assert(n[3 * v] == 0 && n[3 * v + 1] == 0 && n[3 * v + 2] == 1);
         for (int v = 3; v < 6; ++v)
@@ -215,13 +216,13 @@ START_TEST(rejects_bad_arguments)
 {
     resurf_mesh *m = tu_tetrahedron();
     double n[12];
-    ck_assert_int_eq(resurfi_vertex_normals(m->positions, 4, m->indices, 4, RESURF_NORMALS_COUNT, n),
+    ck_assert_int_eq(resurfi_vertex_normals(NULL, m->positions, 4, m->indices, 4, RESURF_NORMALS_COUNT, n),
                      RESURF_ERR_INVALID_ARGUMENT);
-    ck_assert_int_eq(resurfi_vertex_normals(m->positions, 4, m->indices, 4, RESURF_NORMALS_AREA, NULL),
+    ck_assert_int_eq(resurfi_vertex_normals(NULL, m->positions, 4, m->indices, 4, RESURF_NORMALS_AREA, NULL),
                      RESURF_ERR_INVALID_ARGUMENT);
-    ck_assert_int_eq(resurfi_vertex_normals(m->positions, 4, NULL, 4, RESURF_NORMALS_AREA, n),
+    ck_assert_int_eq(resurfi_vertex_normals(NULL, m->positions, 4, NULL, 4, RESURF_NORMALS_AREA, n),
                      RESURF_ERR_INVALID_ARGUMENT);
-    ck_assert_int_eq(resurfi_vertex_normals(NULL, 0, NULL, 0, RESURF_NORMALS_JET, NULL), RESURF_OK);
+    ck_assert_int_eq(resurfi_vertex_normals(NULL, NULL, 0, NULL, 0, RESURF_NORMALS_JET, NULL), RESURF_OK);
     resurf_mesh_free(m);
 }
 END_TEST

@@ -9,7 +9,7 @@ START_TEST(weld_exact_numbers_by_first_appearance)
     const double p[] = {1, 2, 3, /* A */ 4, 5, 6, /* B */ 1, 2, 3, /* A */ 7, 8, 9, /* C */ 4, 5, 6 /* B */};
     uint32_t remap[5];
     size_t count = 99;
-    ck_assert_int_eq(resurfi_weld_exact(p, 5, remap, &count), RESURF_OK);
+    ck_assert_int_eq(resurfi_weld_exact(NULL, p, 5, remap, &count), RESURF_OK);
     ck_assert_uint_eq(count, 3);
     const uint32_t expected[] = {0, 1, 0, 2, 1};
     for (int i = 0; i < 5; ++i)
@@ -23,7 +23,7 @@ START_TEST(weld_exact_zero_signs_and_nan)
     const double p[] = {0, 0, 0, -0.0, 0, -0.0, NAN, 1, 1, NAN, 1, 1, 0, 1, 1};
     uint32_t remap[5];
     size_t count = 0;
-    ck_assert_int_eq(resurfi_weld_exact(p, 5, remap, &count), RESURF_OK);
+    ck_assert_int_eq(resurfi_weld_exact(NULL, p, 5, remap, &count), RESURF_OK);
     ck_assert_uint_eq(remap[0], 0);
     ck_assert_uint_eq(remap[1], 0);
     ck_assert_uint_eq(remap[2], 1);
@@ -36,7 +36,7 @@ END_TEST
 START_TEST(weld_exact_empty)
 {
     size_t count = 7;
-    ck_assert_int_eq(resurfi_weld_exact(NULL, 0, NULL, &count), RESURF_OK);
+    ck_assert_int_eq(resurfi_weld_exact(NULL, NULL, 0, NULL, &count), RESURF_OK);
     ck_assert_uint_eq(count, 0);
 }
 END_TEST
@@ -51,7 +51,7 @@ START_TEST(weld_exact_matches_brute_force)
     for (size_t i = 0; i < 3 * n; ++i)
         p[i] = (double)(shape_rand_u64(&state) % 5) * 0.25 - 0.5; /* 125 possible positions, −0.0 never made */
     size_t count = 0, truth_count = 0;
-    ck_assert_int_eq(resurfi_weld_exact(p, n, remap, &count), RESURF_OK);
+    ck_assert_int_eq(resurfi_weld_exact(NULL, p, n, remap, &count), RESURF_OK);
     for (size_t i = 0; i < n; ++i) {
         size_t j = 0;
         while (j < i && memcmp(p + 3 * j, p + 3 * i, 3 * sizeof *p) != 0)

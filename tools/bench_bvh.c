@@ -29,8 +29,8 @@ static double time_build(const resurf_mesh *m, unsigned threads)
     for (int r = 0; r < 3; ++r) {
         resurfi_bvh *bvh = NULL;
         double t0 = now();
-        if (resurfi_bvh_build_threads(m->positions, m->vertex_count, m->indices, m->triangle_count, threads, &bvh) !=
-            RESURF_OK) {
+        if (resurfi_bvh_build_threads(NULL, m->positions, m->vertex_count, m->indices, m->triangle_count, threads,
+                                      &bvh) != RESURF_OK) {
             fprintf(stderr, "bench-bvh: build failed\n");
             exit(1);
         }
@@ -105,7 +105,8 @@ int main(int argc, char **argv)
 
     double build1 = time_build(m, 1), build_all = time_build(m, 0);
     resurfi_bvh *bvh = NULL;
-    if (resurfi_bvh_build(m->positions, m->vertex_count, m->indices, m->triangle_count, &bvh) != RESURF_OK) {
+    if (resurfi_bvh_build(NULL, m->positions, m->vertex_count, m->indices, m->triangle_count, &bvh) !=
+        RESURF_OK) {
         fprintf(stderr, "bench-bvh: build failed\n");
         return 1;
     }

@@ -24,16 +24,25 @@ for name in "${names[@]}"; do
   scratch=build-fuzz/corpus/$name
   mkdir -p "$scratch"
   log=build-fuzz/fuzz_$name.log
+  # A dictionary where one helps: glTF JSON (also the JSON chunk of a .glb).
+  dict=()
+  case $name in
+    gltf | glb) dict=(-dict=tests/fuzz/gltf.dict) ;;
+  esac
   if UBSAN_OPTIONS=halt_on_error=1 build-fuzz/tests/fuzz/fuzz_$name "$scratch" "tests/fuzz/corpus/$name" \
-      -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=10 -max_len=65536 \
-      -artifact_prefix=build-fuzz/crashes/"$name"- >"$log" 2>&1; then
+      "${dict[@]}" -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=10 -max_len=65536 \
+      -print_final_stats=1 -artifact_prefix=build-fuzz/crashes/"$name"- >"$log" 2>&1; then
     crashes=0
   else
     crashes=1
     status=1
   fi
-  execs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || true)
-  [ -n "$execs" ] || execs=$(grep -oE '#[0-9]+' "$log" | tail -1 | tr -d '#')
+  # Executions: the stat::number_of_executed_units line of -print_final_stats=1 (printed after crashes too).
+  # Failing that (a run killed from outside), the last status line's "#N", at the start of its line only: "#N"
+  # elsewhere in the log is text of a dictionary word (a recommended-dictionary entry or a mutation's "DE:"), which
+  # is how the STL harness's row once said 0.
+  execs=$(sed -n 's/^stat::number_of_executed_units: *\([0-9][0-9]*\)$/\1/p' "$log" | tail -n 1)
+  [ -n "$execs" ] || execs=$(sed -n 's/^#\([0-9][0-9]*\)[[:space:]].*/\1/p' "$log" | tail -n 1)
   printf '%-8s %12s %8s %s\n' "$name" "${execs:-?}" "$crashes" "$(ls "$scratch" | wc -l) files"
   [ $crashes -eq 0 ] || tail -30 "$log"
 done

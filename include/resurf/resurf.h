@@ -87,6 +87,44 @@ typedef struct resurf_progress {
     void *user;
 } resurf_progress;
 
+/* Memory. Every heap block the C library allocates (meshes it creates, the call's temporaries) comes from an
+ * allocator: options structs have `const resurf_allocator *allocator` (NULL = default) and a mesh remembers the
+ * allocator it was made with. Which one a call uses:
+ * - options->allocator when it is not NULL;
+ * - else the allocator of the mesh the call works on (the first mesh argument: `original` for resurf_restore,
+ *   `ref` for resurf_compare, `in` for resurf_simplify); calls without options (resurf_mesh_validate,
+ *   resurf_mesh_weld_map, resurf_mesh_add_extra, resurf_mesh_clone) use the mesh's;
+ * - else (loading, resurf_mesh_create, resurf_mesh_from_arrays) the C heap (malloc, realloc, free).
+ * A mesh a call creates (loaded, cloned, simplified) records that allocator and is freed through it by
+ * resurf_mesh_free(); arrays a call replaces inside a mesh (resurf_mesh_repair, resurf_mesh_add_extra) come from,
+ * and go back to, the mesh's own allocator. The allocator struct and its user data must outlive every mesh made
+ * with it; arrays a caller puts into a mesh must come from the mesh's allocator.
+ * Scenes: a scene's own blocks and meshes come from options->allocator of resurf_scene_load(), or the mesh's
+ * allocator for resurf_scene_from_mesh(); resurf_scene_set_lods() copies levels into the scene's allocator;
+ * resurf_scene_build_lods() makes them with its simplify options' allocator, else the scene's (each mesh is freed
+ * through its own); resurf_scene_save() uses its options' allocator, else the scene's.
+ * The callbacks:
+ * - allocate(user, size): a block of at least size bytes (size > 0), aligned for any type like malloc's.
+ * - reallocate(user, block, size): like realloc, for a block of this allocator (never NULL), size > 0; on failure
+ *   return NULL and leave the block as it was (a failed shrink is no error: the larger block is kept).
+ * - release(user, block): frees a block of this allocator (never NULL).
+ * All three are required; an allocator whose three are all NULL (a zeroed struct) names the C heap explicitly (to
+ * copy an allocator's mesh onto the C heap, say); only some NULL is RESURF_ERR_INVALID_OPTIONS (INVALID_ARGUMENT
+ * for resurf_mesh_create_with and resurf_mesh_clone_with). They are called from the call's worker threads at the
+ * same time: they must be thread-safe. A NULL return from allocate or reallocate is out of memory: the call frees
+ * what it holds and returns RESURF_ERR_OUT_OF_MEMORY, leaving the caller's data unchanged and valid (as for any
+ * failure).
+ * Not covered: the glTF and Draco code of scenes (tinygltf, Draco and resurf's C++ shim around them: the parsed
+ * document a scene keeps, decoding, encoding and writing) allocates from the C++ heap (operator new) and the C
+ * heap; worker threads' stacks come from the system (pthread_create), as do the C library's own internals
+ * (locale objects, error strings). */
+typedef struct resurf_allocator {
+    void *(*allocate)(void *user, size_t size);
+    void *(*reallocate)(void *user, void *block, size_t size);
+    void (*release)(void *user, void *block);
+    void *user;
+} resurf_allocator;
+
 /* ------------------------------------------------------------------------------------------------------------- */
 /* Mesh                                                                                                          */
 /* ------------------------------------------------------------------------------------------------------------- */
@@ -120,6 +158,9 @@ typedef struct resurf_mesh {
     uint32_t *triangle_groups;                  /* triangle_count group ids, or NULL (OBJ o/g/usemtl) */
     size_t group_count;
     char **group_names;                         /* group_count NUL-terminated names */
+
+    resurf_allocator allocator;                 /* where the mesh and its arrays come from (all zero = the C heap);
+                                                   set by the call that made the mesh; do not change it */
 } resurf_mesh;
 
 /* Which optional attributes resurf_mesh_create() allocates. */
@@ -134,8 +175,16 @@ enum {
 RESURF_API resurf_status resurf_mesh_create(size_t vertex_count, size_t triangle_count, unsigned attributes,
                                             resurf_mesh **out_mesh, resurf_error *error);
 
-/* A deep copy of mesh. */
+/* The same with an allocator (NULL = the C heap) that the mesh records and resurf_mesh_free() uses. */
+RESURF_API resurf_status resurf_mesh_create_with(size_t vertex_count, size_t triangle_count, unsigned attributes,
+                                                 const resurf_allocator *allocator, resurf_mesh **out_mesh,
+                                                 resurf_error *error);
+
+/* A deep copy of mesh, made with mesh's own allocator. */
 RESURF_API resurf_status resurf_mesh_clone(const resurf_mesh *mesh, resurf_mesh **out_mesh, resurf_error *error);
+/* A deep copy made with `allocator` (NULL = mesh's own allocator), which the copy records. */
+RESURF_API resurf_status resurf_mesh_clone_with(const resurf_mesh *mesh, const resurf_allocator *allocator,
+                                                resurf_mesh **out_mesh, resurf_error *error);
 
 /* Frees the mesh and everything it owns. NULL is allowed. */
 RESURF_API void resurf_mesh_free(resurf_mesh *mesh);
@@ -161,6 +210,120 @@ RESURF_API double resurf_mesh_bounds(const resurf_mesh *mesh, double out_min[3],
 RESURF_API resurf_status resurf_mesh_weld_map(const resurf_mesh *mesh, double tolerance_rel,
                                               uint32_t *out_position_of_vertex, size_t *out_position_count,
                                               resurf_error *error);
+
+/* ---- Meshes from and to the caller's arrays ------------------------------------------------------------------ */
+/* A game tool usually holds its geometry as vertex buffers: interleaved floats with a stride, 16- or 32-bit
+ * indices. resurf_mesh_from_arrays() makes a resurf_mesh from such arrays and resurf_mesh_to_arrays() writes a mesh
+ * back into them, so the caller never has to touch resurf_mesh's double arrays.
+ *
+ * Why a copy: a resurf_mesh holds double-precision arrays that it owns (every resurf call that makes a mesh
+ * allocates them, resurf_mesh_free() releases them, and callers may edit them in place), while vertex buffers are
+ * usually float and interleaved. A mesh viewing the caller's memory would need the caller's layout to be exactly
+ * resurf's (separate tightly packed double arrays, uint32 indices) and its lifetime to outlive every use, so both
+ * calls copy, converting as they go. The copy is one pass over the data; the algorithms after it cost far more. */
+
+/* The type of each component of a vertex array. */
+typedef enum resurf_component_type {
+    RESURF_COMPONENT_FLOAT = 0, /* 32-bit IEEE float */
+    RESURF_COMPONENT_DOUBLE,    /* 64-bit IEEE double */
+    RESURF_COMPONENT_UNORM8,    /* uint8_t, value / 255 (colours and texcoords only, like glTF's normalized ubyte) */
+    RESURF_COMPONENT_UNORM16,   /* uint16_t, value / 65535 (colours and texcoords only) */
+    RESURF_COMPONENT_TYPE_COUNT
+} resurf_component_type;
+
+/* The type of the indices. */
+typedef enum resurf_index_type {
+    RESURF_INDEX_UINT32 = 0,
+    RESURF_INDEX_UINT16,
+    RESURF_INDEX_TYPE_COUNT
+} resurf_index_type;
+
+/* One per-vertex array the caller reads from: vertex v's first component is at (const char *)data + v × stride,
+ * its components follow each other tightly. data NULL = the attribute is absent. The data need not be aligned. */
+typedef struct resurf_vertex_source {
+    const void *data;
+    resurf_component_type type; /* default RESURF_COMPONENT_FLOAT */
+    size_t stride;              /* bytes from one vertex to the next; 0 = tightly packed (components × size); else
+                                   at least one element (3 floats = 12 bytes for positions) */
+} resurf_vertex_source;
+
+/* The caller's arrays, read by resurf_mesh_from_arrays(). Fill with resurf_mesh_arrays_default(), then set the
+ * fields. Interleaved buffers give every attribute the same stride and data pointers offset within one vertex:
+ * for {float pos[3], normal[3], uv[2]} (32 bytes), positions.data = buf, normals.data = buf + 12,
+ * texcoords[0].data = buf + 24, and all three strides 32. */
+typedef struct resurf_mesh_arrays {
+    size_t struct_size;
+    size_t vertex_count;                                   /* at most UINT32_MAX */
+    resurf_vertex_source positions;                        /* 3 components, FLOAT or DOUBLE; required */
+    resurf_vertex_source normals;                          /* 3 components, FLOAT or DOUBLE; optional */
+    resurf_vertex_source texcoords[RESURF_MAX_TEXCOORD_SETS]; /* 2 components each; optional, but set k needs
+                                                              sets 0..k-1 (glTF's TEXCOORD_n rule) */
+    resurf_vertex_source colors;                           /* color_components (3 RGB or 4 RGBA) in [0, 1] as
+                                                              resurf keeps them; optional */
+    unsigned color_components;                             /* 3 or 4 when colors is given; default 4 */
+    const void *indices;                                   /* index_count indices, tightly packed, 3 per triangle
+                                                              (counter-clockwise seen from outside); NULL only when
+                                                              index_count is 0 */
+    resurf_index_type index_type;                          /* default RESURF_INDEX_UINT32 */
+    size_t index_count;                                    /* a multiple of 3 (the usual mistake: not the triangle
+                                                              count) */
+    const resurf_allocator *allocator;                     /* NULL (default): the C heap; the new mesh records it
+                                                              (see resurf_allocator) */
+} resurf_mesh_arrays;
+
+RESURF_API resurf_mesh_arrays resurf_mesh_arrays_default(void);
+
+/* Makes a new mesh (free with resurf_mesh_free) holding a copy of the caller's arrays, converted to double: float,
+ * double and uint32 values are kept exactly, UNORM values become value / max. A 3-component colour gets alpha 1.
+ * Everything is checked before anything is allocated, and the message names what is wrong:
+ * - RESURF_ERR_INVALID_ARGUMENT: arrays or out_mesh NULL, positions.data NULL with vertex_count > 0, indices NULL
+ *   with index_count > 0, index_count not a multiple of 3, a stride smaller than its element ("normals: stride 8
+ *   is smaller than one element (12 bytes: 3 floats)"), an unknown or unsuitable component type, texcoord set k
+ *   without set k - 1, color_components not 3 or 4, counts above UINT32_MAX;
+ * - RESURF_ERR_INVALID_OPTIONS: arrays not made by resurf_mesh_arrays_default(), an allocator lacking a callback;
+ * - RESURF_ERR_INVALID_MESH: an index out of range ("triangle 5 (indices 15..17) refers to vertex 40, but there are
+ *   30 vertices") or a NaN or infinite value ("positions: vertex 12, component 1 is nan").
+ * On error *out_mesh is NULL. The arrays are only read; the caller may free them as soon as the call returns.
+ * Thread-safe: calls on different data may run at the same time. */
+RESURF_API resurf_status resurf_mesh_from_arrays(const resurf_mesh_arrays *arrays, resurf_mesh **out_mesh,
+                                                 resurf_error *error);
+
+/* One per-vertex array the caller's memory receives (see resurf_vertex_source): vertex v's components are
+ * written at (char *)data + v × stride and nothing between vertices is touched, so several attributes can be
+ * written into one interleaved buffer. data NULL = not wanted. */
+typedef struct resurf_vertex_dest {
+    void *data;
+    resurf_component_type type; /* default RESURF_COMPONENT_FLOAT */
+    size_t stride;              /* bytes; 0 = tightly packed; else at least one element */
+} resurf_vertex_dest;
+
+/* Where resurf_mesh_to_arrays() writes. Fill with resurf_mesh_arrays_out_default(), then set what you want. */
+typedef struct resurf_mesh_arrays_out {
+    size_t struct_size;
+    size_t vertex_capacity;                              /* vertices each given vertex array has room for; must be
+                                                            >= mesh->vertex_count */
+    resurf_vertex_dest positions, normals;               /* 3 components, FLOAT or DOUBLE */
+    resurf_vertex_dest texcoords[RESURF_MAX_TEXCOORD_SETS]; /* 2 components */
+    resurf_vertex_dest colors;                           /* color_components components */
+    unsigned color_components;                           /* 3 (RGB, alpha dropped) or 4; default 4 */
+    void *indices;                                       /* 3 × mesh->triangle_count indices, or NULL */
+    resurf_index_type index_type;                        /* default RESURF_INDEX_UINT32 */
+    size_t index_capacity;                               /* indices `indices` has room for: >= 3 × triangle_count */
+} resurf_mesh_arrays_out;
+
+RESURF_API resurf_mesh_arrays_out resurf_mesh_arrays_out_default(void);
+
+/* Writes the mesh's vertices and indices into the caller's arrays (the sizes needed are mesh->vertex_count and
+ * 3 × mesh->triangle_count), converting: double to float rounds to nearest (a mesh made from float arrays comes
+ * back bit for bit), UNORM values are clamped to [0, 1] and rounded (NaN gives 0). Fails, writing nothing, with
+ * RESURF_ERR_INVALID_ARGUMENT for a NULL argument, a bad stride or type, a capacity too small, or an attribute
+ * asked for that the mesh lacks ("the mesh has no normals"); RESURF_ERR_INVALID_OPTIONS for an out struct not made
+ * by its _default(); RESURF_ERR_LIMIT when a value does not fit the type asked for: a finite coordinate beyond
+ * float's range, or a vertex number above 65535 with RESURF_INDEX_UINT16 (the message names it);
+ * RESURF_ERR_INVALID_MESH for an index out of range. Non-finite values are copied as they are. The mesh is only
+ * read: several threads may copy out of one mesh at once. */
+RESURF_API resurf_status resurf_mesh_to_arrays(const resurf_mesh *mesh, const resurf_mesh_arrays_out *out,
+                                               resurf_error *error);
 
 /* ------------------------------------------------------------------------------------------------------------- */
 /* Validation and repair                                                                                         */
@@ -219,6 +382,7 @@ typedef struct resurf_repair_options {
     int weld_ignore_attributes; /* 1: weld by position alone (attributes of the first vertex win); default 0: only
                                    vertices whose attributes (normals, texcoords, colors, extras) are equal merge,
                                    so attribute seams stay */
+    const resurf_allocator *allocator; /* NULL (default): the input mesh's (or the C heap); see resurf_allocator */
 } resurf_repair_options;
 
 RESURF_API resurf_repair_options resurf_repair_options_default(void);
@@ -260,6 +424,7 @@ typedef struct resurf_load_options {
     resurf_format format;       /* default AUTO */
     size_t max_triangles;       /* refuse larger inputs with RESURF_ERR_LIMIT; default 100,000,000; 0 = no limit */
     resurf_progress progress;
+    const resurf_allocator *allocator; /* NULL (default): the input mesh's (or the C heap); see resurf_allocator */
 } resurf_load_options;
 
 RESURF_API resurf_load_options resurf_load_options_default(void);
@@ -296,6 +461,7 @@ typedef struct resurf_save_options {
     int binary;                 /* PLY and STL: 1 = binary little-endian (default), 0 = ASCII */
     int write_normals, write_texcoords, write_colors, write_extras; /* default 1: write what the format can hold */
     resurf_progress progress;
+    const resurf_allocator *allocator; /* NULL (default): the input mesh's (or the C heap); see resurf_allocator */
 } resurf_save_options;
 
 RESURF_API resurf_save_options resurf_save_options_default(void);
@@ -380,6 +546,7 @@ typedef struct resurf_restore_options {
                                           edge's end points, tangent to the boundary there); 0: treated like others */
     unsigned threads;                  /* 0 = all cores; results are the same for every count */
     resurf_progress progress;          /* stage "restore", called between blocks of vertices */
+    const resurf_allocator *allocator; /* NULL (default): the input mesh's (or the C heap); see resurf_allocator */
 } resurf_restore_options;
 
 /* resurf's default: JET normals, the normal-section displacement, k = 1/3, up to 10 steps with tolerance 1e-6,
@@ -447,6 +614,7 @@ typedef struct resurf_smooth_options {
                              Taubin-cot, 0.5 bilaplacian (at most 0.5 there: larger steps diverge) */
     double mu;            /* Taubin's negative step, in [−1, 0); 0 (default) = −0.34; ignored by the other methods */
     resurf_progress progress; /* stage "smooth", once per iteration; a cancel leaves the mesh unchanged */
+    const resurf_allocator *allocator; /* NULL (default): the input mesh's (or the C heap); see resurf_allocator */
 } resurf_smooth_options;
 
 RESURF_API resurf_smooth_options resurf_smooth_options_default(void);
@@ -476,6 +644,7 @@ typedef struct resurf_compare_options {
     uint64_t seed;         /* sample seed (any value); default 1 */
     unsigned threads;      /* 0 = all cores */
     resurf_progress progress; /* stage "compare"; a cancel returns RESURF_ERR_CANCELLED and writes no output */
+    const resurf_allocator *allocator; /* NULL (default): the input mesh's (or the C heap); see resurf_allocator */
 } resurf_compare_options;
 
 RESURF_API resurf_compare_options resurf_compare_options_default(void);
@@ -554,8 +723,8 @@ typedef struct resurf_simplify_options {
     resurf_restore_mode restore;  /* default RESURF_RESTORE_INLINE */
     const resurf_restore_options *restore_options; /* how points are restored; NULL = resurf_restore_options_default()
                                      with normals = RESURF_NORMALS_MAX (as good for LODs, whose error is the chord
-                                     sag, and faster to set up than the jet fit); its threads and progress are
-                                     ignored: this call's are used */
+                                     sag, and faster to set up than the jet fit); its threads, progress and
+                                     allocator are ignored: this call's are used */
     double sag_offset;            /* with restoration: once vertices lie on S, the facets between them cut inside
                                      convex parts of S by the chord sag (about h²κ/8 for an edge of length h where
                                      S bends by κ). Each output vertex is moved along S's normal by sag_offset × its
@@ -580,6 +749,7 @@ typedef struct resurf_simplify_options {
                                      input surface is measured for the report; default 100000; 0 = no measurement */
     unsigned threads;             /* 0 = all cores; the result is the same for any value */
     resurf_progress progress;     /* stages "prepare", "simplify", "finish"; a cancel returns RESURF_ERR_CANCELLED */
+    const resurf_allocator *allocator; /* NULL (default): the input mesh's (or the C heap); see resurf_allocator */
 } resurf_simplify_options;
 
 /* The defaults: target_ratio 0.5, quadric placement, inline restoration, sag_offset 1, cost_at_restored 0,
@@ -699,6 +869,26 @@ typedef struct resurf_scene resurf_scene;
 RESURF_API resurf_status resurf_scene_load(const char *path, const resurf_load_options *options,
                                            resurf_scene **out_scene, resurf_error *error);
 
+/* What resurf_scene_load_memory() reads. */
+typedef enum resurf_scene_format {
+    RESURF_SCENE_FORMAT_AUTO = 0, /* by content: "glTF" → GLB, "DRACO" → DRC, '{' → GLTF, else MESH; a mesh format
+                                     in options->format means MESH */
+    RESURF_SCENE_FORMAT_GLTF,     /* glTF JSON */
+    RESURF_SCENE_FORMAT_GLB,      /* binary glTF */
+    RESURF_SCENE_FORMAT_DRC,      /* raw Draco */
+    RESURF_SCENE_FORMAT_MESH,     /* OBJ, PLY, OFF or STL as resurf_mesh_load_memory() reads it (options->format, else
+                                     by content): a one-mesh scene */
+    RESURF_SCENE_FORMAT_COUNT
+} resurf_scene_format;
+
+/* Loads a scene from size bytes at data, checked as resurf_scene_load() checks a file. No file is read: a glTF
+ * buffer whose uri is not a data: URI fails with RESURF_ERR_PARSE and a message naming it ("buffers[0]: the uri
+ * 'a.bin' names an external file ..."); external images are referenced as by resurf_scene_load() (a warning).
+ * Messages name no file. data is not kept: the caller may free it when the call returns. */
+RESURF_API resurf_status resurf_scene_load_memory(const void *data, size_t size, resurf_scene_format format,
+                                                  const resurf_load_options *options, resurf_scene **out_scene,
+                                                  resurf_error *error);
+
 /* A one-mesh scene holding a copy of mesh (one node, one mesh, one triangle primitive, no material). */
 RESURF_API resurf_status resurf_scene_from_mesh(const resurf_mesh *mesh, resurf_scene **out_scene,
                                                 resurf_error *error);
@@ -756,6 +946,63 @@ RESURF_API resurf_status resurf_scene_set_lods(resurf_scene *scene, size_t index
 RESURF_API resurf_status resurf_scene_set_screen_coverage(resurf_scene *scene, size_t mesh, const double *coverage,
                                                           size_t count, resurf_error *error);
 
+/* How resurf_scene_build_lods() works besides the simplification itself. */
+typedef struct resurf_scene_lod_options {
+    size_t struct_size;
+    int set_screen_coverage;  /* 1 (default): set each mesh's MSFT_screencoverage from the measured errors (see
+                                 below); 0: leave the coverage as it is */
+    double pixels;            /* a level is shown once its error covers at most this many pixels; > 0, default 1 */
+    double screen_height;     /* ... on a screen this many pixels high; > 0, default 1080 */
+    resurf_progress progress; /* the stages of resurf_simplify ("prepare", "simplify", "finish") with a fraction of
+                                 the whole scene's work that never decreases (primitives weighted by their
+                                 triangles) and ends at 1; a cancel returns RESURF_ERR_CANCELLED and leaves the
+                                 scene as it was */
+} resurf_scene_lod_options;
+
+RESURF_API resurf_scene_lod_options resurf_scene_lod_options_default(void);
+
+/* What resurf_scene_build_lods() made. Levels count from 0 (full detail) to `levels` - 1. */
+typedef struct resurf_scene_lod_report {
+    size_t levels;                                    /* 1 + count */
+    size_t primitives;                                /* triangle primitives that received levels of detail */
+    size_t morphed;                                   /* primitives with morph targets, kept at full detail */
+    size_t other;                                     /* point and line primitives, kept as they are */
+    size_t level_triangles[RESURF_SCENE_MAX_LEVELS];  /* triangles of each level over every primitive with a mesh
+                                                         (morphed ones at full detail in every level; each mesh
+                                                         once, whatever its instances): what resurf_scene_save()
+                                                         reports as level_triangles */
+    double level_error_rel[RESURF_SCENE_MAX_LEVELS];  /* the largest measured error (max_distance_rel of
+                                                         resurf_simplify_report) of the level over the primitives;
+                                                         0 for level 0 and when nothing was measured
+                                                         (measure_samples 0) */
+} resurf_scene_lod_report;
+
+/* Builds levels of detail for every triangle primitive of the scene in one call: each primitive's chain comes from
+ * resurf_simplify_lods() (ratios, count and simplify as documented there: level k has at most ratios[k-1] × the
+ * primitive's triangles and lies on the smooth surface of the ORIGINAL primitive) and is set as with
+ * resurf_scene_set_lods(), replacing levels set before. Primitives with morph targets and point or line
+ * primitives keep full detail (counted in the report). With options->set_screen_coverage, each mesh that
+ * received levels gets its MSFT_screencoverage from the measured errors: a level of relative error e on an object
+ * whose bounding-box diagonal spans d pixels is off by e·d pixels; with d ≈ √c·H for a screen share c on a screen H
+ * pixels high, level k is good enough below c_k = (pixels / (e_k·H))², clamped to 1 and made non-increasing;
+ * coverage[k-1] = c_k is where level k-1 hands over to level k, and the coarsest level is never culled (0). e_k
+ * is the largest error of the mesh's primitives at level k (an unmeasured error counts as 0, so c_k = 1).
+ * - scene: modified only when the call succeeds; on error or cancel it is exactly as it was.
+ * - simplify: NULL = resurf_simplify_options_default(); target_triangles and target_ratio are ignored, its
+ *   progress is not used (options->progress is).
+ * - ratios: count values in (0, 1], non-increasing; 1 <= count <= RESURF_SCENE_MAX_LEVELS - 1.
+ * - options: NULL = resurf_scene_lod_options_default().
+ * - out_report: may be NULL.
+ * - out_primitive_reports: NULL, or room for resurf_scene_primitive_count(scene) × count reports:
+ *   [p × count + k] is level k + 1 of primitive p (zeroed for primitives that got no levels).
+ * Errors name the primitive ("meshes[1].primitives[0]: ..."). The primitives are simplified one after the other,
+ * each with simplify->threads worker threads. */
+RESURF_API resurf_status resurf_scene_build_lods(resurf_scene *scene, const resurf_simplify_options *simplify,
+                                                 const double *ratios, size_t count,
+                                                 const resurf_scene_lod_options *options,
+                                                 resurf_scene_lod_report *out_report,
+                                                 resurf_simplify_report *out_primitive_reports, resurf_error *error);
+
 /* How resurf_scene_save() writes the levels of detail (when any primitive has some). */
 typedef enum resurf_lod_layout {
     RESURF_LOD_MSFT_LOD = 0,  /* one file: each node showing a mesh with levels gets the MSFT_lod extension, whose
@@ -784,6 +1031,7 @@ typedef struct resurf_scene_save_options {
     int level;                 /* -1 (default): all levels as `layout` says; k >= 0: level k alone as a plain scene
                                   (0 = full detail; a primitive with fewer levels uses its last one) */
     resurf_progress progress;
+    const resurf_allocator *allocator; /* NULL (default): the input mesh's (or the C heap); see resurf_allocator */
 } resurf_scene_save_options;
 
 RESURF_API resurf_scene_save_options resurf_scene_save_options_default(void);

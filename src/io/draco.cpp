@@ -37,6 +37,61 @@ double read_number(const unsigned char *p, draco::DataType type)
     }
 }
 
+// Reads a LEB128 varint of at most 5 bytes (Draco's DecodeVarint<uint32_t>) at *at; false past the end or when it
+// does not fit 32 bits.
+bool read_varint(const unsigned char *p, size_t size, size_t *at, uint64_t *out)
+{
+    uint64_t x = 0;
+    for (int k = 0; k < 5; ++k) {
+        if (*at >= size)
+            return false;
+        unsigned char b = p[(*at)++];
+        x |= (uint64_t)(b & 0x7f) << (7 * k);
+        if (!(b & 0x80)) {
+            *out = x;
+            return x <= 0xffffffffu;
+        }
+    }
+    return false;
+}
+
+// Edgebreaker's connectivity header claims counts of vertices and faces, and Draco reserves and allocates for them
+// (the corner table, the processed corners) before it reads a symbol: a hundred bytes could make it allocate
+// gigabytes. This reads them (draco/compression/mesh: the 11-byte header "DRACO", major, minor, encoder type, method,
+// uint16 flags; the traversal decoder type byte; before bitstream 2.2 a count of new vertices; then the encoded
+// vertices and the faces, uint32 before bitstream 2.0 and varints since) and refuses counts beyond 2^20 plus 256 per
+// byte of payload: no real mesh compresses further, since each face costs its connectivity symbol and its vertices'
+// values. Metadata (flag 0x8000 from bitstream 1.3) would come before these counts, with a layout of its own: such
+// payloads are refused. Sequential meshes are checked by Draco (faces against the bytes left).
+resurf_status check_edgebreaker_counts(const unsigned char *p, size_t size, resurf_error *error)
+{
+    if (size < 12 || p[8] != 1)
+        return RESURF_OK; // too short for Draco to decode anyway, or not Edgebreaker
+    unsigned version = (unsigned)p[5] << 8 | p[6];
+    if (((p[9] | p[10] << 8) & 0x8000) && version >= 0x103)
+        return resurfi_fail(error, RESURF_ERR_UNSUPPORTED, NULL, 0, -1, "Draco meshes with metadata are not supported");
+    size_t at = 12;
+    uint64_t counts[3] = {0, 0, 0}; // new vertices (before 2.2), encoded vertices, faces
+    for (int k = version < 0x202 ? 0 : 1; k < 3; ++k) {
+        if (version < 0x200) {
+            if (size - at < 4)
+                return resurfi_fail(error, RESURF_ERR_PARSE, NULL, 0, -1, "the Draco data is corrupt: cut short");
+            counts[k] = (uint64_t)p[at] | (uint64_t)p[at + 1] << 8 | (uint64_t)p[at + 2] << 16 |
+                        (uint64_t)p[at + 3] << 24;
+            at += 4;
+        } else if (!read_varint(p, size, &at, &counts[k])) {
+            return resurfi_fail(error, RESURF_ERR_PARSE, NULL, 0, -1, "the Draco data is corrupt: bad count");
+        }
+    }
+    uint64_t limit = ((uint64_t)1 << 20) + 256 * (uint64_t)size;
+    for (int k = 0; k < 3; ++k)
+        if (counts[k] > limit)
+            return resurfi_fail(error, RESURF_ERR_LIMIT, NULL, 0, -1,
+                                "the Draco data claims %llu %s, more than its %zu bytes can justify",
+                                (unsigned long long)counts[k], k == 2 ? "faces" : "vertices", size);
+    return RESURF_OK;
+}
+
 void free_mesh(resurfi_draco_mesh *m)
 {
     if (!m)
@@ -56,6 +111,14 @@ resurf_status decode(const void *data, size_t size, resurfi_draco_mesh **out, re
     if (!type.ok())
         return resurfi_fail(error, RESURF_ERR_PARSE, NULL, 0, -1, "the Draco data is corrupt: %s",
                             type.status().error_msg());
+    // Point clouds are never decoded: resurf has no use for one (a glTF points primitive is copied untouched), and
+    // Draco sizes a point cloud's attributes from counts in its header before it reads a value, so that a hundred
+    // bytes could make it allocate gigabytes.
+    if (type.value() == draco::POINT_CLOUD)
+        return resurfi_fail(error, RESURF_ERR_UNSUPPORTED, NULL, 0, -1, "the Draco data is a point cloud");
+    resurf_status checked = check_edgebreaker_counts(static_cast<const unsigned char *>(data), size, error);
+    if (checked != RESURF_OK)
+        return checked;
     draco::Decoder decoder;
     std::unique_ptr<draco::PointCloud> cloud;
     const draco::Mesh *mesh = nullptr;
@@ -66,14 +129,8 @@ resurf_status decode(const void *data, size_t size, resurfi_draco_mesh **out, re
                                 r.status().error_msg());
         mesh = r.value().get();
         cloud = std::move(r).value();
-    } else if (type.value() == draco::POINT_CLOUD) {
-        auto r = decoder.DecodePointCloudFromBuffer(&buffer);
-        if (!r.ok())
-            return resurfi_fail(error, RESURF_ERR_PARSE, NULL, 0, -1, "the Draco data is corrupt: %s",
-                                r.status().error_msg());
-        cloud = std::move(r).value();
     } else {
-        return resurfi_fail(error, RESURF_ERR_PARSE, NULL, 0, -1, "the Draco data holds no mesh or point cloud");
+        return resurfi_fail(error, RESURF_ERR_PARSE, NULL, 0, -1, "the Draco data holds no mesh");
     }
 
     resurfi_draco_mesh *m = static_cast<resurfi_draco_mesh *>(std::calloc(1, sizeof *m));
@@ -87,9 +144,16 @@ resurf_status decode(const void *data, size_t size, resurfi_draco_mesh **out, re
         m->faces = static_cast<uint32_t *>(std::malloc(3 * m->face_count * sizeof(uint32_t) + 1));
         if (!m->faces)
             throw std::bad_alloc();
+        // A corrupt payload can decode to faces on points that do not exist: refuse it here, for every caller.
         for (draco::FaceIndex f(0); f < mesh->num_faces(); ++f)
-            for (int c = 0; c < 3; ++c)
-                m->faces[3 * f.value() + c] = mesh->face(f)[c].value();
+            for (int c = 0; c < 3; ++c) {
+                uint32_t point = mesh->face(f)[c].value();
+                if (point >= n)
+                    return resurfi_fail(error, RESURF_ERR_PARSE, NULL, 0, -1,
+                                        "the Draco data is corrupt: face %u refers to point %u of %zu", f.value(),
+                                        point, n);
+                m->faces[3 * f.value() + c] = point;
+            }
     }
     int count = cloud->num_attributes();
     m->attributes = static_cast<resurfi_draco_attribute *>(std::calloc((size_t)count + 1, sizeof *m->attributes));

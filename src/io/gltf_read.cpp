@@ -83,6 +83,33 @@ void find_nonfinite(const nlohmann::json &j, std::string &where, size_t &count, 
     }
 }
 
+// The first buffer whose uri names an external file (not a data: URI), for a document in memory, which has no
+// folder to read it from; -1 when there is none. *uri gets that uri, shortened and made printable for a message.
+long long external_buffer(const nlohmann::json &root, std::string *uri)
+{
+    auto buffers = root.find("buffers");
+    if (buffers == root.end() || !buffers->is_array())
+        return -1;
+    for (size_t i = 0; i < buffers->size(); ++i) {
+        const nlohmann::json &b = (*buffers)[i];
+        if (!b.is_object())
+            continue;
+        auto u = b.find("uri");
+        if (u == b.end() || !u->is_string())
+            continue;
+        const std::string &s = u->get_ref<const std::string &>();
+        if (s.compare(0, 5, "data:") == 0)
+            continue;
+        uri->clear();
+        for (size_t k = 0; k < s.size() && k < 200; ++k)
+            uri->push_back((unsigned char)s[k] < 0x20 || s[k] == 0x7f ? '?' : s[k]);
+        if (s.size() > 200)
+            *uri += "...";
+        return (long long)i;
+    }
+    return -1;
+}
+
 // Takes the Draco extensions (and their primitives' indices) out of the document. Returns true when it changed.
 bool take_draco(nlohmann::json &root, std::map<std::pair<size_t, size_t>, DracoRecord> &out)
 {
@@ -141,10 +168,13 @@ bool take_draco(nlohmann::json &root, std::map<std::pair<size_t, size_t>, DracoR
 
 struct FsContext {
     uint64_t max_bytes;
+    bool no_files;  // a document in memory: nothing is read from the file system (parse() refuses such URIs first)
 };
 
-bool fs_exists(const std::string &path, void *)
+bool fs_exists(const std::string &path, void *user)
 {
+    if (static_cast<const FsContext *>(user)->no_files)
+        return false;
     struct stat st;
     return stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode);
 }
@@ -155,6 +185,11 @@ std::string fs_expand(const std::string &path, void *) { return path; }
 bool fs_read(std::vector<unsigned char> *out, std::string *err, const std::string &path, void *user)
 {
     const FsContext *ctx = static_cast<const FsContext *>(user);
+    if (ctx->no_files) {
+        if (err)
+            *err += "'" + path + "': a document in memory cannot read files\n";
+        return false;
+    }
     struct stat st;
     if (stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) {
         if (err)
@@ -477,6 +512,15 @@ resurf_status parse(const char *json, size_t json_size, const unsigned char *bin
     }
     if (!root.is_object())
         return resurfi_fail(error, RESURF_ERR_PARSE, name, 0, -1, "the JSON is not an object");
+    if (!base_dir) {
+        std::string uri;
+        long long b = external_buffer(root, &uri);
+        if (b >= 0)
+            return resurfi_fail(error, RESURF_ERR_PARSE, name, 0, -1,
+                                "buffers[%lld]: the uri '%s' names an external file, which a document loaded from "
+                                "memory cannot refer to",
+                                b, uri.c_str());
+    }
     std::string where;
     find_nonfinite(root, where, doc->nonfinite_count, doc->first_nonfinite);
     std::string rewritten;
@@ -485,7 +529,7 @@ resurf_status parse(const char *json, size_t json_size, const unsigned char *bin
     root = nlohmann::json();
 
     tinygltf::TinyGLTF loader;
-    FsContext fs_ctx{max_external_bytes};
+    FsContext fs_ctx{max_external_bytes, base_dir == nullptr};
     tinygltf::FsCallbacks fs = {&fs_exists, &fs_expand, &fs_read, &fs_write, &fs_ctx};
     loader.SetFsCallbacks(fs);
     loader.SetImageLoader(&keep_image_bytes, nullptr);

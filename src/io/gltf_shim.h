@@ -134,7 +134,8 @@ typedef struct resurfi_gltf_view {
 typedef struct resurfi_gltf_doc resurfi_gltf_doc;
 
 /* Parses a glTF document. json/json_size: the JSON text (of a .gltf, or a .glb's JSON chunk); bin/bin_size: a .glb's
- * BIN chunk (NULL for .gltf or a .glb without one); base_dir: the folder external URIs are relative to ("" = cwd);
+ * BIN chunk (NULL for .gltf or a .glb without one); base_dir: the folder external URIs are relative to ("" = cwd),
+ * or NULL for a document in memory, which may not refer to external buffers (an error naming the uri);
  * name: for messages. KHR_draco_mesh_compression is never decoded here (the C side checks the references and
  * calls resurfi_draco_decode); external files are read only when regular and at most max_external_bytes long.
  * On success *out_doc owns the parsed document and its view. */
@@ -241,12 +242,13 @@ typedef struct resurfi_draco_attribute {
 
 typedef struct resurfi_draco_mesh {
     size_t point_count, face_count;
-    uint32_t *faces;           /* 3 × face_count point indices (NULL for a point cloud) */
+    uint32_t *faces;           /* 3 × face_count point indices, each < point_count */
     size_t attribute_count;
     resurfi_draco_attribute *attributes;
 } resurfi_draco_mesh;
 
-/* Decodes a Draco mesh or point cloud. Fails with RESURF_ERR_PARSE and Draco's message on a corrupt payload. */
+/* Decodes a Draco mesh. Fails with RESURF_ERR_PARSE and Draco's message on a corrupt payload, and with
+ * RESURF_ERR_UNSUPPORTED on a point cloud, which it does not decode (see draco.cpp). */
 resurf_status resurfi_draco_decode(const void *data, size_t size, resurfi_draco_mesh **out, resurf_error *error);
 void resurfi_draco_mesh_free(resurfi_draco_mesh *mesh);
 

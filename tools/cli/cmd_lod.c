@@ -1,6 +1,7 @@
 /* resurf lod IN -o OUT: a chain of levels of detail of every triangle primitive of a scene (glTF, or a mesh file),
- * each level simplified with inline restoration onto the ORIGINAL surface (resurf_simplify_lods()), written as one
- * glTF with MSFT_lod, one file per level, or side by side (resurf_scene_save()). */
+ * each level simplified with inline restoration onto the ORIGINAL surface and the MSFT_lod screen coverage taken
+ * from the measured errors (both by resurf_scene_build_lods()), written as one glTF with MSFT_lod, one file per
+ * level, or side by side (resurf_scene_save()). This file only parses arguments and prints the table. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -63,20 +64,6 @@ static int parse_bits(const char *option, const char *text, int *out)
         return cli_usage("lod", "--%s must be in 1..30, not %s", option, text);
     *out = (int)n;
     return 0;
-}
-
-/* MSFT_screencoverage from the measured errors: a level of relative error e on an object whose bounding-box
- * diagonal spans d pixels is off by e·d pixels. With the screen coverage c (the share of the screen's area) and a
- * screen H pixels high, d ≈ √c·H, so level k is good enough below c = (P / (e_k·H))². That is where level k-1
- * hands over: coverage[k-1]. The coarsest level is never culled (its value is 0). */
-static void coverage_from_errors(const double *errors, size_t levels, double pixels, double height, double *out)
-{
-    for (size_t k = 1; k < levels; ++k) {
-        double e = errors[k], c = e > 0 && isfinite(e) ? pow(pixels / (e * height), 2) : 1.0;
-        c = c > 1 ? 1 : c;
-        out[k - 1] = k > 1 && c > out[k - 2] ? out[k - 2] : c;
-    }
-    out[levels - 1] = 0;
 }
 
 int cmd_lod(int argc, char **argv)
@@ -193,6 +180,7 @@ int cmd_lod(int argc, char **argv)
     }
 
     resurf_load_options lo = resurf_load_options_default();
+    lo.max_triangles = cli_max_triangles();
     resurf_error error;
     resurf_scene *scene = NULL;
     lo.progress = cli_progress();
@@ -203,55 +191,23 @@ int cmd_lod(int argc, char **argv)
     for (size_t i = 0; i < resurf_scene_warning_count(scene); ++i)
         fprintf(stderr, "resurf: warning: %s\n", resurf_scene_warning(scene, i));
 
-    /* Per level and mesh, the largest measured error of its primitives (relative to each one's diagonal). */
-    size_t meshes = resurf_scene_mesh_count(scene);
-    double *errors = calloc(meshes * levels + 1, sizeof *errors);
-    double level_error[RESURF_SCENE_MAX_LEVELS] = {0};
-    int rc = errors ? CLI_OK : cli_fail("out of memory");
-    sim.progress = cli_progress();
-    for (size_t p = 0; p < resurf_scene_primitive_count(scene) && rc == CLI_OK; ++p) {
+    /* Every triangle primitive's chain and each mesh's MSFT_screencoverage, in one library call. */
+    for (size_t p = 0; p < resurf_scene_primitive_count(scene); ++p) {
         resurf_scene_primitive info;
         resurf_scene_primitive_info(scene, p, &info, NULL);
         if (info.kind == RESURF_PRIMITIVE_MORPHED)
             fprintf(stderr, "resurf: warning: %s has morph targets: kept at full detail\n", info.name);
-        if (info.kind != RESURF_PRIMITIVE_TRIANGLES)
-            continue;
-        resurf_mesh *lods[MAX_LEVELS] = {NULL};
-        resurf_simplify_report reports[MAX_LEVELS];
-        s = resurf_simplify_lods(resurf_scene_primitive_mesh(scene, p), &sim, ratios, ratio_count, lods, reports,
-                                 &error);
-        cli_progress_done();
-        if (s == RESURF_OK)
-            s = resurf_scene_set_lods(scene, p, (const resurf_mesh *const *)lods, ratio_count, &error);
-        if (s != RESURF_OK) {
-            fprintf(stderr, "resurf: %s: ", info.name);
-            rc = cli_fail_error(&error);
-        }
-        for (size_t k = 0; k < ratio_count; ++k) {
-            double e = s == RESURF_OK ? reports[k].max_distance_rel : NAN;
-            if (isfinite(e)) {
-                errors[info.mesh * levels + k + 1] = fmax(errors[info.mesh * levels + k + 1], e);
-                level_error[k + 1] = fmax(level_error[k + 1], e);
-            }
-            resurf_mesh_free(lods[k]);
-        }
     }
-    for (size_t m = 0; m < meshes && rc == CLI_OK; ++m) {
-        /* The mesh's own level count: 1 + its primitives' levels (0 when none is made of triangles). */
-        size_t own = 1;
-        for (size_t p = 0; p < resurf_scene_primitive_count(scene); ++p) {
-            resurf_scene_primitive info;
-            resurf_scene_primitive_info(scene, p, &info, NULL);
-            if (info.mesh == m && info.lod_count + 1 > own)
-                own = info.lod_count + 1;
-        }
-        if (own < 2)
-            continue;
-        double coverage[RESURF_SCENE_MAX_LEVELS];
-        coverage_from_errors(errors + m * levels, own, pixels, height, coverage);
-        if (resurf_scene_set_screen_coverage(scene, m, coverage, own, &error) != RESURF_OK)
-            rc = cli_fail_error(&error);
-    }
+    resurf_scene_lod_options lod = resurf_scene_lod_options_default();
+    lod.pixels = pixels;
+    lod.screen_height = height;
+    lod.progress = cli_progress();
+    resurf_scene_lod_report lod_report;
+    int rc = CLI_OK;
+    s = resurf_scene_build_lods(scene, &sim, ratios, ratio_count, &lod, &lod_report, NULL, &error);
+    cli_progress_done();
+    if (s != RESURF_OK)
+        rc = cli_fail_error(&error);
     resurf_scene_save_report report;
     if (rc == CLI_OK && !cli_interrupted()) {
         so.progress = cli_progress();
@@ -275,7 +231,7 @@ int cmd_lod(int argc, char **argv)
                 printf("%s{\"level\": %zu, \"ratio\": ", k ? ", " : "", k);
                 cli_json_number(stdout, k ? ratios[k - 1] : 1.0);
                 printf(", \"triangles\": %zu, \"error_rel\": ", report.level_triangles[k]);
-                cli_json_number(stdout, level_error[k]);
+                cli_json_number(stdout, lod_report.level_error_rel[k]);
                 printf(", \"bytes\": %zu}", report.level_bytes[k]);
             }
             printf("]}\n");
@@ -283,12 +239,11 @@ int cmd_lod(int argc, char **argv)
             printf("%-6s %-6s %12s %14s %12s\n", "level", "ratio", "triangles", "error (rel)", "bytes");
             for (size_t k = 0; k < report.levels; ++k)
                 printf("%-6zu %-6g %12zu %14.3e %12zu\n", k, k ? ratios[k - 1] : 1.0, report.level_triangles[k],
-                       level_error[k], report.level_bytes[k]);
+                       lod_report.level_error_rel[k], report.level_bytes[k]);
             printf("wrote %s (%s%s, %zu file%s, %zu bytes)\n", out, layouts[so.layout], so.draco ? ", Draco" : "",
                    report.files, report.files == 1 ? "" : "s", report.total_bytes);
         }
     }
-    free(errors);
     resurf_scene_free(scene);
     return rc;
 }

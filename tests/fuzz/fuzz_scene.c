@@ -1,0 +1,79 @@
+/* libFuzzer harness for the scene loaders from memory; FUZZ_SCENE_FORMAT picks which (RESURF_SCENE_FORMAT_GLTF,
+ * _GLB, _DRC). No input may crash, hang, read outside its bytes or the file system, or allocate beyond what its size
+ * justifies (ASan and libFuzzer's -rss_limit_mb catch that). A scene that loads must keep the loader's promises:
+ * every primitive's mesh has its indices in range, finite positions, attribute arrays as long as their counts say,
+ * and passes validation. A refusal must carry a parse, unsupported or limit status and a one-line message.
+ * A broken promise traps, so libFuzzer keeps the input. */
+#include <math.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <string.h>
+
+#include "resurf/resurf.h"
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
+
+static volatile double sink; /* keeps the loads of every value from being optimised away */
+
+#define REQUIRE(cond)                                                                                           \
+    do {                                                                                                        \
+        if (!(cond))                                                                                            \
+            __builtin_trap();                                                                                   \
+    } while (0)
+
+/* Sums every value of the mesh (so that ASan sees an array shorter than its count) after checking the promises. */
+static double check_mesh(const resurf_mesh *m)
+{
+    for (size_t i = 0; i < 3 * m->triangle_count; ++i)
+        REQUIRE(m->indices[i] < m->vertex_count);
+    for (size_t i = 0; i < 3 * m->vertex_count; ++i)
+        REQUIRE(isfinite(m->positions[i]));
+    double sum = 0;
+    for (size_t i = 0; m->normals && i < 3 * m->vertex_count; ++i)
+        sum += m->normals[i];
+    for (unsigned k = 0; k < m->texcoord_count; ++k)
+        for (size_t i = 0; m->texcoords[k] && i < 2 * m->vertex_count; ++i)
+            sum += m->texcoords[k][i];
+    for (size_t i = 0; m->colors && i < 4 * m->vertex_count; ++i)
+        sum += m->colors[i];
+    for (size_t e = 0; e < m->extra_count; ++e)
+        for (size_t i = 0; i < m->extras[e].components * m->vertex_count; ++i)
+            sum += m->extras[e].data[i];
+    resurf_validation v;
+    REQUIRE(resurf_mesh_validate(m, &v, NULL) == RESURF_OK);
+    REQUIRE(resurf_validation_ok(&v));
+    REQUIRE(v.vertex_count == m->vertex_count && v.triangle_count == m->triangle_count);
+    return sum;
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    resurf_load_options options = resurf_load_options_default();
+    options.max_triangles = 1u << 20;
+    resurf_scene *scene = NULL;
+    resurf_error error;
+    resurf_status s = resurf_scene_load_memory(data, size, FUZZ_SCENE_FORMAT, &options, &scene, &error);
+    if (s != RESURF_OK) {
+        REQUIRE(scene == NULL);
+        REQUIRE(s == RESURF_ERR_PARSE || s == RESURF_ERR_UNSUPPORTED || s == RESURF_ERR_LIMIT);
+        REQUIRE(error.status == s && error.message[0] && !strchr(error.message, '\n'));
+        return 0;
+    }
+    REQUIRE(scene != NULL);
+    double sum = 0;
+    size_t n = resurf_scene_primitive_count(scene);
+    for (size_t i = 0; i < n; ++i) {
+        resurf_scene_primitive info;
+        REQUIRE(resurf_scene_primitive_info(scene, i, &info, NULL) == RESURF_OK);
+        REQUIRE(info.mesh < resurf_scene_mesh_count(scene));
+        const resurf_mesh *m = resurf_scene_primitive_mesh(scene, i);
+        REQUIRE((m == NULL) == (info.kind == RESURF_PRIMITIVE_OTHER));
+        if (m)
+            sum += check_mesh(m);
+    }
+    for (size_t i = 0; i < resurf_scene_warning_count(scene); ++i)
+        REQUIRE(resurf_scene_warning(scene, i) != NULL);
+    resurf_scene_free(scene);
+    sink = sum;
+    return 0;
+}

@@ -1,0 +1,448 @@
+/* Tests of src/scene_lods.c: resurf_scene_build_lods, the one-call levels of detail of a glTF scene, and the
+ * `resurf lod` command that is now a thin layer over it (--max-triangles included).
+ * The truths: each primitive's chain equals what resurf_simplify_lods makes of that primitive alone; the screen
+ * coverage follows the formula documented in resurf.h from the reported errors; the reported errors bound the
+ * distances resurf_compare measures independently; a failed or cancelled call leaves the scene as it was. */
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "scene_internal.h"
+#include "testutil.h"
+
+static char *strf(const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    int n = vsnprintf(NULL, 0, fmt, ap);
+    va_end(ap);
+    char *s = malloc((size_t)n + 1);
+    va_start(ap, fmt);
+    vsnprintf(s, (size_t)n + 1, fmt, ap);
+    va_end(ap);
+    return s;
+}
+
+/* ---- a two-mesh glTF written by hand ------------------------------------------------------------------------ */
+
+static void base64(const unsigned char *in, size_t n, char *out)
+{
+    static const char t[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    size_t o = 0;
+    for (size_t i = 0; i < n; i += 3) {
+        uint32_t v = (uint32_t)in[i] << 16 | (i + 1 < n ? (uint32_t)in[i + 1] << 8 : 0) | (i + 2 < n ? in[i + 2] : 0);
+        out[o++] = t[v >> 18 & 63];
+        out[o++] = t[v >> 12 & 63];
+        out[o++] = i + 1 < n ? t[v >> 6 & 63] : '=';
+        out[o++] = i + 2 < n ? t[v & 63] : '=';
+    }
+    out[o] = 0;
+}
+
+/* Appends a mesh's float positions and uint32 indices to buf; writes the two accessors' JSON into acc. */
+static size_t append_mesh(const resurf_mesh *m, unsigned char *buf, size_t at, char *acc, size_t acc_size,
+                          int first_view)
+{
+    float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (size_t i = 0; i < 3 * m->vertex_count; ++i) {
+        float f = (float)m->positions[i];
+        memcpy(buf + at + 4 * i, &f, 4);
+        lo[i % 3] = fminf(lo[i % 3], f);
+        hi[i % 3] = fmaxf(hi[i % 3], f);
+    }
+    size_t pos_bytes = 12 * m->vertex_count, idx_bytes = 12 * m->triangle_count;
+    memcpy(buf + at + pos_bytes, m->indices, idx_bytes);
+    snprintf(acc, acc_size,
+             "{\"bufferView\":%d,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC3\",\"min\":[%.9g,%.9g,%.9g],"
+             "\"max\":[%.9g,%.9g,%.9g]},{\"bufferView\":%d,\"componentType\":5125,\"count\":%zu,\"type\":\"SCALAR\"}",
+             first_view, m->vertex_count, lo[0], lo[1], lo[2], hi[0], hi[1], hi[2], first_view + 1,
+             3 * m->triangle_count);
+    return pos_bytes + idx_bytes;
+}
+
+/* meshes[0]: a sphere (one triangle primitive); meshes[1]: a torus (a triangle primitive and a points primitive
+ * over the same positions); meshes[2]: the sphere again with a morph target (its own positions as displacements).
+ * Node k shows mesh k. Returns the path (malloc'ed). */
+static char *write_two_mesh_gltf(const char *dir, resurf_mesh **out_sphere, resurf_mesh **out_torus)
+{
+    resurf_mesh *a = shape_mesh(SHAPE_SPHERE, 1200, 0.3, 1, 0), *b = shape_mesh(SHAPE_TORUS, 1600, 0.3, 2, 0);
+    size_t a_pos = 12 * a->vertex_count, a_idx = 12 * a->triangle_count;
+    size_t b_pos = 12 * b->vertex_count, b_idx = 12 * b->triangle_count;
+    size_t total = a_pos + a_idx + b_pos + b_idx;
+    unsigned char *buf = malloc(total);
+    char acc_a[512], acc_b[512];
+    append_mesh(a, buf, 0, acc_a, sizeof acc_a, 0);
+    append_mesh(b, buf, a_pos + a_idx, acc_b, sizeof acc_b, 2);
+    char *b64 = malloc(total / 3 * 4 + 8);
+    base64(buf, total, b64);
+    char *json = strf(
+        "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0,1,2]}],"
+        "\"nodes\":[{\"mesh\":0},{\"mesh\":1,\"translation\":[3,0,0]},{\"mesh\":2,\"translation\":[0,3,0]}],"
+        "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":1}]},"
+        "{\"primitives\":[{\"attributes\":{\"POSITION\":2},\"indices\":3},{\"attributes\":{\"POSITION\":2},\"mode\":0}]},"
+        "{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":1,\"targets\":[{\"POSITION\":0}]}],"
+        "\"weights\":[0]}],"
+        "\"accessors\":[%s,%s],"
+        "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":%zu},"
+        "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu},{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu},"
+        "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu}],"
+        "\"buffers\":[{\"byteLength\":%zu,\"uri\":\"data:application/octet-stream;base64,%s\"}]}",
+        acc_a, acc_b, a_pos, a_pos, a_idx, a_pos + a_idx, b_pos, a_pos + a_idx + b_pos, b_idx, total, b64);
+    char *path = tu_path(dir, "two.gltf");
+    ck_assert_int_eq(tu_write_file(path, json, strlen(json)), 0);
+    free(json);
+    free(b64);
+    free(buf);
+    *out_sphere = a;
+    *out_torus = b;
+    return path;
+}
+
+static resurf_scene *load(const char *path)
+{
+    resurf_scene *s = NULL;
+    resurf_error e;
+    ck_assert_msg(resurf_scene_load(path, NULL, &s, &e) == RESURF_OK, "load: %s", e.message);
+    return s;
+}
+
+/* Options that make the test fast but still measure: fewer samples than the default. */
+static resurf_simplify_options fast_options(void)
+{
+    resurf_simplify_options o = resurf_simplify_options_default();
+    o.measure_samples = 5000;
+    return o;
+}
+
+static int same_mesh(const resurf_mesh *a, const resurf_mesh *b)
+{
+    return a->vertex_count == b->vertex_count && a->triangle_count == b->triangle_count &&
+           !memcmp(a->positions, b->positions, 3 * a->vertex_count * sizeof(double)) &&
+           !memcmp(a->indices, b->indices, 3 * a->triangle_count * sizeof(uint32_t));
+}
+
+/* The MSFT_screencoverage arrays of the written file, in node order (the full-detail nodes carry them). */
+static size_t read_coverage(const char *gltf_path, double out[][RESURF_SCENE_MAX_LEVELS], size_t *counts)
+{
+    char *text = tu_read_file(gltf_path, NULL);
+    ck_assert_ptr_nonnull(text);
+    size_t found = 0;
+    for (const char *p = text; (p = strstr(p, "\"MSFT_screencoverage\"")) != NULL; ++found) {
+        p = strchr(p, '[');
+        ck_assert_ptr_nonnull(p);
+        counts[found] = 0;
+        for (++p;;) {
+            char *end;
+            double v = strtod(p, &end);
+            if (end == p)
+                break;
+            out[found][counts[found]++] = v;
+            p = end;
+            while (*p == ' ' || *p == ',' || *p == '\n')
+                ++p;
+        }
+    }
+    free(text);
+    return found;
+}
+
+/* ---- tests --------------------------------------------------------------------------------------------------- */
+
+START_TEST(scene_lods_equal_per_primitive_chains)
+{
+    char *dir = tu_tempdir();
+    resurf_mesh *sphere, *torus;
+    char *path = write_two_mesh_gltf(dir, &sphere, &torus);
+    resurf_scene *s = load(path);
+    ck_assert_uint_eq(resurf_scene_primitive_count(s), 4);
+
+    const double ratios[2] = {0.5, 0.2};
+    resurf_simplify_options so = fast_options();
+    resurf_scene_lod_options lo = resurf_scene_lod_options_default();
+    lo.pixels = 2;
+    lo.screen_height = 720;
+    resurf_scene_lod_report r;
+    resurf_simplify_report pr[4 * 2];
+    memset(pr, 0xFF, sizeof pr);
+    resurf_error e;
+    ck_assert_msg(resurf_scene_build_lods(s, &so, ratios, 2, &lo, &r, pr, &e) == RESURF_OK, "%s", e.message);
+    ck_assert_uint_eq(r.levels, 3);
+    ck_assert_uint_eq(r.primitives, 2);
+    ck_assert_uint_eq(r.morphed, 1);
+    ck_assert_uint_eq(r.other, 1);
+
+    /* Each chain is what resurf_simplify_lods makes of that primitive alone. */
+    const size_t tri_prims[2] = {0, 1};
+    size_t level_tris[3] = {0, 0, 0};
+    double level_err[3] = {0, 0, 0};
+    for (int i = 0; i < 2; ++i) {
+        size_t p = tri_prims[i];
+        const resurf_mesh *in = resurf_scene_primitive_mesh(s, p);
+        resurf_mesh *alone[2] = {NULL, NULL};
+        resurf_simplify_report ar[2];
+        ck_assert_int_eq(resurf_simplify_lods(in, &so, ratios, 2, alone, ar, NULL), RESURF_OK);
+        resurf_scene_primitive info;
+        ck_assert_int_eq(resurf_scene_primitive_info(s, p, &info, NULL), RESURF_OK);
+        ck_assert_uint_eq(info.lod_count, 2);
+        level_tris[0] += in->triangle_count;
+        for (int k = 0; k < 2; ++k) {
+            ck_assert(same_mesh(s->prims[p].lods[k], alone[k]));
+            ck_assert_uint_eq(pr[p * 2 + k].triangles, alone[k]->triangle_count);
+            ck_assert(pr[p * 2 + k].max_distance_rel == ar[k].max_distance_rel);
+            ck_assert_uint_le(alone[k]->triangle_count, (size_t)(ratios[k] * (double)in->triangle_count));
+            level_tris[k + 1] += alone[k]->triangle_count;
+            level_err[k + 1] = fmax(level_err[k + 1], ar[k].max_distance_rel);
+            /* Independent bound: the reported error covers every vertex's exact distance to the input surface. */
+            resurf_compare_options co = resurf_compare_options_default();
+            co.samples = 0;
+            resurf_metrics mt;
+            ck_assert_int_eq(resurf_compare(in, alone[k], &co, &mt, NULL, NULL), RESURF_OK);
+            ck_assert(ar[k].max_distance_rel >= mt.vertex_max / mt.diagonal - 1e-12);
+            ck_assert(ar[k].max_distance_rel > 0);
+            resurf_mesh_free(alone[k]);
+        }
+    }
+    /* The points and the morphed primitives got nothing, and their reports are zeroed; the morphed one counts at
+     * full detail in every level. */
+    for (size_t p = 2; p < 4; ++p) {
+        resurf_scene_primitive info;
+        ck_assert_int_eq(resurf_scene_primitive_info(s, p, &info, NULL), RESURF_OK);
+        ck_assert_int_eq(info.kind, p == 2 ? RESURF_PRIMITIVE_OTHER : RESURF_PRIMITIVE_MORPHED);
+        ck_assert_uint_eq(info.lod_count, 0);
+        ck_assert_uint_eq(pr[p * 2].triangles, 0);
+        ck_assert_uint_eq(pr[p * 2 + 1].input_triangles, 0);
+    }
+    for (int k = 0; k < 3; ++k)
+        level_tris[k] += resurf_scene_primitive_mesh(s, 3)->triangle_count;
+    for (int k = 0; k < 3; ++k) {
+        ck_assert_uint_eq(r.level_triangles[k], level_tris[k]);
+        ck_assert(r.level_error_rel[k] == level_err[k]);
+    }
+
+    /* Saved: the file's level triangles agree with the report, and each mesh's coverage follows the documented
+     * formula c_k = min(1, (pixels / (e_k · H))²), non-increasing, 0 for the coarsest level, where e_k is the
+     * mesh's own largest error (one primitive each here). */
+    char *out = tu_path(dir, "out.gltf");
+    resurf_scene_save_options sv = resurf_scene_save_options_default();
+    sv.embed_buffers = 1;
+    resurf_scene_save_report saved;
+    ck_assert_msg(resurf_scene_save(s, out, &sv, &saved, &e) == RESURF_OK, "%s", e.message);
+    ck_assert_uint_eq(saved.levels, 3);
+    for (int k = 0; k < 3; ++k)
+        ck_assert_uint_eq(saved.level_triangles[k], r.level_triangles[k]);
+    double cov[4][RESURF_SCENE_MAX_LEVELS];
+    size_t counts[4];
+    ck_assert_uint_eq(read_coverage(out, cov, counts), 2);
+    for (int i = 0; i < 2; ++i) {
+        ck_assert_uint_eq(counts[i], 3);
+        double want[3];
+        for (int k = 1; k < 3; ++k) {
+            double c = pow(2.0 / (pr[i * 2 + k - 1].max_distance_rel * 720), 2);
+            c = c > 1 ? 1 : c;
+            want[k - 1] = k > 1 && c > want[k - 2] ? want[k - 2] : c;
+        }
+        want[2] = 0;
+        for (int k = 0; k < 3; ++k)
+            ck_assert_msg(fabs(cov[i][k] - want[k]) <= 1e-12 * fmax(1, want[k]), "mesh %d coverage[%d] %.17g, want %.17g",
+                          i, k, cov[i][k], want[k]);
+        ck_assert(cov[i][0] > 0 && cov[i][0] <= 1 && cov[i][1] <= cov[i][0]);
+    }
+    resurf_scene_free(s);
+    resurf_mesh_free(sphere);
+    resurf_mesh_free(torus);
+    free(out);
+    free(path);
+    tu_rmtree(dir);
+    free(dir);
+}
+END_TEST
+
+/* A progress callback that records what it sees and cancels at a chosen moment. */
+typedef struct watch {
+    int calls;
+    double last;
+    int monotone;
+    double cancel_from;    /* cancel at the first fraction >= this (> 1: never) */
+    const char *cancel_at; /* ... or at this stage name */
+} watch;
+
+static int watch_fn(void *user, const char *stage, double fraction)
+{
+    watch *w = user;
+    w->calls++;
+    if (fraction < w->last || fraction < 0 || fraction > 1)
+        w->monotone = 0;
+    w->last = fraction;
+    if (fraction >= w->cancel_from)
+        return 1;
+    return w->cancel_at && !strcmp(stage, w->cancel_at) && fraction >= 1.0;
+}
+
+START_TEST(scene_lods_cancel_leaves_scene_unchanged)
+{
+    char *dir = tu_tempdir();
+    resurf_mesh *sphere, *torus;
+    char *path = write_two_mesh_gltf(dir, &sphere, &torus);
+    resurf_scene *s = load(path);
+    resurf_simplify_options so = fast_options();
+
+    /* A first, complete run: levels and coverage in place, progress monotone from 0 to 1. */
+    const double first[1] = {0.5};
+    resurf_scene_lod_options lo = resurf_scene_lod_options_default();
+    watch w = {0, 0, 1, 2, NULL};
+    lo.progress.fn = watch_fn;
+    lo.progress.user = &w;
+    ck_assert_int_eq(resurf_scene_build_lods(s, &so, first, 1, &lo, NULL, NULL, NULL), RESURF_OK);
+    ck_assert_int_gt(w.calls, 2);
+    ck_assert(w.monotone);
+    ck_assert(w.last == 1.0);
+    resurf_mesh *before[2] = {s->prims[0].lods[0], s->prims[1].lods[0]};
+    double cov0 = s->coverage[0][0];
+
+    /* Cancelled in the second primitive (the sphere has 1200 of the 2800 triangles: its share ends near 0.43),
+     * then at the very end, after every primitive is done: each time CANCELLED, and the scene is as it was. */
+    const double second[2] = {0.3, 0.1};
+    const double cancel_from[2] = {0.6, 2};
+    for (int run = 0; run < 2; ++run) {
+        watch c = {0, 0, 1, cancel_from[run], run == 1 ? "finish" : NULL};
+        lo.progress.user = &c;
+        resurf_scene_lod_report r;
+        memset(&r, 0x11, sizeof r);
+        resurf_error e;
+        ck_assert_int_eq(resurf_scene_build_lods(s, &so, second, 2, &lo, &r, NULL, &e), RESURF_ERR_CANCELLED);
+        ck_assert_int_eq(e.status, RESURF_ERR_CANCELLED);
+        ck_assert(c.last >= cancel_from[run] || run == 1);
+        for (int p = 0; p < 2; ++p) {
+            ck_assert_uint_eq(s->prims[p].lod_count, 1);
+            ck_assert_ptr_eq(s->prims[p].lods[0], before[p]);
+        }
+        ck_assert_uint_eq(s->coverage_count[0], 2);
+        ck_assert(s->coverage[0][0] == cov0);
+        ck_assert_uint_eq(r.levels, 0x1111111111111111ull); /* the report is not written either */
+    }
+    /* The scene still saves as it was: two levels. */
+    char *out = tu_path(dir, "after.glb");
+    resurf_scene_save_report saved;
+    ck_assert_int_eq(resurf_scene_save(s, out, NULL, &saved, NULL), RESURF_OK);
+    ck_assert_uint_eq(saved.levels, 2);
+    resurf_scene_free(s);
+    resurf_mesh_free(sphere);
+    resurf_mesh_free(torus);
+    free(out);
+    free(path);
+    tu_rmtree(dir);
+    free(dir);
+}
+END_TEST
+
+START_TEST(scene_lods_errors_named_and_scene_unchanged)
+{
+    resurf_mesh *m = shape_mesh(SHAPE_SPHERE, 300, 0.2, 3, 0);
+    resurf_scene *s = NULL;
+    ck_assert_int_eq(resurf_scene_from_mesh(m, &s, NULL), RESURF_OK);
+    const double ratios[2] = {0.5, 0.25}, rising[2] = {0.25, 0.5};
+    resurf_error e;
+
+    ck_assert_int_eq(resurf_scene_build_lods(NULL, NULL, ratios, 2, NULL, NULL, NULL, &e),
+                     RESURF_ERR_INVALID_ARGUMENT);
+    ck_assert_int_eq(resurf_scene_build_lods(s, NULL, NULL, 2, NULL, NULL, NULL, &e), RESURF_ERR_INVALID_ARGUMENT);
+    ck_assert_int_eq(resurf_scene_build_lods(s, NULL, ratios, 0, NULL, NULL, NULL, &e), RESURF_ERR_INVALID_ARGUMENT);
+    ck_assert_str_eq(e.message, "0 levels of detail (1 to 15)");
+    ck_assert_int_eq(resurf_scene_build_lods(s, NULL, rising, 2, NULL, NULL, NULL, &e), RESURF_ERR_INVALID_ARGUMENT);
+    ck_assert_str_eq(e.message, "ratios[1] = 0.5: ratios must lie in (0, 1] and never increase");
+
+    resurf_scene_lod_options lo;
+    memset(&lo, 0, sizeof lo);
+    ck_assert_int_eq(resurf_scene_build_lods(s, NULL, ratios, 2, &lo, NULL, NULL, &e), RESURF_ERR_INVALID_OPTIONS);
+    lo = resurf_scene_lod_options_default();
+    lo.pixels = 0;
+    ck_assert_int_eq(resurf_scene_build_lods(s, NULL, ratios, 2, &lo, NULL, NULL, &e), RESURF_ERR_INVALID_OPTIONS);
+    ck_assert_ptr_nonnull(strstr(e.message, "pixels (0) and screen_height (1080) must be positive"));
+
+    /* The simplifier refuses its options: the message names the primitive first. */
+    resurf_simplify_options so = resurf_simplify_options_default();
+    so.max_normal_change_deg = -1;
+    ck_assert_int_eq(resurf_scene_build_lods(s, &so, ratios, 2, NULL, NULL, NULL, &e), RESURF_ERR_INVALID_OPTIONS);
+    ck_assert_msg(!strncmp(e.message, "meshes[0].primitives[0]: ", 25), "message '%s'", e.message);
+    ck_assert_uint_eq(s->prims[0].lod_count, 0);
+    ck_assert_ptr_null(s->coverage[0]);
+
+    /* With defaults (NULL options) it works, and set_screen_coverage 0 leaves the coverage unset. */
+    lo = resurf_scene_lod_options_default();
+    lo.set_screen_coverage = 0;
+    ck_assert_int_eq(resurf_scene_build_lods(s, NULL, ratios, 2, &lo, NULL, NULL, &e), RESURF_OK);
+    ck_assert_uint_eq(s->prims[0].lod_count, 2);
+    ck_assert_ptr_null(s->coverage[0]);
+    ck_assert_int_eq(resurf_scene_build_lods(s, NULL, ratios, 1, NULL, NULL, NULL, &e), RESURF_OK);
+    ck_assert_uint_eq(s->prims[0].lod_count, 1); /* replaced, not added */
+    ck_assert_uint_eq(s->coverage_count[0], 2);
+    resurf_scene_free(s);
+    resurf_mesh_free(m);
+}
+END_TEST
+
+/* `resurf lod` honours --max-triangles (it loads through resurf_scene_load) and prints the library's errors. */
+START_TEST(scene_lods_cli_max_triangles_and_errors)
+{
+    char *dir = tu_tempdir();
+    resurf_mesh *m = shape_mesh(SHAPE_SPHERE, 600, 0.2, 4, 0);
+    char *ply = tu_path(dir, "ball.ply"), *glb = tu_path(dir, "ball.glb");
+    ck_assert_int_eq(resurf_mesh_save(m, ply, NULL, NULL), RESURF_OK);
+    char *text = NULL;
+
+    char *cmd = strf("'%s' lod '%s' -o '%s' --levels 0.5 --max-triangles %zu 2>&1", RESURF_CLI, ply, glb,
+                     m->triangle_count - 1);
+    ck_assert_int_eq(tu_run(cmd, &text), 1);
+    ck_assert_msg(strstr(text, "limit") || strstr(text, "max"), "no word of the limit in: %s", text);
+    ck_assert_msg(access(glb, F_OK) != 0, "an output was written: %s", text);
+    free(cmd);
+    free(text);
+
+    cmd = strf("'%s' lod '%s' -o '%s' --levels 0.5 --max-triangles %zu --json", RESURF_CLI, ply, glb,
+               m->triangle_count);
+    ck_assert_int_eq(tu_run(cmd, &text), 0);
+    free(cmd);
+    /* The table's level-1 error is the library's, for the same input and default options. */
+    resurf_scene *s = NULL;
+    ck_assert_int_eq(resurf_scene_load(ply, NULL, &s, NULL), RESURF_OK);
+    const double ratio = 0.5;
+    resurf_scene_lod_report r;
+    ck_assert_int_eq(resurf_scene_build_lods(s, NULL, &ratio, 1, NULL, &r, NULL, NULL), RESURF_OK);
+    const char *at = strstr(text, "\"level\": 1");
+    ck_assert_ptr_nonnull(at);
+    at = strstr(at, "\"error_rel\": ");
+    ck_assert_ptr_nonnull(at);
+    double printed = strtod(at + 13, NULL);
+    ck_assert_msg(fabs(printed - r.level_error_rel[1]) <= 1e-9 * r.level_error_rel[1], "CLI %.17g, library %.17g",
+                  printed, r.level_error_rel[1]);
+    free(text);
+    resurf_scene_free(s);
+
+    cmd = strf("'%s' lod '%s' -o '%s' --max-triangles 0", RESURF_CLI, ply, glb); /* 0 = no limit */
+    ck_assert_int_eq(tu_run(cmd, &text), 0);
+    free(cmd);
+    free(text);
+
+    resurf_mesh_free(m);
+    free(ply);
+    free(glb);
+    tu_rmtree(dir);
+    free(dir);
+}
+END_TEST
+
+Suite *make_suite(void)
+{
+    Suite *s = suite_create("scene_lods");
+    TCase *tc = tcase_create("scene_lods");
+    tcase_add_test(tc, scene_lods_equal_per_primitive_chains);
+    tcase_add_test(tc, scene_lods_cancel_leaves_scene_unchanged);
+    tcase_add_test(tc, scene_lods_errors_named_and_scene_unchanged);
+    tcase_add_test(tc, scene_lods_cli_max_triangles_and_errors);
+    suite_add_tcase(s, tc);
+    return s;
+}
+
+RESURF_TEST_MAIN()
