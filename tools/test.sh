@@ -114,10 +114,12 @@ fi
 if has_part fuzz; then
   part "4/4 fuzz harnesses, ${FUZZ_SECONDS} s each (build-fuzz/)"
   fuzz_out=$(mktemp)
-  bash tools/fuzz.sh "$FUZZ_SECONDS" | tee "$fuzz_out"
-  # tools/fuzz.sh prints "harness executions crashes corpus" rows; a missing table is a failure (the build).
+  fuzz_status=0
+  bash tools/fuzz.sh "$FUZZ_SECONDS" | tee "$fuzz_out" || fuzz_status=$?
+  # tools/fuzz.sh prints "harness executions crashes corpus" rows; a missing table is a failure (the build), and
+  # so is a failing exit status that no row explains.
   rows=$(awk '/^[a-z0-9_]+ +[0-9?]+ +[0-9]+ +[0-9]+ files$/ {print $3}' "$fuzz_out")
-  if [ -z "$rows" ]; then
+  if [ -z "$rows" ] || { [ "$fuzz_status" -ne 0 ] && ! grep -qw '[1-9]' <<<"$rows"; }; then
     failed=$((failed + 1))
   else
     for crashes in $rows; do

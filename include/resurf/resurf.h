@@ -856,6 +856,11 @@ RESURF_API resurf_status resurf_simplify_lods(const resurf_mesh *in, const resur
  * or hostile file fails with RESURF_ERR_PARSE and a one-line message naming the glTF object ("accessors[3]: ...").
  * JSON nested deeper than 128 levels, numbers that overflow to infinity and node graphs with cycles or nodes with
  * two parents are refused; so is a document that requires an extension resurf does not know.
+ * Draco payloads: their header's counts are checked against the payload size before decoding (more than 2^20 + 256
+ * faces or points per payload byte is RESURF_ERR_LIMIT); edgebreaker meshes that carry Draco metadata, whose counts
+ * cannot be located ahead, and Draco point clouds are refused (a glTF points primitive with Draco is copied
+ * undecoded). Known limit of the Draco library itself (Debian's 1.5.5): a corrupt texture-coordinate count inside a
+ * payload can cost it seconds and some hundred MB before it fails cleanly.
  *
  * External image files (a relative `uri`) are referenced, not copied: write the output next to the input, or copy
  * the images. Embedded images (data: URIs, bufferViews) are carried into the output. */

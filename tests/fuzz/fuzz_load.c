@@ -57,7 +57,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     REQUIRE(resurf_validation_ok(&v));
     REQUIRE(v.vertex_count == mesh->vertex_count && v.triangle_count == mesh->triangle_count);
     resurf_mesh_free(mesh);
-    static volatile double sink; /* keeps the loads above from being optimised away */
-    sink = sum;
+    volatile double sink = sum; /* keeps the loads above from being optimised away */
+    (void)sink;
     return 0;
 }
