@@ -348,6 +348,98 @@ static resurf_status check_input(const resurf_mesh *in, resurf_error *error)
     return RESURF_OK;
 }
 
+enum { FIN_DROP = 1, FIN_KEEP = 2 };
+
+/* Triangle t, filed under its lowest position p, as the other two positions lo < hi and the way it runs: +1 for
+ * (p, lo, hi), −1 for (p, hi, lo). */
+static int fin_key(const resurf_mesh *in, const uint32_t *remap, uint32_t t, uint32_t p, uint32_t *lo, uint32_t *hi)
+{
+    const uint32_t *i = in->indices + 3 * (size_t)t;
+    int k = remap[i[0]] == p ? 0 : remap[i[1]] == p ? 1 : 2;
+    uint32_t u = remap[i[(k + 1) % 3]], w = remap[i[(k + 2) % 3]];
+    *lo = u < w ? u : w;
+    *hi = u < w ? w : u;
+    return u < w ? 1 : -1;
+}
+
+/* The triangles drop_fins leaves out (see resurf_simplify_options): (*out_drop)[t] == FIN_DROP for them, or
+ * *out_drop = NULL when there are none. Triangles over the same three positions share their lowest position, so
+ * each is compared only with the few others filed under it. Of n+ triangles running one way and n− the other,
+ * min(n+, n−) opposite pairs go, and of the rest all but the first. */
+static resurf_status find_fins(simplifier *s, const uint32_t *remap, uint8_t **out_drop)
+{
+    const resurf_mesh *in = s->in;
+    size_t nt = in->triangle_count, pc = s->pos_count;
+    *out_drop = NULL;
+    uint32_t *offset = resurfi_calloc(s->alloc, pc + 1, sizeof *offset);
+    uint32_t *filed = resurfi_alloc(s->alloc, nt, sizeof *filed);
+    uint8_t *drop = resurfi_calloc(s->alloc, nt, 1);
+    size_t dropped = 0;
+    if (!offset || !filed || !drop)
+        goto oom;
+    /* file every non-degenerate triangle under its lowest position */
+    for (size_t t = 0; t < nt; ++t) {
+        const uint32_t *i = in->indices + 3 * t;
+        uint32_t a = remap[i[0]], b = remap[i[1]], c = remap[i[2]];
+        if (a != b && b != c && a != c)
+            offset[(a < b ? (a < c ? a : c) : (b < c ? b : c)) + 1]++;
+    }
+    for (size_t p = 0; p < pc; ++p)
+        offset[p + 1] += offset[p];
+    for (size_t t = 0; t < nt; ++t) {
+        const uint32_t *i = in->indices + 3 * t;
+        uint32_t a = remap[i[0]], b = remap[i[1]], c = remap[i[2]];
+        if (a != b && b != c && a != c)
+            filed[offset[a < b ? (a < c ? a : c) : (b < c ? b : c)]++] = (uint32_t)t;
+    }
+    for (size_t p = pc; p > 0; --p) /* back to the starts */
+        offset[p] = offset[p - 1];
+    offset[0] = 0;
+    for (size_t p = 0; p < pc; ++p) {
+        for (uint32_t x = offset[p]; x < offset[p + 1]; ++x) {
+            uint32_t t = filed[x], lo, hi;
+            if (drop[t])
+                continue; /* decided with an earlier member of its group */
+            int side = fin_key(in, remap, t, (uint32_t)p, &lo, &hi), balance = side;
+            size_t members = 1;
+            for (uint32_t y = x + 1; y < offset[p + 1]; ++y) {
+                uint32_t lo2, hi2;
+                int side2 = fin_key(in, remap, filed[y], (uint32_t)p, &lo2, &hi2);
+                if (!drop[filed[y]] && lo2 == lo && hi2 == hi)
+                    balance += side2, ++members;
+            }
+            if (members == 1)
+                continue;
+            /* the first member on the side with more members stays (none when the sides balance) */
+            int keep = balance > 0 ? 1 : balance < 0 ? -1 : 0;
+            for (uint32_t y = x; y < offset[p + 1]; ++y) {
+                uint32_t lo2, hi2, m = filed[y];
+                int side2 = fin_key(in, remap, m, (uint32_t)p, &lo2, &hi2);
+                if (drop[m] || lo2 != lo || hi2 != hi)
+                    continue;
+                if (side2 == keep)
+                    drop[m] = FIN_KEEP, keep = 0;
+                else
+                    drop[m] = FIN_DROP, ++dropped;
+            }
+        }
+    }
+    s->rep.dropped_fins = dropped;
+    if (dropped) {
+        *out_drop = drop;
+        drop = NULL;
+    }
+    resurfi_free(s->alloc, offset);
+    resurfi_free(s->alloc, filed);
+    resurfi_free(s->alloc, drop);
+    return RESURF_OK;
+oom:
+    resurfi_free(s->alloc, offset);
+    resurfi_free(s->alloc, filed);
+    resurfi_free(s->alloc, drop);
+    return RESURF_ERR_OUT_OF_MEMORY;
+}
+
 static resurf_status prepare_mesh(simplifier *s, resurf_error *error)
 {
     const resurf_mesh *in = s->in;
@@ -355,6 +447,7 @@ static resurf_status prepare_mesh(simplifier *s, resurf_error *error)
     uint32_t *remap = resurfi_alloc(s->alloc, nv, sizeof *remap);
     uint32_t *rep = resurfi_alloc(s->alloc, nv, sizeof *rep);
     uint32_t *first = NULL, *chain = NULL;
+    uint8_t *drop = NULL;
     resurf_status st = RESURF_ERR_OUT_OF_MEMORY;
     if (!remap || !rep)
         goto done;
@@ -387,11 +480,14 @@ static resurf_status prepare_mesh(simplifier *s, resurf_error *error)
             }
     }
 
+    if (s->opt.drop_fins && (st = find_fins(s, remap, &drop)) != RESURF_OK)
+        goto done;
+    st = RESURF_ERR_OUT_OF_MEMORY;
     size_t nt = 0;
     for (size_t t = 0; t < in->triangle_count; ++t) {
         const uint32_t *i = in->indices + 3 * t;
         uint32_t a = remap[i[0]], b = remap[i[1]], c = remap[i[2]];
-        nt += a != b && b != c && a != c;
+        nt += a != b && b != c && a != c && !(drop && drop[t] == FIN_DROP);
     }
     s->tri_count = s->alive_tris = nt;
     s->tri = resurfi_calloc(s->alloc, nt, sizeof *s->tri);
@@ -406,7 +502,7 @@ static resurf_status prepare_mesh(simplifier *s, resurf_error *error)
     for (size_t t = 0; t < in->triangle_count; ++t) {
         const uint32_t *i = in->indices + 3 * t;
         uint32_t a = remap[i[0]], b = remap[i[1]], c = remap[i[2]];
-        if (a == b || b == c || a == c)
+        if (a == b || b == c || a == c || (drop && drop[t] == FIN_DROP))
             continue;
         for (int k = 0; k < 3; ++k) {
             TV(3 * nt + k) = remap[i[k]];
@@ -435,6 +531,7 @@ done:
     resurfi_free(s->alloc, rep);
     resurfi_free(s->alloc, first);
     resurfi_free(s->alloc, chain);
+    resurfi_free(s->alloc, drop);
     if (st == RESURF_ERR_OUT_OF_MEMORY)
         return resurfi_error(error, st, "out of memory preparing %zu triangles for simplification",
                              in->triangle_count);
@@ -1915,6 +2012,7 @@ resurf_simplify_options resurf_simplify_options_default(void)
     o.sag_offset = 1.0;
     o.max_normal_change_deg = 60;
     o.border_weight = 1;
+    o.drop_fins = 1;
     o.measure_samples = 100000;
     return o;
 }

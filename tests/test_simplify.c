@@ -699,6 +699,50 @@ START_TEST(simplify_nonmanifold_input)
 }
 END_TEST
 
+/* Fins: a closed sphere plus (i) a back-to-back pair (a, b, x), (b, a, x) hanging off an edge, which encloses
+ * nothing, and (ii) a copy of a surface triangle T facing the same way and one facing the other way. By default
+ * the pair and one of T's copies with the opposite one go (4 triangles), T itself stays, the result is a closed
+ * manifold at the target; with drop_fins = 0 every triangle takes part and the pair's non-manifold edge blocks. */
+START_TEST(simplify_drops_fins)
+{
+    resurf_mesh *sphere = shape_mesh(SHAPE_SPHERE, 4000, 0.3, 2, 0), *m = NULL;
+    size_t nv = sphere->vertex_count, nt = sphere->triangle_count;
+    ck_assert_int_eq(resurf_mesh_create(nv + 1, nt + 4, 0, &m, NULL), RESURF_OK);
+    memcpy(m->positions, sphere->positions, 3 * nv * sizeof(double));
+    memcpy(m->indices, sphere->indices, 3 * nt * sizeof(uint32_t));
+    const uint32_t *t0 = sphere->indices; /* T: the first triangle; the fin hangs off its edge (t0[0], t0[1]) */
+    vec3 a = resurfi_position(sphere, t0[0]), b = resurfi_position(sphere, t0[1]);
+    v3_store(m->positions + 3 * nv, v3_scale(v3_add(a, b), 0.6)); /* x: outside, over the edge's midpoint */
+    uint32_t extra[4][3] = {{t0[0], t0[1], (uint32_t)nv}, {t0[1], t0[0], (uint32_t)nv},
+                            {t0[1], t0[2], t0[0]} /* T again, same way */, {t0[0], t0[2], t0[1]} /* the other way */};
+    memcpy(m->indices + 3 * nt, extra, sizeof extra);
+    resurf_validation vin = validation(m);
+    ck_assert_uint_gt(vin.nonmanifold_edges, 0);
+
+    resurf_simplify_options o = resurf_simplify_options_default();
+    o.target_ratio = 0.2;
+    o.restore = RESURF_RESTORE_NONE;
+    resurf_simplify_report r;
+    resurf_mesh *out = simplify_ok(m, &o, &r);
+    ck_assert_uint_eq(r.dropped_fins, 4);
+    ck_assert_uint_eq(r.input_triangles, nt);
+    ck_assert_uint_le(out->triangle_count, (size_t)(0.2 * (double)m->triangle_count));
+    resurf_validation v = validation(out);
+    ck_assert_uint_eq(v.nonmanifold_edges, 0);
+    ck_assert_uint_eq(v.boundary_edges, 0); /* T stayed: no hole */
+    resurf_mesh_free(out);
+
+    o.drop_fins = 0;
+    out = simplify_ok(m, &o, &r);
+    ck_assert_uint_eq(r.dropped_fins, 0);
+    ck_assert_uint_eq(r.input_triangles, nt + 4);
+    ck_assert_uint_gt(r.blocked_nonmanifold, 0);
+    resurf_mesh_free(out);
+    resurf_mesh_free(sphere);
+    resurf_mesh_free(m);
+}
+END_TEST
+
 START_TEST(simplify_degenerate_and_tiny_inputs)
 {
     /* 1 to 4 triangles, with repeated indices, zero-area triangles, duplicated triangles and unused vertices */
@@ -918,6 +962,7 @@ Suite *make_suite(void)
     tcase_add_test(tc, simplify_keeps_attribute_layout);
     tcase_add_test(tc, simplify_midpoint_and_cost_at_restored);
     tcase_add_test(tc, simplify_nonmanifold_input);
+    tcase_add_test(tc, simplify_drops_fins);
     tcase_add_test(tc, simplify_degenerate_and_tiny_inputs);
     tcase_add_test(tc, simplify_empty_input);
     tcase_add_test(tc, simplify_rejects_bad_input_and_options);

@@ -744,6 +744,13 @@ typedef struct resurf_simplify_options {
                                      folds); in (0, 180]; default 60 */
     double border_weight;         /* weight of the planes through border and seam edges, perpendicular to their
                                      triangles, relative to the triangles' own planes; >= 0; default 1 */
+    int drop_fins;                /* 1 (default): triangles over the same three positions as another are left out
+                                     of the result: a pair with opposite orientations (a zero-thickness fin, which
+                                     encloses nothing and makes its edges non-manifold, locking them) goes whole,
+                                     a repeat with the same orientation goes alone. Scans hold them: the Stanford
+                                     dragon's 48k reconstruction has 1,052 pairs, whose 2,094 non-manifold edges
+                                     stopped its 10% level at 8,056 triangles (17%, error 1.8% of the diagonal);
+                                     without them it reaches 4,778 (error 0.45%). 0 keeps every triangle. */
 
     size_t measure_samples;       /* area-uniform samples of the result (plus all its vertices) whose distance to the
                                      input surface is measured for the report; default 100000; 0 = no measurement */
@@ -771,7 +778,9 @@ typedef enum resurf_simplify_stop {
 } resurf_simplify_stop;
 
 typedef struct resurf_simplify_report {
-    size_t input_triangles;          /* triangles of the input that take part (a repeated position drops one) */
+    size_t input_triangles;          /* triangles of the input that take part (a repeated position drops one, and
+                                        so do fins and repeats with drop_fins) */
+    size_t dropped_fins;             /* triangles left out by drop_fins */
     size_t input_positions;          /* distinct positions they use */
     size_t triangles, vertices;      /* the result's counts */
     size_t positions;                /* distinct positions of the result (vertices minus seam copies) */

@@ -24,6 +24,8 @@ static const char usage[] =
     "  --sag-offset S            move restored vertices outward by S x the local chord sag so that the facets\n"
     "                            straddle the surface; 0 keeps them on it (default: the library's)\n"
     "  --lock-border             border vertices never move\n"
+    "  --keep-fins               keep triangles over the same three positions as another (default: a pair\n"
+    "                            facing opposite ways goes whole, a same-facing repeat goes alone)\n"
     "  --min-angle DEG           refuse collapses that make a triangle angle smaller than DEG (default off)\n"
     "  --max-normal-change DEG   refuse collapses that turn a triangle by more than DEG (default: the library's)\n"
     "  --samples N               samples of the result measured against IN for the report (0 = none)\n"
@@ -79,6 +81,7 @@ static void print_text(const char *out, const resurf_simplify_report *r)
     printf("triangles            %zu -> %zu\n", r->input_triangles, r->triangles);
     printf("vertices             %zu (%zu positions)\n", r->vertices, r->positions);
     printf("collapses            %zu\n", r->collapses);
+    printf("dropped fins         %zu\n", r->dropped_fins);
     printf("stopped by           %s\n", stop_names[r->stop]);
     printf("max distance to IN   %.9g (%.3g of the diagonal)\n", r->max_distance, r->max_distance_rel);
     printf("mean distance to IN  %.9g (%.3g of the diagonal)\n", r->mean_distance, r->mean_distance_rel);
@@ -98,9 +101,9 @@ static void print_json_report(const char *out, const resurf_simplify_report *r)
     printf("{\"output\": ");
     cli_json_string(stdout, out);
     printf(", \"input_triangles\": %zu, \"input_positions\": %zu, \"triangles\": %zu, \"vertices\": %zu, "
-           "\"positions\": %zu, \"collapses\": %zu, \"stop\": \"%s\", \"max_distance\": ",
+           "\"positions\": %zu, \"collapses\": %zu, \"dropped_fins\": %zu, \"stop\": \"%s\", \"max_distance\": ",
            r->input_triangles, r->input_positions, r->triangles, r->vertices, r->positions, r->collapses,
-           stop_names[r->stop]);
+           r->dropped_fins, stop_names[r->stop]);
     cli_json_number(stdout, r->max_distance);
     printf(", \"mean_distance\": ");
     cli_json_number(stdout, r->mean_distance);
@@ -142,6 +145,7 @@ int cmd_simplify(int argc, char **argv)
         {"restore", required_argument, NULL, 'R'},
         {"sag-offset", required_argument, NULL, 'S'},
         {"lock-border", no_argument, NULL, 'b'},
+        {"keep-fins", no_argument, NULL, 'k'},
         {"min-angle", required_argument, NULL, 'a'},
         {"max-normal-change", required_argument, NULL, 'N'},
         {"samples", required_argument, NULL, 's'},
@@ -212,6 +216,9 @@ int cmd_simplify(int argc, char **argv)
             break;
         case 'b':
             o.lock_border = 1;
+            break;
+        case 'k':
+            o.drop_fins = 0;
             break;
         case 'a':
             if (cli_parse_double("simplify", "min-angle", optarg, &o.min_angle_deg))
