@@ -43,6 +43,11 @@ int cli_getopt(const char *command, int argc, char **argv, const char *shortopts
 int cli_parse_double(const char *command, const char *option, const char *text, double *out);
 int cli_parse_unsigned(const char *command, const char *option, const char *text, unsigned long *out);
 
+/* --threads N: 0 (all cores) .. 256. */
+int cli_parse_threads(const char *command, const char *text, unsigned *out);
+/* --levels R1,R2,...: up to max ratios in (0, 1], non-increasing. */
+int cli_parse_levels(const char *command, const char *text, double *out, size_t max, size_t *count);
+
 /* Refuses (prints, returns CLI_FAILED) when output names the same file as one of the inputs; else 0. */
 int cli_check_output(const char *output, const char *const *inputs, int input_count);
 

@@ -273,3 +273,35 @@ int cli_check_mesh_output(const char *command, const char *output, const char *c
         return cli_usage(command, "cannot tell the format of '%s' from its name (.obj, .ply, .off, .stl)", output);
     return cli_check_output(output, inputs, input_count) ? CLI_FAILED : 0;
 }
+
+int cli_parse_threads(const char *command, const char *text, unsigned *out)
+{
+    unsigned long n = 0;
+    if (cli_parse_unsigned(command, "threads", text, &n))
+        return CLI_USAGE;
+    if (n > 256)
+        return cli_usage(command, "--threads %lu is more than 256", n);
+    *out = (unsigned)n;
+    return 0;
+}
+
+int cli_parse_levels(const char *command, const char *text, double *out, size_t max, size_t *count)
+{
+    size_t n = 0;
+    const char *s = text;
+    for (;;) {
+        char *end;
+        double r = strtod(s, &end);
+        if (end == s || !(r > 0 && r <= 1) || (n && r > out[n - 1]) || n == max)
+            return cli_usage(command, "--levels wants up to %zu ratios in (0, 1], non-increasing, separated by "
+                             "commas: '%s'", max, text);
+        out[n++] = r;
+        if (*end == 0)
+            break;
+        if (*end != ',')
+            return cli_usage(command, "--levels: unexpected '%c' in '%s'", *end, text);
+        s = end + 1;
+    }
+    *count = n;
+    return 0;
+}

@@ -173,11 +173,8 @@ int cmd_compare(int argc, char **argv)
             co.seed = n;
             break;
         case 't':
-            if (cli_parse_unsigned("compare", "threads", optarg, &n))
+            if (cli_parse_threads("compare", optarg, &co.threads))
                 return CLI_USAGE;
-            if (n > 256)
-                return cli_usage("compare", "--threads %lu is more than 256", n);
-            co.threads = (unsigned)n;
             break;
         case 'm':
             heatmap = optarg;

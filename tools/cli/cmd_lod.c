@@ -34,27 +34,6 @@ static const char usage[] =
 
 enum { MAX_LEVELS = RESURF_SCENE_MAX_LEVELS - 1 };
 
-static int parse_levels(const char *text, double *out, size_t *count)
-{
-    size_t n = 0;
-    const char *s = text;
-    for (;;) {
-        char *end;
-        double r = strtod(s, &end);
-        if (end == s || !(r > 0 && r <= 1) || (n && r > out[n - 1]) || n == MAX_LEVELS)
-            return cli_usage("lod", "--levels wants up to %d ratios in (0, 1], non-increasing, separated by commas: '%s'",
-                             MAX_LEVELS, text);
-        out[n++] = r;
-        if (*end == 0)
-            break;
-        if (*end != ',')
-            return cli_usage("lod", "--levels: unexpected '%c' in '%s'", *end, text);
-        s = end + 1;
-    }
-    *count = n;
-    return 0;
-}
-
 static int parse_bits(const char *option, const char *text, int *out)
 {
     unsigned long n;
@@ -102,7 +81,7 @@ int cmd_lod(int argc, char **argv)
         switch (c) {
         case 'o': out = optarg; break;
         case 'L':
-            if (parse_levels(optarg, ratios, &ratio_count))
+            if (cli_parse_levels("lod", optarg, ratios, MAX_LEVELS, &ratio_count))
                 return CLI_USAGE;
             break;
         case 'd': so.draco = 1; break;
@@ -141,11 +120,8 @@ int cmd_lod(int argc, char **argv)
             break;
         }
         case 't':
-            if (cli_parse_unsigned("lod", "threads", optarg, &n))
+            if (cli_parse_threads("lod", optarg, &sim.threads))
                 return CLI_USAGE;
-            if (n > 256)
-                return cli_usage("lod", "--threads %lu is more than 256", n);
-            sim.threads = (unsigned)n;
             break;
         case 'j': json = 1; break;
         case 'T':

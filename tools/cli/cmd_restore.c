@@ -219,11 +219,9 @@ int cmd_restore(int argc, char **argv)
             ov.has_far = 1;
             break;
         case 't':
-            if (cli_parse_unsigned("restore", "threads", optarg, &n))
+            if (cli_parse_threads("restore", optarg, &ov.threads))
                 return CLI_USAGE;
-            if (n > 256)
-                return cli_usage("restore", "--threads %lu is more than 256", n);
-            ov.threads = (unsigned)n, ov.has_threads = 1;
+            ov.has_threads = 1;
             break;
         case 'j':
             json = 1;

@@ -39,28 +39,6 @@ static const char *const stop_names[RESURF_STOP_COUNT] = {"target", "error", "bl
 
 enum { MAX_LEVELS = 32 };
 
-static int parse_levels(const char *text, double *out, size_t *count)
-{
-    size_t n = 0;
-    const char *s = text;
-    for (;;) {
-        char *end;
-        double r = strtod(s, &end);
-        if (end == s || !(r > 0 && r <= 1) || (n && r > out[n - 1]) || n == MAX_LEVELS)
-            return cli_usage("simplify",
-                             "--levels wants up to %d ratios in (0, 1], non-increasing, separated by commas: '%s'",
-                             MAX_LEVELS, text);
-        out[n++] = r;
-        if (*end == 0)
-            break;
-        if (*end != ',')
-            return cli_usage("simplify", "--levels: unexpected '%c' in '%s'", *end, text);
-        s = end + 1;
-    }
-    *count = n;
-    return 0;
-}
-
 /* STEM_lodI.EXT for OUT = STEM.EXT (the extension is what follows the last '.' of the file name). */
 static char *level_path(const char *out, size_t level)
 {
@@ -195,7 +173,7 @@ int cmd_simplify(int argc, char **argv)
             has_target = 1;
             break;
         case 'L':
-            if (parse_levels(optarg, levels, &level_count))
+            if (cli_parse_levels("simplify", optarg, levels, MAX_LEVELS, &level_count))
                 return CLI_USAGE;
             break;
         case 'p':
@@ -238,11 +216,8 @@ int cmd_simplify(int argc, char **argv)
             o.measure_samples = n;
             break;
         case 't':
-            if (cli_parse_unsigned("simplify", "threads", optarg, &n))
+            if (cli_parse_threads("simplify", optarg, &o.threads))
                 return CLI_USAGE;
-            if (n > 256)
-                return cli_usage("simplify", "--threads %lu is more than 256", n);
-            o.threads = (unsigned)n;
             break;
         case 'j':
             json = 1;
