@@ -104,6 +104,17 @@ void resurfi_adjacency_free(resurfi_adjacency *adj)
     memset(adj, 0, sizeof *adj);
 }
 
+void resurfi_adjacency_drop_edges(resurfi_adjacency *adj)
+{
+    resurfi_free(&adj->alloc, adj->vertex_edge_offset);
+    resurfi_free(&adj->alloc, adj->edge_vertices);
+    resurfi_free(&adj->alloc, adj->edge_face_offset);
+    resurfi_free(&adj->alloc, adj->edge_faces);
+    resurfi_free(&adj->alloc, adj->face_edges);
+    adj->vertex_edge_offset = adj->edge_vertices = adj->edge_face_offset = adj->edge_faces = adj->face_edges = NULL;
+    adj->edge_count = 0;
+}
+
 uint32_t resurfi_adjacency_find_edge(const resurfi_adjacency *adj, uint32_t a, uint32_t b)
 {
     if (a == b || a >= adj->vertex_count || b >= adj->vertex_count)

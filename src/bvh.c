@@ -453,10 +453,9 @@ static int copy_corners(void *p, size_t begin, size_t end, unsigned worker)
     (void)worker;
     const pass_ctx *c = p;
     for (size_t i = begin; i < end; ++i) {
-        const uint32_t *tri = c->indices + 3 * (size_t)c->prims[i].id;
+        const uint32_t *tri = c->indices + 3 * (size_t)c->bvh->ids[i];
         for (int k = 0; k < 3; ++k)
             memcpy(c->bvh->corners + 9 * i + 3 * k, c->positions + 3 * (size_t)tri[k], 3 * sizeof(double));
-        c->bvh->ids[i] = c->prims[i].id;
     }
     return 0;
 }
@@ -494,15 +493,23 @@ static resurf_status build_tree(const resurf_allocator *alloc, const double *pos
         if (build_node(prims, &vec, 0, 0, n, bounds, cbounds, 0, threads) != 0)
             goto oom;
         /* The final array is 64-byte aligned so that each sibling pair (32 bytes each, at even slots) is one line;
-         * the allocator promises malloc's alignment only, so the block has room to align within. */
-        bvh->node_block = resurfi_alloc(alloc, vec.count * sizeof(bvh_node) + 63, 1);
-        bvh->corners = resurfi_alloc(alloc, n, 9 * sizeof(double));
-        bvh->ids = resurfi_alloc(alloc, n, sizeof(uint32_t));
-        if (!bvh->node_block || !bvh->corners || !bvh->ids)
+         * the allocator promises malloc's alignment only, so the block has room to align within. Each temporary
+         * goes as soon as it is copied: the corners, the largest block, come when only the tree is left. */
+        if (!(bvh->node_block = resurfi_alloc(alloc, vec.count * sizeof(bvh_node) + 63, 1)))
             goto oom;
         bvh->nodes = (bvh_node *)(((uintptr_t)bvh->node_block + 63) & ~(uintptr_t)63);
         memcpy(bvh->nodes, vec.nodes, vec.count * sizeof(bvh_node));
         bvh->node_count = vec.count;
+        resurfi_free(alloc, vec.nodes);
+        vec.nodes = NULL;
+        if (!(bvh->ids = resurfi_alloc(alloc, n, sizeof(uint32_t))))
+            goto oom;
+        for (size_t i = 0; i < n; ++i)
+            bvh->ids[i] = prims[i].id;
+        resurfi_free(alloc, prims);
+        prims = NULL;
+        if (!(bvh->corners = resurfi_alloc(alloc, n, 9 * sizeof(double))))
+            goto oom;
         resurfi_parallel_for(n, BLOCK, threads, copy_corners, &pc);
     }
     resurfi_free(alloc, vec.nodes);

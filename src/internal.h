@@ -118,6 +118,8 @@ enum {
 resurf_status resurfi_adjacency_build(const resurf_allocator *alloc, const uint32_t *indices, size_t triangle_count,
                                       size_t vertex_count, resurfi_adjacency *out);
 void resurfi_adjacency_free(resurfi_adjacency *adj);
+/* Frees the edge arrays, keeping the vertex-face lists and flags (for holders that only walk fans afterwards). */
+void resurfi_adjacency_drop_edges(resurfi_adjacency *adj);
 /* Edge id of (a, b) in either order, or UINT32_MAX. O(log degree). */
 uint32_t resurfi_adjacency_find_edge(const resurfi_adjacency *adj, uint32_t a, uint32_t b);
 static inline uint32_t resurfi_edge_face_count(const resurfi_adjacency *adj, uint32_t e)

@@ -64,9 +64,11 @@ struct resurfi_restorer {
     resurf_restore_options opt;
     resurf_allocator alloc; /* a copy of the call's allocator: every block of the restorer comes from it */
     size_t position_count, triangle_count;
-    double *positions;      /* welded positions, 3 per position id */
-    uint32_t *tris;         /* 3 per triangle: welded position ids */
-    resurfi_adjacency adj;  /* over welded ids */
+    const double *positions; /* welded positions, 3 per position id: own_positions, or M's own when M is welded */
+    const uint32_t *tris;    /* 3 per triangle: welded position ids: own_tris, or M's indices */
+    double *own_positions;
+    uint32_t *own_tris;
+    resurfi_adjacency adj;  /* over welded ids; only the vertex-face lists are kept after set-up */
     resurfi_bvh *bvh;
     uint32_t *corner_split; /* 3 per triangle: the (vertex, fan) id of each corner */
     size_t split_count;
@@ -74,9 +76,12 @@ struct resurfi_restorer {
     double *k1, *k2;        /* per split id (side rule CURVATURE with formula (2) only) */
     double *dir1, *dir2;    /* 3 per split id */
     double *local_length;   /* per position: mean length of its edges */
-    uint8_t *edge_kind;     /* per edge: FEATURE_* */
-    uint32_t *feature_offset, *feature_vertex, *feature_edge; /* per position: its feature edges (CSR) */
-    double *tangent;        /* 3 per position: unit feature-curve tangent, or 0 at a corner / off curves */
+    uint8_t *edge_kind;     /* per edge: FEATURE_* (set-up only) */
+    uint8_t *side_kind;     /* per triangle: FEATURE_* of side k (corners k, k + 1) in bits 2k, 2k + 1 */
+    uint32_t *feature_offset, *feature_vertex; /* per position: the other ends of its feature edges (CSR) */
+    uint8_t *feature_kind;  /* per feature slot: FEATURE_* of that edge */
+    double *tangent;        /* 3 per position with two feature edges, at its first slot: the unit feature-curve
+                               tangent, or 0 at a corner (so a position's tangent costs memory only on curves) */
     uint8_t *usable;        /* per triangle: has area and three corner normals (a root on it means something) */
 };
 
@@ -199,16 +204,29 @@ static resurf_status weld_original(resurfi_restorer *r, const resurf_mesh *m, re
         return resurfi_error(error, s, "cannot weld the original mesh");
     }
     r->triangle_count = m->triangle_count;
-    r->positions = resurfi_alloc(&r->alloc, r->position_count, 3 * sizeof(double));
-    r->tris = resurfi_alloc(&r->alloc, m->triangle_count, 3 * sizeof(uint32_t));
-    if (!r->positions || !r->tris) {
+    /* Positions are numbered by first appearance: without duplicates the weld is the identity, and M's own arrays
+     * serve (M outlives the restorer), which saves 24 bytes per triangle. */
+    int identity = r->position_count == m->vertex_count;
+    for (size_t v = 0; v < m->vertex_count && identity; ++v)
+        identity = remap[v] == v;
+    if (identity) {
+        r->positions = m->positions;
+        r->tris = m->indices;
+        resurfi_free(&r->alloc, remap);
+        return RESURF_OK;
+    }
+    r->own_positions = resurfi_alloc(&r->alloc, r->position_count, 3 * sizeof(double));
+    r->own_tris = resurfi_alloc(&r->alloc, m->triangle_count, 3 * sizeof(uint32_t));
+    if (!r->own_positions || !r->own_tris) {
         resurfi_free(&r->alloc, remap);
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory welding the original mesh");
     }
     for (size_t v = 0; v < m->vertex_count; ++v)
-        memcpy(r->positions + 3 * (size_t)remap[v], m->positions + 3 * v, 3 * sizeof(double));
+        memcpy(r->own_positions + 3 * (size_t)remap[v], m->positions + 3 * v, 3 * sizeof(double));
     for (size_t i = 0; i < 3 * m->triangle_count; ++i)
-        r->tris[i] = remap[m->indices[i]];
+        r->own_tris[i] = remap[m->indices[i]];
+    r->positions = r->own_positions;
+    r->tris = r->own_tris;
     resurfi_free(&r->alloc, remap);
     return RESURF_OK;
 }
@@ -430,9 +448,8 @@ static resurf_status trace_features(resurfi_restorer *r, resurf_error *error)
     size_t nv = r->position_count, ne = adj->edge_count;
     r->local_length = resurfi_calloc(&r->alloc, nv, sizeof(double));
     r->feature_offset = resurfi_calloc(&r->alloc, nv + 1, sizeof(uint32_t));
-    r->tangent = resurfi_calloc(&r->alloc, nv, 3 * sizeof(double));
     uint32_t *edge_count = resurfi_calloc(&r->alloc, nv, sizeof(uint32_t));
-    if (!r->local_length || !r->feature_offset || !r->tangent || !edge_count) {
+    if (!r->local_length || !r->feature_offset || !edge_count) {
         resurfi_free(&r->alloc, edge_count);
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory tracing feature curves");
     }
@@ -451,8 +468,9 @@ static resurf_status trace_features(resurfi_restorer *r, resurf_error *error)
     }
     size_t nf = r->feature_offset[nv];
     r->feature_vertex = resurfi_alloc(&r->alloc, nf ? nf : 1, sizeof(uint32_t));
-    r->feature_edge = resurfi_alloc(&r->alloc, nf ? nf : 1, sizeof(uint32_t));
-    if (!r->feature_vertex || !r->feature_edge) {
+    r->feature_kind = resurfi_alloc(&r->alloc, nf ? nf : 1, 1);
+    r->tangent = resurfi_calloc(&r->alloc, nf ? nf : 1, 3 * sizeof(double));
+    if (!r->feature_vertex || !r->feature_kind || !r->tangent) {
         resurfi_free(&r->alloc, edge_count);
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory tracing feature curves");
     }
@@ -462,8 +480,8 @@ static resurf_status trace_features(resurfi_restorer *r, resurf_error *error)
             continue;
         uint32_t a = adj->edge_vertices[2 * e], b = adj->edge_vertices[2 * e + 1];
         uint32_t ia = r->feature_offset[a] + edge_count[a]++, ib = r->feature_offset[b] + edge_count[b]++;
-        r->feature_vertex[ia] = b, r->feature_edge[ia] = (uint32_t)e;
-        r->feature_vertex[ib] = a, r->feature_edge[ib] = (uint32_t)e;
+        r->feature_vertex[ia] = b, r->feature_kind[ia] = r->edge_kind[e];
+        r->feature_vertex[ib] = a, r->feature_kind[ib] = r->edge_kind[e];
     }
     resurfi_free(&r->alloc, edge_count);
     /* Tangents where the curve passes smoothly: two feature edges of one kind, turning by at most the crease
@@ -472,8 +490,7 @@ static resurf_status trace_features(resurfi_restorer *r, resurf_error *error)
     double corner_cos = cos(r->opt.crease_angle_deg * (M_PI / 180.0));
     for (size_t v = 0; v < nv; ++v) {
         uint32_t first = r->feature_offset[v];
-        if (r->feature_offset[v + 1] - first != 2 ||
-            r->edge_kind[r->feature_edge[first]] != r->edge_kind[r->feature_edge[first + 1]])
+        if (r->feature_offset[v + 1] - first != 2 || r->feature_kind[first] != r->feature_kind[first + 1])
             continue;
         vec3 p = position(r, (uint32_t)v);
         vec3 e1 = v3_sub(p, position(r, r->feature_vertex[first]));
@@ -481,9 +498,29 @@ static resurf_status trace_features(resurfi_restorer *r, resurf_error *error)
         double l1 = v3_len2(e1), l2 = v3_len2(e2);
         if (!(l1 > 0 && l2 > 0) || v3_dot(e1, e2) < corner_cos * sqrt(l1 * l2))
             continue;
-        v3_store(r->tangent + 3 * v, v3_normalize(v3_add(v3_scale(e1, 1 / l1), v3_scale(e2, 1 / l2))));
+        v3_store(r->tangent + 3 * (size_t)first, v3_normalize(v3_add(v3_scale(e1, 1 / l1), v3_scale(e2, 1 / l2))));
     }
+    /* The query needs each triangle side's kind only: the edge arrays go (about 45 bytes per triangle). */
+    r->side_kind = resurfi_calloc(&r->alloc, r->triangle_count ? r->triangle_count : 1, 1);
+    if (!r->side_kind)
+        return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory tracing feature curves");
+    for (size_t t = 0; t < r->triangle_count; ++t)
+        for (int k = 0; k < 3; ++k) {
+            uint32_t e = adj->face_edges[3 * t + (size_t)k];
+            if (e != UINT32_MAX)
+                r->side_kind[t] |= (uint8_t)(r->edge_kind[e] << (2 * k));
+        }
+    resurfi_adjacency_drop_edges(&r->adj);
+    resurfi_free(&r->alloc, r->edge_kind);
+    r->edge_kind = NULL;
     return RESURF_OK;
+}
+
+/* The feature-curve tangent at position v (zero off curves and at corners). */
+static vec3 tangent_at(const resurfi_restorer *r, uint32_t v)
+{
+    uint32_t first = r->feature_offset[v];
+    return r->feature_offset[v + 1] - first == 2 ? v3_load(r->tangent + 3 * (size_t)first) : v3(0, 0, 0);
 }
 
 /* Phase 6: which triangles can carry a root. A zero-area triangle (a T-junction sliver, a collapsed face), one
@@ -518,8 +555,8 @@ void resurfi_restorer_free(resurfi_restorer *r)
     if (!r)
         return;
     const resurf_allocator alloc = r->alloc; /* the struct holding it goes last */
-    resurfi_free(&alloc, r->positions);
-    resurfi_free(&alloc, r->tris);
+    resurfi_free(&alloc, r->own_positions);
+    resurfi_free(&alloc, r->own_tris);
     resurfi_adjacency_free(&r->adj);
     resurfi_bvh_free(r->bvh);
     resurfi_free(&alloc, r->corner_split);
@@ -532,7 +569,8 @@ void resurfi_restorer_free(resurfi_restorer *r)
     resurfi_free(&alloc, r->edge_kind);
     resurfi_free(&alloc, r->feature_offset);
     resurfi_free(&alloc, r->feature_vertex);
-    resurfi_free(&alloc, r->feature_edge);
+    resurfi_free(&alloc, r->feature_kind);
+    resurfi_free(&alloc, r->side_kind);
     resurfi_free(&alloc, r->tangent);
     resurfi_free(&alloc, r->usable);
     resurfi_free(&alloc, r);
@@ -626,7 +664,7 @@ static vec3 curve_point(const resurfi_restorer *r, uint32_t a, uint32_t b, vec3 
         return pb;
     double x = (u - 0.5) * L;
     for (int end = 0; end < 2; ++end) {
-        vec3 t = v3_load(r->tangent + 3 * (size_t)(end ? b : a));
+        vec3 t = tangent_at(r, end ? b : a);
         if (v3_len2(t) == 0)
             continue; /* a corner: no bend from this end */
         double c = v3_dot(t, e);
@@ -673,11 +711,12 @@ static int restore_on_feature(const resurfi_restorer *r, uint32_t t, const doubl
     int which;
     int where = foot_location(bary, &which);
     if (where == 1) {
-        uint32_t e = r->adj.face_edges[3 * (size_t)t + which];
-        if (e == UINT32_MAX || !r->edge_kind[e])
+        int kind = (r->side_kind[t] >> (2 * which)) & 3;
+        if (!kind)
             return FEATURE_NONE;
-        *out = curve_point(r, r->adj.edge_vertices[2 * (size_t)e], r->adj.edge_vertices[2 * (size_t)e + 1], p);
-        return r->edge_kind[e];
+        uint32_t a = r->tris[3 * (size_t)t + which], b = r->tris[3 * (size_t)t + (which + 1) % 3];
+        *out = curve_point(r, a < b ? a : b, a < b ? b : a, p); /* the edge's own order: both sides agree */
+        return kind;
     }
     if (where == 2) {
         uint32_t v = r->tris[3 * (size_t)t + which];
@@ -696,7 +735,7 @@ static int restore_on_feature(const resurfi_restorer *r, uint32_t t, const doubl
                 best_score = score, best = i;
         }
         *out = best_score > 0 ? curve_point(r, v, r->feature_vertex[best], p) : pv;
-        return r->edge_kind[r->feature_edge[best]];
+        return r->feature_kind[best];
     }
     return FEATURE_NONE;
 }

@@ -2165,6 +2165,12 @@ static resurf_status simplify_levels(const resurf_mesh *in, const resurf_simplif
             s.rep.stop = RESURF_STOP_TARGET;
         if (st == RESURF_OK && resurfi_progress(&s.opt.progress, "finish", (double)i / (double)count))
             st = resurfi_error(error, RESURF_ERR_CANCELLED, "simplification cancelled");
+        if (i + 1 == count) { /* no more collapses: the queue's memory goes before the output's comes */
+            resurfi_free(s.alloc, s.heap_mem);
+            s.heap_mem = NULL;
+            s.heap = NULL;
+            s.heap_count = s.heap_cap = 0;
+        }
         resurf_simplify_report rep;
         if (st == RESURF_OK)
             st = build_output(&s, &outs[i], &rep, error);
