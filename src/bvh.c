@@ -4,8 +4,10 @@
  * Build: binned surface-area heuristic on triangle-box centroids (Wald 2007, "On fast construction of SAH-based
  * bounding volume hierarchies"), 16 bins on each axis, leaves of at most 4 triangles. The tree is a flat array of
  * 32-byte nodes with float boxes rounded outwards (a random query is bound by cache misses, and a sibling pair then
- * fills one cache line); the triangle corners are copied in double, in leaf order, so a leaf reads one contiguous
- * block and distances are exact. The two subtrees of large nodes are built on separate threads into separate node arrays
+ * fills one cache line); the triangle corners are copied in float, in leaf order, so a leaf reads one contiguous
+ * block. Distances stay exact: a float triangle is within `slack` of the true one, so one whose float distance
+ * exceeds the best so far by more than that cannot win, and the few that might are measured again on the caller's
+ * double positions (which the tree keeps pointers to). Half the bytes of double corners, and the same answers. The two subtrees of large nodes are built on separate threads into separate node arrays
  * that are then appended in a fixed order, so the tree does not depend on the thread count or on timing.
  *
  * Query: depth-first, nearer child first, pruning boxes by their squared distance (a lower bound of every
@@ -39,7 +41,11 @@ struct resurfi_bvh {
     bvh_node *nodes;
     size_t node_count;
     size_t triangle_count; /* triangles kept (valid ones) */
-    double *corners;       /* 9 per kept triangle, in leaf order */
+    float *corners;        /* 9 per kept triangle, in leaf order, rounded to nearest */
+    double slack;          /* at least twice the largest distance between a float corner and its double */
+    int exact_only;        /* coordinates beyond float's range: every triangle is measured in double */
+    const double *positions; /* the caller's arrays (they outlive the tree): the exact corners */
+    const uint32_t *indices;
     uint32_t *ids;         /* the caller's triangle index of each kept triangle, in leaf order */
 };
 
@@ -455,7 +461,8 @@ static int copy_corners(void *p, size_t begin, size_t end, unsigned worker)
     for (size_t i = begin; i < end; ++i) {
         const uint32_t *tri = c->indices + 3 * (size_t)c->bvh->ids[i];
         for (int k = 0; k < 3; ++k)
-            memcpy(c->bvh->corners + 9 * i + 3 * k, c->positions + 3 * (size_t)tri[k], 3 * sizeof(double));
+            for (int d = 0; d < 3; ++d)
+                c->bvh->corners[9 * i + 3 * k + d] = (float)c->positions[3 * (size_t)tri[k] + d];
     }
     return 0;
 }
@@ -485,6 +492,8 @@ static resurf_status build_tree(const resurf_allocator *alloc, const double *pos
         if (prims[t].id != UINT32_MAX)
             prims[n++] = prims[t];
     bvh->triangle_count = n;
+    bvh->positions = positions;
+    bvh->indices = indices;
     if (n > 0) {
         box bounds, cbounds;
         bound_range(prims, 0, n, &bounds, &cbounds);
@@ -508,9 +517,17 @@ static resurf_status build_tree(const resurf_allocator *alloc, const double *pos
             bvh->ids[i] = prims[i].id;
         resurfi_free(alloc, prims);
         prims = NULL;
-        if (!(bvh->corners = resurfi_alloc(alloc, n, 9 * sizeof(double))))
+        if (!(bvh->corners = resurfi_alloc(alloc, n, 9 * sizeof(float))))
             goto oom;
         resurfi_parallel_for(n, BLOCK, threads, copy_corners, &pc);
+        /* Rounding to float moves a coordinate x by at most |x| 2^-24 (2^-150 below float's normal range), a
+         * corner by √3 times that: 2^-21 of the largest coordinate covers it twice over. */
+        double big = 0;
+        for (size_t i = 0; i < 3 * vertex_count; ++i)
+            if (isfinite(positions[i]))
+                big = fmax(big, fabs(positions[i]));
+        bvh->slack = big * 0x1p-21 + 0x1p-140;
+        bvh->exact_only = big > 0x1p120;
     }
     resurfi_free(alloc, vec.nodes);
     resurfi_free(alloc, prims);
@@ -618,6 +635,27 @@ static void traverse(const resurfi_bvh *bvh, vec3 p, double limit, leaf_fn visit
     }
 }
 
+/* Could leaf triangle i be within squared distance limit2 of p? Measured on its float corners: the true distance
+ * is at most slack less (the float distance's own rounding is covered by the 2^-40). */
+static inline int may_reach(const resurfi_bvh *bvh, uint32_t i, vec3 p, double limit2)
+{
+    if (bvh->exact_only || !(limit2 < INFINITY))
+        return 1;
+    const float *c = bvh->corners + 9 * (size_t)i;
+    vec3 a = v3(c[0], c[1], c[2]), b = v3(c[3], c[4], c[5]), d = v3(c[6], c[7], c[8]);
+    double reach = sqrt(limit2) + bvh->slack;
+    return v3_dist2(p, resurfi_closest_on_triangle(p, a, b, d, NULL)) * (1 - 0x1p-40) <= reach * reach;
+}
+
+/* The exact closest point on leaf triangle i, from the caller's double positions. */
+static inline vec3 exact_closest(const resurfi_bvh *bvh, uint32_t i, vec3 p, double bary[3])
+{
+    const uint32_t *t = bvh->indices + 3 * (size_t)bvh->ids[i];
+    return resurfi_closest_on_triangle(p, v3_load(bvh->positions + 3 * (size_t)t[0]),
+                                       v3_load(bvh->positions + 3 * (size_t)t[1]),
+                                       v3_load(bvh->positions + 3 * (size_t)t[2]), bary);
+}
+
 typedef struct closest_state {
     double best_d2;
     uint32_t best_id;
@@ -629,9 +667,10 @@ static double visit_closest(void *ctx, const resurfi_bvh *bvh, const bvh_node *l
 {
     closest_state *s = ctx;
     for (uint32_t i = leaf->index; i < leaf->index + leaf->count; ++i) {
-        const double *c = bvh->corners + 9 * (size_t)i;
+        if (!may_reach(bvh, i, p, s->best_d2))
+            continue;
         double bary[3];
-        vec3 q = resurfi_closest_on_triangle(p, v3_load(c), v3_load(c + 3), v3_load(c + 6), bary);
+        vec3 q = exact_closest(bvh, i, p, bary);
         double d2 = v3_dist2(p, q);
         uint32_t id = bvh->ids[i];
         /* Exact ties go to the lowest triangle index, so the answer does not depend on the tree's shape. */
@@ -671,9 +710,10 @@ static double visit_within(void *ctx, const resurfi_bvh *bvh, const bvh_node *le
 {
     within_state *s = ctx;
     for (uint32_t i = leaf->index; i < leaf->index + leaf->count && !s->stopped; ++i) {
-        const double *c = bvh->corners + 9 * (size_t)i;
+        if (!may_reach(bvh, i, p, s->max_d2))
+            continue;
         double bary[3];
-        vec3 q = resurfi_closest_on_triangle(p, v3_load(c), v3_load(c + 3), v3_load(c + 6), bary);
+        vec3 q = exact_closest(bvh, i, p, bary);
         double d2 = v3_dist2(p, q);
         if (d2 <= s->max_d2 && s->fn(s->ctx, bvh->ids[i], q, bary, d2) != 0)
             s->stopped = 1;

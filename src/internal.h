@@ -151,7 +151,8 @@ int resurfi_parallel_for(size_t count, size_t block_size, unsigned threads,
 typedef struct resurfi_bvh resurfi_bvh;
 
 /* Builds an AABB tree over the triangles (binned SAH, O(n log n), leaves of <= 4 triangles) on all cores. The tree
- * copies the corners it needs: positions/indices may be freed afterwards. Triangles with out-of-range indices or
+ * keeps float copies of the corners and pointers to positions/indices (for exact distances): both arrays must
+ * stay alive and unchanged while the tree is used. Triangles with out-of-range indices or
  * non-finite corners are skipped (never returned by queries). The tree is the same whatever the thread count.
  * RESURF_ERR_INVALID_ARGUMENT for NULL arrays with a nonzero count; RESURF_ERR_LIMIT above 2^31 triangles;
  * RESURF_ERR_OUT_OF_MEMORY. */
