@@ -228,6 +228,42 @@ START_TEST(closest_matches_brute_force_on_soup)
 }
 END_TEST
 
+/* Triangles that float cannot tell apart (twins 1e-13 apart, at coordinates near 1) and a mesh far beyond float's
+ * range (1e60): the tree keeps float corners, so its answers must still be the exact ones of a double scan. */
+START_TEST(closest_exact_where_float_is_not)
+{
+    enum { T = 400 };
+    double *pos = malloc(9 * T * sizeof *pos);
+    uint32_t *idx = malloc(3 * T * sizeof *idx);
+    uint64_t rng = 23;
+    for (size_t t = 0; t < T; t += 2) {
+        vec3 a = random_in_box(&rng, 0.9, 1.1), b = random_in_box(&rng, 0.9, 1.1), c = random_in_box(&rng, 0.9, 1.1);
+        vec3 shift = v3_scale(random_direction(&rng), 1e-13);
+        v3_store(pos + 9 * t, a), v3_store(pos + 9 * t + 3, b), v3_store(pos + 9 * t + 6, c);
+        v3_store(pos + 9 * t + 9, v3_add(a, shift)), v3_store(pos + 9 * t + 12, v3_add(b, shift));
+        v3_store(pos + 9 * t + 15, v3_add(c, shift));
+    }
+    for (size_t i = 0; i < 3 * T; ++i)
+        idx[i] = (uint32_t)i;
+    for (int scale = 0; scale < 2; ++scale) {
+        if (scale)
+            for (size_t i = 0; i < 9 * T; ++i)
+                pos[i] *= 1e60;
+        double k = scale ? 1e60 : 1;
+        resurfi_bvh *bvh = NULL;
+        ck_assert_int_eq(resurfi_bvh_build(NULL, pos, 3 * T, idx, T, &bvh), RESURF_OK);
+        for (int i = 0; i < 1500; ++i)
+            check_against_brute_force(bvh, pos, 3 * T, idx, T, v3_scale(random_in_box(&rng, 0.85, 1.15), k));
+        for (size_t t = 0; t < T; t += 7) /* on a triangle: its twin is 1e-13 away */
+            check_against_brute_force(bvh, pos, 3 * T, idx, T,
+                                      v3_lerp(v3_load(pos + 9 * t), v3_load(pos + 9 * t + 3), 0.4));
+        resurfi_bvh_free(bvh);
+    }
+    free(pos);
+    free(idx);
+}
+END_TEST
+
 /* A mesh large enough for the build to split across threads: the same answers whatever the thread count. */
 START_TEST(closest_same_for_any_thread_count)
 {
@@ -414,6 +450,7 @@ Suite *make_suite(void)
     tcase_add_test(tc, closest_on_triangle_degenerate);
     tcase_add_test(tc, closest_matches_brute_force_on_sphere);
     tcase_add_test(tc, closest_matches_brute_force_on_soup);
+    tcase_add_test(tc, closest_exact_where_float_is_not);
     tcase_add_test(tc, closest_same_for_any_thread_count);
     tcase_add_test(tc, closest_respects_max_distance);
     tcase_add_test(tc, empty_tree_finds_nothing);
