@@ -291,15 +291,34 @@ typedef struct resurfi_quadric {
 resurfi_quadric resurfi_quadric_plane(vec3 n, double d, double weight);
 /* The plane of triangle (p0, p1, p2) weighted by its area; the zero quadric for a zero-area triangle. */
 resurfi_quadric resurfi_quadric_triangle(vec3 p0, vec3 p1, vec3 p2);
-/* q += r (weights too). */
-void resurfi_quadric_add(resurfi_quadric *q, const resurfi_quadric *r);
+/* q += r (weights too). Inline, like the two below: the simplifier calls them millions of times. */
+static inline void resurfi_quadric_add(resurfi_quadric *q, const resurfi_quadric *r)
+{
+    for (int i = 0; i < 6; ++i)
+        q->a[i] += r->a[i];
+    for (int i = 0; i < 3; ++i)
+        q->b[i] += r->b[i];
+    q->c += r->c;
+    q->w += r->w;
+}
+/* A·x. */
+static inline vec3 resurfi_quadric_mul(const resurfi_quadric *q, vec3 x)
+{
+    const double *a = q->a;
+    return v3(a[0] * x.x + a[1] * x.y + a[2] * x.z, a[1] * x.x + a[3] * x.y + a[4] * x.z,
+              a[2] * x.x + a[4] * x.y + a[5] * x.z);
+}
 /* Q(x), clamped at 0 (rounding can make it slightly negative). */
-double resurfi_quadric_eval(const resurfi_quadric *q, vec3 x);
-/* The minimiser of Q nearest `around`. Where A is well conditioned (every Cholesky pivot above
+static inline double resurfi_quadric_eval(const resurfi_quadric *q, vec3 x)
+{
+    double e = v3_dot(x, resurfi_quadric_mul(q, x)) + 2.0 * (q->b[0] * x.x + q->b[1] * x.y + q->b[2] * x.z) + q->c;
+    return e > 0 ? e : 0;
+}
+/* The minimiser of Q nearest `around`. Where A is well conditioned (every pivot of its LDLᵀ factorisation above
  * RESURFI_QUADRIC_COND × trace A) this is the exact optimum. Otherwise Q is flat in some direction (a plane, a
  * cylinder, a straight border) and the step from `around` is damped there: (A + λI) δ = −(A·around + b) with
- * λ = RESURFI_QUADRIC_COND × trace A, so the point moves along the well-determined directions only and stays near
- * `around` along the flat ones. Returns 1 with the exact optimum, 2 with the damped one, 0 (and `around`) when A is
+ * λ = RESURFI_QUADRIC_COND × trace A, plus one step of iterative refinement, so the point moves along the
+ * well-determined directions only and stays near `around` along the flat ones. Returns 1 with the exact optimum, 2 with the damped one, 0 (and `around`) when A is
  * zero or the result is not finite. */
 #define RESURFI_QUADRIC_COND 1e-3
 int resurfi_quadric_optimum(const resurfi_quadric *q, vec3 around, vec3 *out);

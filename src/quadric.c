@@ -36,70 +36,46 @@ resurfi_quadric resurfi_quadric_triangle(vec3 p0, vec3 p1, vec3 p2)
     return resurfi_quadric_plane(n, -v3_dot(n, centroid), 0.5 * len);
 }
 
-void resurfi_quadric_add(resurfi_quadric *q, const resurfi_quadric *r)
-{
-    for (int i = 0; i < 6; ++i)
-        q->a[i] += r->a[i];
-    for (int i = 0; i < 3; ++i)
-        q->b[i] += r->b[i];
-    q->c += r->c;
-    q->w += r->w;
-}
+/* LDLᵀ factor of A + λI (symmetric, positive semidefinite A), kept as L and the reciprocals of the pivots D: no
+ * square root and three divisions, where Cholesky needs three square roots and nine divisions. D holds the squares
+ * of Cholesky's diagonal, so the pivot test is the same. Returns 0 when a pivot falls to `min_pivot` or below: the
+ * system is too close to singular for the caller's purpose. */
+typedef struct ldlt {
+    double l10, l20, l21; /* the unit lower triangle */
+    double r0, r1, r2;    /* 1 / D */
+} ldlt;
 
-/* A·x for the symmetric A. */
-static vec3 mul_a(const double a[6], vec3 x)
+static int factor(const double a[6], double lambda, double min_pivot, ldlt *f)
 {
-    return v3(a[0] * x.x + a[1] * x.y + a[2] * x.z, a[1] * x.x + a[3] * x.y + a[4] * x.z,
-              a[2] * x.x + a[4] * x.y + a[5] * x.z);
-}
-
-double resurfi_quadric_eval(const resurfi_quadric *q, vec3 x)
-{
-    vec3 ax = mul_a(q->a, x);
-    double e = v3_dot(x, ax) + 2.0 * (q->b[0] * x.x + q->b[1] * x.y + q->b[2] * x.z) + q->c;
-    return e > 0 ? e : 0;
-}
-
-/* Cholesky factor of A + λI (symmetric, positive semidefinite A). Returns 0 when a pivot falls to `min_pivot` or
- * below: the system is too close to singular for the caller's purpose. */
-typedef struct cholesky {
-    double l00, l10, l20, l11, l21, l22;
-} cholesky;
-
-static int factor(const double a[6], double lambda, double min_pivot, cholesky *f)
-{
-    double a00 = a[0] + lambda, a11 = a[3] + lambda, a22 = a[5] + lambda;
-    if (!(a00 > min_pivot))
+    double d0 = a[0] + lambda;
+    if (!(d0 > min_pivot))
         return 0;
-    f->l00 = sqrt(a00);
-    f->l10 = a[1] / f->l00;
-    f->l20 = a[2] / f->l00;
-    double d1 = a11 - f->l10 * f->l10;
+    f->r0 = 1.0 / d0;
+    f->l10 = a[1] * f->r0;
+    f->l20 = a[2] * f->r0;
+    double d1 = a[3] + lambda - f->l10 * a[1];
     if (!(d1 > min_pivot))
         return 0;
-    f->l11 = sqrt(d1);
-    f->l21 = (a[4] - f->l20 * f->l10) / f->l11;
-    double d2 = a22 - f->l20 * f->l20 - f->l21 * f->l21;
+    f->r1 = 1.0 / d1;
+    double e21 = a[4] - f->l20 * a[1]; /* l21 × d1 */
+    f->l21 = e21 * f->r1;
+    double d2 = a[5] + lambda - f->l20 * a[2] - f->l21 * e21;
     if (!(d2 > min_pivot))
         return 0;
-    f->l22 = sqrt(d2);
+    f->r2 = 1.0 / d2;
     return 1;
 }
 
-/* L Lᵀ x = r */
-static vec3 solve(const cholesky *f, vec3 r)
+/* L D Lᵀ x = r */
+static vec3 solve(const ldlt *f, vec3 r)
 {
-    double y0 = r.x / f->l00;
-    double y1 = (r.y - f->l10 * y0) / f->l11;
-    double y2 = (r.z - f->l20 * y0 - f->l21 * y1) / f->l22;
-    double x2 = y2 / f->l22;
-    double x1 = (y1 - f->l21 * x2) / f->l11;
-    double x0 = (y0 - f->l10 * x1 - f->l20 * x2) / f->l00;
+    double y1 = r.y - f->l10 * r.x;
+    double y2 = r.z - f->l20 * r.x - f->l21 * y1;
+    double x2 = y2 * f->r2;
+    double x1 = y1 * f->r1 - f->l21 * x2;
+    double x0 = r.x * f->r0 - f->l10 * x1 - f->l20 * x2;
     return v3(x0, x1, x2);
 }
-
-/* The gradient of Q / 2 at x: A x + b. */
-static vec3 half_gradient(const resurfi_quadric *q, vec3 x) { return v3_add(mul_a(q->a, x), v3(q->b[0], q->b[1], q->b[2])); }
 
 int resurfi_quadric_optimum(const resurfi_quadric *q, vec3 around, vec3 *out)
 {
@@ -108,11 +84,13 @@ int resurfi_quadric_optimum(const resurfi_quadric *q, vec3 around, vec3 *out)
     if (!(trace > 0) || !isfinite(trace))
         return 0;
     /* Solve for the step from `around` rather than for the point itself: the right-hand side is then the gradient
-     * there, and the damped solve below shrinks the step, not the coordinates (which would pull towards 0). */
+     * of Q / 2 there, A·around + b, and the damped solve below shrinks the step, not the coordinates (which would
+     * pull towards 0). */
+    vec3 g = v3_add(resurfi_quadric_mul(q, around), v3(q->b[0], q->b[1], q->b[2]));
     double tau = RESURFI_QUADRIC_COND * trace;
-    cholesky f;
+    ldlt f;
     if (factor(q->a, 0.0, tau, &f)) {
-        vec3 x = v3_sub(around, solve(&f, half_gradient(q, around)));
+        vec3 x = v3_sub(around, solve(&f, g));
         if (!v3_finite(x))
             return 0;
         *out = x;
@@ -120,11 +98,13 @@ int resurfi_quadric_optimum(const resurfi_quadric *q, vec3 around, vec3 *out)
     }
     /* With λ = τ every pivot is at least τ for a positive semidefinite A, so this fails only on non-finite input.
      * One step of iterative refinement takes the well-determined directions from a relative error λ/μ to (λ/μ)²
-     * (μ an eigenvalue there), while along the flat ones (μ << λ) the point hardly moves. */
+     * (μ an eigenvalue there), while along the flat ones (μ << λ) the point hardly moves. The first step δ solves
+     * (A + λI) δ = g, so the gradient left after it, g − A δ, is exactly λ δ: the second step needs no product
+     * with A. */
     if (!factor(q->a, tau, 0.0, &f))
         return 0;
-    vec3 x = v3_sub(around, solve(&f, half_gradient(q, around)));
-    x = v3_sub(x, solve(&f, half_gradient(q, x)));
+    vec3 d = solve(&f, g);
+    vec3 x = v3_sub(v3_sub(around, d), v3_scale(solve(&f, d), tau));
     if (!v3_finite(x))
         return 0;
     *out = x;

@@ -33,6 +33,14 @@
 
 #define NONE UINT32_MAX
 
+/* The collapse loop and the heap jump around arrays far larger than the caches; where the next address is known a
+ * little ahead, asking for it early overlaps the misses. */
+#if defined(__GNUC__) || defined(__clang__)
+#define PREFETCH(p) __builtin_prefetch(p)
+#else
+#define PREFETCH(p) ((void)(p))
+#endif
+
 enum {
     PROGRESS_COLLAPSES = 1 << 13, /* collapses between two progress calls */
     BLOCK_POSITIONS = 1024,       /* parallel block sizes */
@@ -201,6 +209,15 @@ static uint32_t next_stamp(simplifier *s)
 
 static uint32_t corner_next(uint32_t c) { return c - c % 3 + (c % 3 + 1) % 3; }
 static uint32_t corner_prev(uint32_t c) { return c - c % 3 + (c % 3 + 2) % 3; }
+
+/* The positions after and before corner c in its triangle: TV(corner_next(c)) and TV(corner_prev(c)) with one
+ * division instead of four (the collapse loop asks this for every corner of every fan it looks at). */
+static void corner_others(const simplifier *s, uint32_t c, uint32_t xs[2])
+{
+    uint32_t t = c / 3, k = c - 3 * t;
+    xs[0] = s->tri[t].v[k == 2 ? 0 : k + 1];
+    xs[1] = s->tri[t].v[k == 0 ? 2 : k - 1];
+}
 
 /* The corners of live triangles at position v, in list order. With unlink, dead triangles' corners are dropped
  * from the list on the way (only the sequential collapse loop may do that). Returns 0 when out of memory. */
@@ -751,8 +768,7 @@ static vec3 free_placement(const simplifier *s, const resurfi_quadric *q, vec3 p
         return mid;
     if (on_segment) {
         vec3 d = v3_sub(pb, pa), a0 = v3_sub(pa, s->origin);
-        vec3 ad = v3(q->a[0] * d.x + q->a[1] * d.y + q->a[2] * d.z, q->a[1] * d.x + q->a[3] * d.y + q->a[4] * d.z,
-                     q->a[2] * d.x + q->a[4] * d.y + q->a[5] * d.z);
+        vec3 ad = resurfi_quadric_mul(q, d);
         double dad = v3_dot(d, ad);
         if (!(dad > 0))
             return mid;
@@ -787,7 +803,8 @@ static void plan_collapse(const simplifier *s, uint32_t a, uint32_t b, const u32
     int n = 0;
     for (size_t i = 0; i < fan_a->count; ++i) {
         uint32_t c = fan_a->data[i];
-        if (TV(corner_next(c)) == b || TV(corner_prev(c)) == b) {
+        const uint32_t *v = s->tri[c / 3].v; /* a is one corner, so b is one of the others */
+        if (v[0] == b || v[1] == b || v[2] == b) {
             if (n < 2)
                 pl->shared[n] = c / 3;
             ++n;
@@ -958,24 +975,32 @@ static void heapify(simplifier *s)
  * walk down the heap that misses the cache at every level. */
 static void heap_compact(simplifier *s)
 {
+    enum { AHEAD = 16 }; /* entries whose positions are fetched while earlier ones are checked */
     size_t n = 0;
-    for (size_t i = 0; i < s->heap_count; ++i)
+    for (size_t i = 0; i < s->heap_count; ++i) {
+        if (i + AHEAD < s->heap_count) {
+            PREFETCH(&s->P[s->heap[i + AHEAD].a]);
+            PREFETCH(&s->P[s->heap[i + AHEAD].b]);
+        }
         if (entry_current(s, &s->heap[i]))
             s->heap[n++] = s->heap[i];
+    }
     s->heap_count = n;
     s->heap_stale = 0;
     heapify(s);
 }
 
 /* Makes room for one more entry: drops stale entries when the heap is full, grows it when that does not free a
- * quarter of it. */
+ * sixteenth of it. Current entries are at most one per edge, collapses only remove edges, and seed_heap reserves
+ * an eighth more than the input's edges: so in practice a compaction frees at least a ninth and the heap never
+ * grows. */
 static int heap_make_room(simplifier *s)
 {
     if (s->heap_count < s->heap_cap)
         return 1;
     heap_compact(s);
     size_t n = s->heap_count;
-    if (n > s->heap_cap - s->heap_cap / 4) {
+    if (n > s->heap_cap - s->heap_cap / 16) {
         if (!heap_reserve(s, s->heap_cap + s->heap_cap / 2 + 64, n))
             return 0;
     }
@@ -995,8 +1020,12 @@ static heap_entry heap_pop(simplifier *s)
 {
     heap_entry top = s->heap[0];
     s->heap[0] = s->heap[--s->heap_count];
-    if (s->heap_count)
+    if (s->heap_count) {
         heap_sift_down(s->heap, s->heap_count, 0);
+        /* most often the next candidate: its ends arrive while this one is handled */
+        PREFETCH(&s->P[s->heap[0].a]);
+        PREFETCH(&s->P[s->heap[0].b]);
+    }
     return top;
 }
 
@@ -1054,7 +1083,7 @@ static resurf_status seed_heap(simplifier *s, scratch *scratch, const uint32_t *
     }
     offset[s->pos_count] = total;
     /* room for the first collapses' candidates before stale entries are dropped (heap_make_room) */
-    if (!heap_reserve(s, total + total / 2 + 64, 0)) {
+    if (!heap_reserve(s, total + total / 8 + 64, 0)) {
         resurfi_free(s->alloc, offset);
         return RESURF_ERR_OUT_OF_MEMORY;
     }
@@ -1082,6 +1111,19 @@ static resurf_status seed_heap(simplifier *s, scratch *scratch, const uint32_t *
 
 /* ---- phase 4: collapsing ------------------------------------------------------------------------------------- */
 
+/* Asks for what a collapse reads of the positions around a fan: their records (both cache lines: the checks read
+ * their places, the new candidates their quadrics) and their marks (link_ok). One neighbour per corner covers a
+ * closed fan. */
+static void prefetch_ring(const simplifier *s, const u32vec *fan)
+{
+    for (size_t i = 0; i < fan->count; ++i) {
+        uint32_t x = TV(corner_next(fan->data[i]));
+        PREFETCH(&s->P[x]);
+        PREFETCH(&s->P[x].q.c);
+        PREFETCH(&s->mark[x]);
+    }
+}
+
 /* Does collapsing (a, b) keep the mesh a manifold? The link condition: the positions adjacent to both a and b must
  * be exactly the third corners of the edge's triangles. Also refused: collapses that leave a double-sided sheet
  * (both ends also share a triangle with those two corners: a tetrahedron) or no triangle at all. */
@@ -1091,14 +1133,15 @@ static int link_ok(simplifier *s, const u32vec *fan_a, const u32vec *fan_b, uint
         return 0;
     uint32_t st = next_stamp(s);
     for (size_t i = 0; i < fan_a->count; ++i) {
-        uint32_t c = fan_a->data[i];
-        s->mark[TV(corner_next(c))] = st;
-        s->mark[TV(corner_prev(c))] = st;
+        uint32_t xs[2];
+        corner_others(s, fan_a->data[i], xs);
+        s->mark[xs[0]] = st;
+        s->mark[xs[1]] = st;
     }
     int common = 0;
     for (size_t i = 0; i < fan_b->count; ++i) {
-        uint32_t c = fan_b->data[i];
-        uint32_t xs[2] = {TV(corner_next(c)), TV(corner_prev(c))};
+        uint32_t xs[2];
+        corner_others(s, fan_b->data[i], xs);
         for (int k = 0; k < 2; ++k)
             if (xs[k] != a && s->mark[xs[k]] == st) {
                 s->mark[xs[k]] = st + 1; /* count once */
@@ -1184,8 +1227,8 @@ static int push_edges(simplifier *s, uint32_t a, const u32vec *fan, uint32_t exc
 {
     uint32_t st = next_stamp(s);
     for (size_t i = 0; i < fan->count; ++i) {
-        uint32_t c = fan->data[i];
-        uint32_t xs[2] = {TV(corner_next(c)), TV(corner_prev(c))};
+        uint32_t xs[2];
+        corner_others(s, fan->data[i], xs);
         for (int k = 0; k < 2; ++k) {
             uint32_t x = xs[k];
             if (s->mark[x] == st || x == except || (s->P[x].flags & POS_RENEW))
@@ -1275,8 +1318,8 @@ static int apply_collapse(simplifier *s, uint32_t keep, uint32_t gone, vec3 p, c
         }
     uint32_t st = next_stamp(s);
     for (size_t i = 0; i < s->fan_c.count; ++i) {
-        uint32_t c = s->fan_c.data[i];
-        uint32_t xs[2] = {TV(corner_next(c)), TV(corner_prev(c))};
+        uint32_t xs[2];
+        corner_others(s, s->fan_c.data[i], xs);
         for (int k = 0; k < 2; ++k) {
             uint32_t x = xs[k];
             if (s->mark[x] == st)
@@ -1399,6 +1442,8 @@ static resurf_status collapse_until(simplifier *s, size_t target, scratch *sc, r
         uint32_t a = e.a, b = e.b;
         if (!gather_fan(s, a, &s->fan_a, 1) || !gather_fan(s, b, &s->fan_b, 1))
             goto oom;
+        prefetch_ring(s, &s->fan_a);
+        prefetch_ring(s, &s->fan_b);
         plan pl;
         plan_collapse(s, a, b, &s->fan_a, &pl);
         if (pl.block != BLOCK_NONE) {
