@@ -68,6 +68,7 @@ static void print_text(const char *out, const resurf_simplify_report *r)
     printf("blocked: link        %zu\n", r->blocked_link);
     printf("blocked: flip        %zu\n", r->blocked_flip);
     printf("blocked: min angle   %zu\n", r->blocked_min_angle);
+    printf("blocked: distance    %zu\n", r->blocked_distance);
     printf("blocked: border      %zu\n", r->blocked_border);
     printf("blocked: seam        %zu\n", r->blocked_seam);
     printf("blocked: non-manif.  %zu\n", r->blocked_nonmanifold);
@@ -94,9 +95,9 @@ static void print_json_report(const char *out, const resurf_simplify_report *r)
     printf(", \"max_error_estimate\": ");
     cli_json_number(stdout, r->max_error_estimate);
     printf(", \"restored\": %zu, \"restore_left\": %zu, \"blocked\": {\"link\": %zu, \"flip\": %zu, \"min_angle\": %zu, "
-           "\"border\": %zu, \"seam\": %zu, \"nonmanifold\": %zu}, \"skipped_error\": %zu}",
-           r->restored, r->restore_left, r->blocked_link, r->blocked_flip, r->blocked_min_angle, r->blocked_border,
-           r->blocked_seam, r->blocked_nonmanifold, r->skipped_error);
+           "\"distance\": %zu, \"border\": %zu, \"seam\": %zu, \"nonmanifold\": %zu}, \"skipped_error\": %zu}",
+           r->restored, r->restore_left, r->blocked_link, r->blocked_flip, r->blocked_min_angle,
+           r->blocked_distance, r->blocked_border, r->blocked_seam, r->blocked_nonmanifold, r->skipped_error);
 }
 
 static int parse_choice(const char *option, const char *text, const char *const *names, int count, int *out)
