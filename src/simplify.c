@@ -175,6 +175,7 @@ typedef struct simplifier {
     size_t heap_count, heap_cap;
     size_t heap_stale;      /* estimated stale entries (each bumped version makes its position's entries stale) */
 
+    int last_level;             /* building the last output: the working mesh may go once read */
     resurfi_restorer *restorer;
     resurfi_bvh *own_bvh;       /* when there is no restorer */
     const resurfi_bvh *bvh;     /* over the input's triangles, input triangle ids */
@@ -1869,9 +1870,13 @@ static resurf_status number_output(simplifier *s, output *o)
     size_t cap_u = 3 * nt < s->pos_count ? 3 * nt : s->pos_count;
     o->upos = resurfi_alloc(s->alloc, cap_u, sizeof *o->upos);
     o->ufirst = resurfi_alloc(s->alloc, cap_u, sizeof *o->ufirst);
-    o->ov_next = resurfi_alloc(s->alloc, 3 * nt, sizeof *o->ov_next);
-    o->ov_u = resurfi_alloc(s->alloc, 3 * nt, sizeof *o->ov_u);
-    o->ov_wedge = resurfi_alloc(s->alloc, 3 * nt, sizeof *o->ov_wedge);
+    /* Output vertices: at most one per corner, and at most one per input vertex: a wedge is an input vertex and
+     * stays with its position (a collapse gives the removed end's corners the kept end's wedges), so no two
+     * positions share one. The second bound is the smaller for all but the coarsest levels. */
+    size_t cap_v = 3 * nt < s->in->vertex_count ? 3 * nt : s->in->vertex_count;
+    o->ov_next = resurfi_alloc(s->alloc, cap_v, sizeof *o->ov_next);
+    o->ov_u = resurfi_alloc(s->alloc, cap_v, sizeof *o->ov_u);
+    o->ov_wedge = resurfi_alloc(s->alloc, cap_v, sizeof *o->ov_wedge);
     o->corner_ov = resurfi_alloc(s->alloc, 3 * nt, sizeof *o->corner_ov);
     if (!o->tris || !o->pos_index || !o->upos || !o->ufirst || !o->ov_next || !o->ov_u || !o->ov_wedge ||
         !o->corner_ov)
@@ -1894,6 +1899,8 @@ static resurf_status number_output(simplifier *s, output *o)
             while (ov != NONE && o->ov_wedge[ov] != w)
                 ov = o->ov_next[ov];
             if (ov == NONE) {
+                if (o->nv == cap_v)
+                    return RESURF_ERR_INTERNAL; /* the bound above broken: a bug, never a write past the end */
                 ov = (uint32_t)o->nv++;
                 o->ov_u[ov] = u;
                 o->ov_wedge[ov] = w;
@@ -1933,6 +1940,12 @@ static resurf_status place_output(simplifier *s, output *o)
         return RESURF_ERR_OUT_OF_MEMORY;
     for (size_t u = 0; u < nu; ++u)
         o->base[u] = s->P[o->upos[u]].p;
+    if (s->last_level) { /* no more collapses: the working mesh goes before the output's arrays come */
+        resurfi_free(s->alloc, s->P_mem);
+        resurfi_free(s->alloc, s->tri);
+        resurfi_free(s->alloc, s->mark);
+        s->P_mem = NULL, s->P = NULL, s->tri = NULL, s->mark = NULL;
+    }
     measure_edges(o);
     output_job job = {s, o, NULL};
     if (s->opt.restore == RESURF_RESTORE_POST && s->restorer) {
@@ -2097,7 +2110,8 @@ static resurf_status build_output(simplifier *s, resurf_mesh **out, resurf_simpl
     output_free(&o, s->alloc);
     if (st != RESURF_OK) {
         resurf_mesh_free(m);
-        return resurfi_error(error, st, "out of memory building the simplified mesh");
+        return resurfi_error(error, st, st == RESURF_ERR_INTERNAL ? "internal error: a wedge at two positions"
+                                                                  : "out of memory building the simplified mesh");
     }
     *out = m;
     return RESURF_OK;
@@ -2270,6 +2284,7 @@ static resurf_status simplify_levels(const resurf_mesh *in, const resurf_simplif
         if (st == RESURF_OK && resurfi_progress(&s.opt.progress, "finish", (double)i / (double)count))
             st = resurfi_error(error, RESURF_ERR_CANCELLED, "simplification cancelled");
         if (i + 1 == count) { /* no more collapses: the queue's memory goes before the output's comes */
+            s.last_level = 1;
             resurfi_free(s.alloc, s.heap_mem);
             s.heap_mem = NULL;
             s.heap = NULL;
