@@ -64,9 +64,8 @@ struct resurfi_restorer {
     resurf_restore_options opt;
     resurf_allocator alloc; /* a copy of the call's allocator: every block of the restorer comes from it */
     size_t position_count, triangle_count;
-    const double *positions; /* welded positions, 3 per position id: own_positions, or M's own when M is welded */
-    const uint32_t *tris;    /* 3 per triangle: welded position ids: own_tris, or M's indices */
-    double *own_positions;
+    const double *positions; /* M's positions: a position's id is its first vertex (see weld_original) */
+    const uint32_t *tris;    /* 3 per triangle: position ids; own_tris, or M's indices when M has no duplicates */
     uint32_t *own_tris;
     resurfi_adjacency adj;  /* over welded ids; only the vertex-face lists are kept after set-up */
     resurfi_bvh *bvh;
@@ -198,36 +197,37 @@ static resurf_status weld_original(resurfi_restorer *r, const resurf_mesh *m, re
     uint32_t *remap = resurfi_alloc(&r->alloc, m->vertex_count, sizeof *remap);
     if (!remap)
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory welding the original mesh");
-    resurf_status s = resurfi_weld_exact(&r->alloc, m->positions, m->vertex_count, remap, &r->position_count);
+    size_t distinct = 0;
+    resurf_status s = resurfi_weld_exact(&r->alloc, m->positions, m->vertex_count, remap, &distinct);
     if (s != RESURF_OK) {
         resurfi_free(&r->alloc, remap);
         return resurfi_error(error, s, "cannot weld the original mesh");
     }
     r->triangle_count = m->triangle_count;
-    /* Positions are numbered by first appearance: without duplicates the weld is the identity, and M's own arrays
-     * serve (M outlives the restorer), which saves 24 bytes per triangle. */
-    int identity = r->position_count == m->vertex_count;
-    for (size_t v = 0; v < m->vertex_count && identity; ++v)
-        identity = remap[v] == v;
-    if (identity) {
-        r->positions = m->positions;
+    /* A position's id is its first vertex, so M's positions serve in place (M outlives the restorer) and only the
+     * triangles need new ids; duplicates become vertices without faces. Positions are numbered by first
+     * appearance, so ids keep the order of the weld's numbering, and without duplicates M's indices serve too. */
+    r->positions = m->positions;
+    r->position_count = m->vertex_count;
+    if (distinct == m->vertex_count) {
         r->tris = m->indices;
         resurfi_free(&r->alloc, remap);
         return RESURF_OK;
     }
-    r->own_positions = resurfi_alloc(&r->alloc, r->position_count, 3 * sizeof(double));
+    uint32_t *first = resurfi_alloc(&r->alloc, distinct, sizeof *first);
     r->own_tris = resurfi_alloc(&r->alloc, m->triangle_count, 3 * sizeof(uint32_t));
-    if (!r->own_positions || !r->own_tris) {
+    if (!first || !r->own_tris) {
         resurfi_free(&r->alloc, remap);
+        resurfi_free(&r->alloc, first);
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory welding the original mesh");
     }
-    for (size_t v = 0; v < m->vertex_count; ++v)
-        memcpy(r->own_positions + 3 * (size_t)remap[v], m->positions + 3 * v, 3 * sizeof(double));
+    for (size_t v = m->vertex_count; v-- > 0;)
+        first[remap[v]] = (uint32_t)v;
     for (size_t i = 0; i < 3 * m->triangle_count; ++i)
-        r->own_tris[i] = remap[m->indices[i]];
-    r->positions = r->own_positions;
+        r->own_tris[i] = first[remap[m->indices[i]]];
     r->tris = r->own_tris;
     resurfi_free(&r->alloc, remap);
+    resurfi_free(&r->alloc, first);
     return RESURF_OK;
 }
 
@@ -555,7 +555,6 @@ void resurfi_restorer_free(resurfi_restorer *r)
     if (!r)
         return;
     const resurf_allocator alloc = r->alloc; /* the struct holding it goes last */
-    resurfi_free(&alloc, r->own_positions);
     resurfi_free(&alloc, r->own_tris);
     resurfi_adjacency_free(&r->adj);
     resurfi_bvh_free(r->bvh);
