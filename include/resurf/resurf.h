@@ -578,8 +578,8 @@ typedef struct resurf_restore_report {
  * M is welded exactly first (attribute seams are not boundaries). original must have triangles, indices in range
  * and finite referenced positions (else RESURF_ERR_INVALID_MESH); processed may have non-finite positions (left as
  * they are) and no triangles. options NULL = resurf_restore_options_default(). out_report may be NULL.
- * On error or cancel, processed is unchanged. Memory: about 130 bytes per triangle of M at the peak when M is welded
- * (its arrays are then read in place), about 160 when it is not, plus 25 per vertex of M'. */
+ * On error or cancel, processed is unchanged. Memory: about 130–150 bytes per triangle of M at the peak (M's
+ * positions are read in place), plus 25 per vertex of M'. */
 RESURF_API resurf_status resurf_restore(const resurf_mesh *original, resurf_mesh *processed,
                                         const resurf_restore_options *options, resurf_restore_report *out_report,
                                         resurf_error *error);
