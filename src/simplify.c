@@ -1199,6 +1199,22 @@ static double min_angle_deg(vec3 p0, vec3 p1, vec3 p2)
     return best;
 }
 
+/* Does triangle t change shape in collapse pl (it is not one of the two that vanish)? If so, its corners before
+ * (old, may be NULL) and after (neu) the ends a and b move to p. */
+static int moved_triangle(const simplifier *s, uint32_t t, uint32_t a, uint32_t b, vec3 p, const plan *pl,
+                          vec3 old[3], vec3 neu[3])
+{
+    if (t == pl->shared[0] || (pl->shared_count == 2 && t == pl->shared[1]))
+        return 0;
+    for (int k = 0; k < 3; ++k) {
+        uint32_t v = TV(3 * t + k);
+        if (old)
+            old[k] = s->P[v].p;
+        neu[k] = v == a || v == b ? p : s->P[v].p;
+    }
+    return 1;
+}
+
 /* Checks every triangle that changes (those of a and b except the edge's): no flip or fold beyond
  * max_normal_change_deg, no collapse to zero area, and the minimum-angle guard. Returns BLOCK_NONE (0), 1 for a
  * flip, 2 for an angle. */
@@ -1209,15 +1225,9 @@ static int geometry_ok(const simplifier *s, const u32vec *fan_a, const u32vec *f
     const u32vec *fans[2] = {fan_a, fan_b};
     for (int side = 0; side < 2; ++side)
         for (size_t i = 0; i < fans[side]->count; ++i) {
-            uint32_t c = fans[side]->data[i], t = c / 3;
-            if (t == pl->shared[0] || (pl->shared_count == 2 && t == pl->shared[1]))
-                continue;
             vec3 old[3], neu[3];
-            for (int k = 0; k < 3; ++k) {
-                uint32_t v = TV(3 * t + k);
-                old[k] = s->P[v].p;
-                neu[k] = v == a || v == b ? p : old[k];
-            }
+            if (!moved_triangle(s, fans[side]->data[i] / 3, a, b, p, pl, old, neu))
+                continue;
             vec3 n0 = v3_tri_cross(old[0], old[1], old[2]), n1 = v3_tri_cross(neu[0], neu[1], neu[2]);
             double l0 = v3_len(n0), l1 = v3_len(n1);
             double longest = fmax(fmax(v3_dist2(neu[0], neu[1]), v3_dist2(neu[1], neu[2])), v3_dist2(neu[2], neu[0]));
@@ -1249,14 +1259,9 @@ static double tip_excess(const simplifier *s, const u32vec *fan_a, const u32vec 
         vec3 end = s->P[side ? b : a].p;
         double near2 = INFINITY;
         for (size_t i = 0; i < fans[side]->count; ++i) {
-            uint32_t t = fans[side]->data[i] / 3;
-            if (t == pl->shared[0] || (pl->shared_count == 2 && t == pl->shared[1]))
-                continue;
             vec3 neu[3];
-            for (int k = 0; k < 3; ++k) {
-                uint32_t v = TV(3 * t + k);
-                neu[k] = v == a || v == b ? p : s->P[v].p;
-            }
+            if (!moved_triangle(s, fans[side]->data[i] / 3, a, b, p, pl, NULL, neu))
+                continue;
             double d2 = v3_dist2(end, resurfi_closest_on_triangle(end, neu[0], neu[1], neu[2], NULL));
             near2 = d2 < near2 ? d2 : near2;
         }
