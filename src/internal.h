@@ -258,6 +258,11 @@ typedef enum resurfi_restore_outcome {
  * number of threads may query it at once. */
 resurf_status resurfi_restorer_create(const resurf_mesh *original, const resurf_restore_options *options,
                                       resurfi_restorer **out, resurf_error *error);
+/* The same, without the BVH when with_tree is 0: then only resurfi_restorer_point_walk and
+ * resurfi_restorer_closest_walk find anything (the others leave every point, RESURFI_LEFT_FAR), and
+ * resurfi_restorer_bvh returns NULL. About a third of the set-up's time and 60 bytes per triangle less. */
+resurf_status resurfi_restorer_create_ex(const resurf_mesh *original, const resurf_restore_options *options,
+                                         int with_tree, resurfi_restorer **out, resurf_error *error);
 void resurfi_restorer_free(resurfi_restorer *r); /* NULL is fine */
 
 /* Restores one point onto S with the restorer's options (iterations, step, policies). out_point receives the
@@ -270,6 +275,15 @@ resurfi_restore_outcome resurfi_restorer_point(const resurfi_restorer *r, vec3 p
  * up the closest-triangle search. The result does not depend on the hint. */
 resurfi_restore_outcome resurfi_restorer_point_near(const resurfi_restorer *r, vec3 p, uint32_t hint,
                                                     vec3 *out_point, uint32_t *out_triangle, double out_bary[3]);
+/* The same, the closest triangle found by walking M from `start` (a triangle near p, e.g. where a neighbour of p
+ * was restored) to the one p projects on (see walk_closest): the locally closest one, of the sheet `start` is on
+ * where the shape is thin. No tree search. */
+resurfi_restore_outcome resurfi_restorer_point_walk(const resurfi_restorer *r, vec3 p, uint32_t start,
+                                                    vec3 *out_point, uint32_t *out_triangle, double out_bary[3]);
+/* p's closest triangle of M as resurfi_restorer_point_walk finds it, from `start`, with the barycentrics of p's
+ * closest point on it and the squared distance; UINT32_MAX for a non-finite p or no start. */
+uint32_t resurfi_restorer_closest_walk(const resurfi_restorer *r, vec3 p, uint32_t start, double bary[3],
+                                       double *dist2);
 
 /* The interpolated smooth unit normal of M at barycentrics bary of triangle t (crease-aware). */
 vec3 resurfi_restorer_normal(const resurfi_restorer *r, uint32_t t, const double bary[3]);

@@ -578,6 +578,12 @@ void resurfi_restorer_free(resurfi_restorer *r)
 resurf_status resurfi_restorer_create(const resurf_mesh *original, const resurf_restore_options *options,
                                       resurfi_restorer **out, resurf_error *error)
 {
+    return resurfi_restorer_create_ex(original, options, 1, out, error);
+}
+
+resurf_status resurfi_restorer_create_ex(const resurf_mesh *original, const resurf_restore_options *options,
+                                         int with_tree, resurfi_restorer **out, resurf_error *error)
+{
     if (!out)
         return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "out is NULL");
     *out = NULL;
@@ -595,7 +601,7 @@ resurf_status resurfi_restorer_create(const resurf_mesh *original, const resurf_
     r->opt = options ? *options : resurf_restore_options_default();
     if ((s = weld_original(r, original, error)) == RESURF_OK && (s = classify_edges(r, original, error)) == RESURF_OK &&
         (s = split_fans(r, error)) == RESURF_OK && (s = estimate_normals(r, original, error)) == RESURF_OK &&
-        (s = trace_features(r, error)) == RESURF_OK && (s = mark_usable(r, error)) == RESURF_OK) {
+        (s = trace_features(r, error)) == RESURF_OK && (s = mark_usable(r, error)) == RESURF_OK && with_tree) {
         s = resurfi_bvh_build_threads(&r->alloc, r->positions, r->position_count, r->tris, r->triangle_count,
                                       r->opt.threads, &r->bvh);
         if (s != RESURF_OK)
@@ -853,14 +859,104 @@ static uint32_t closest_triangle(const resurfi_restorer *r, vec3 p, uint32_t hin
     return t;
 }
 
+enum { WALK_STEPS = 64 };
+
+/* The closest of the triangles around t's corners (t included) to p, and p's closest point on it. */
+static uint32_t closest_around(const resurfi_restorer *r, vec3 p, uint32_t t, double bary[3], double *dist2)
+{
+    const uint32_t *tri = r->tris + 3 * (size_t)t;
+    uint32_t best = UINT32_MAX;
+    *dist2 = INFINITY;
+    for (int k = 0; k < 3; ++k) {
+        const uint32_t *faces = r->adj.vertex_faces + r->adj.vertex_face_offset[tri[k]];
+        uint32_t n = r->adj.vertex_face_offset[tri[k] + 1] - r->adj.vertex_face_offset[tri[k]];
+        for (uint32_t i = 0; i < n; ++i) {
+            uint32_t f = faces[i];
+            const uint32_t *c = r->tris + 3 * (size_t)f;
+            double b[3];
+            vec3 q = resurfi_closest_on_triangle(p, position(r, c[0]), position(r, c[1]), position(r, c[2]), b);
+            double d2 = v3_dist2(p, q);
+            if (d2 < *dist2 || (d2 == *dist2 && f < best)) {
+                best = f, *dist2 = d2;
+                memcpy(bary, b, sizeof b);
+            }
+        }
+    }
+    return best;
+}
+
+/* p's closest triangle found by walking M from `start` (a triangle near p) across the side opposite the most
+ * negative barycentric of p's projection, to the triangle p projects on, and p's closest point on it. Where no
+ * triangle holds the projection (at a convex vertex or a crease the walk turns back), or the walk meets a border,
+ * a non-manifold edge or a degenerate triangle, or runs out of steps, the closest of the triangles around the last
+ * one. For a point near S (far nearer than the thickness of any part of the shape) that is its closest triangle;
+ * where the shape is thin it is the closest one of the sheet `start` is on. The walk reads only the triangles on
+ * its way, where a tree search reads a path from the root and the leaves around: mostly cache misses on a large
+ * mesh (5 µs against 1 per restored point of a 1M-triangle torus). */
+static uint32_t walk_closest(const resurfi_restorer *r, vec3 p, uint32_t start, double bary[3], double *dist2)
+{
+    uint32_t t = start, prev = UINT32_MAX;
+    for (int step = 0; step < WALK_STEPS; ++step) {
+        const uint32_t *tri = r->tris + 3 * (size_t)t;
+        vec3 c[3] = {position(r, tri[0]), position(r, tri[1]), position(r, tri[2])};
+        vec3 n = v3_tri_cross(c[0], c[1], c[2]);
+        if (!(v3_len2(n) > 0))
+            break;
+        double lambda[3];
+        for (int k = 0; k < 3; ++k) /* signed areas of the projection's sub-triangles (p's height drops out) */
+            lambda[k] = v3_dot(n, v3_cross(v3_sub(c[(k + 1) % 3], p), v3_sub(c[(k + 2) % 3], p)));
+        int k = lambda[0] <= lambda[1] && lambda[0] <= lambda[2] ? 0 : lambda[1] <= lambda[2] ? 1 : 2;
+        if (lambda[k] >= 0) {
+            vec3 q = resurfi_closest_on_triangle(p, c[0], c[1], c[2], bary);
+            *dist2 = v3_dist2(p, q);
+            return t;
+        }
+        uint32_t v1 = tri[(k + 1) % 3], v2 = tri[(k + 2) % 3], next = UINT32_MAX;
+        const uint32_t *faces = r->adj.vertex_faces + r->adj.vertex_face_offset[v1];
+        uint32_t nf = r->adj.vertex_face_offset[v1 + 1] - r->adj.vertex_face_offset[v1];
+        int shared = 0;
+        for (uint32_t i = 0; i < nf; ++i)
+            if (faces[i] != t && corner_of(r, faces[i], v2) >= 0)
+                next = faces[i], ++shared;
+        if (shared != 1 || next == prev)
+            break;
+        prev = t;
+        t = next;
+    }
+    return closest_around(r, p, t, bary, dist2);
+}
+
+uint32_t resurfi_restorer_closest_walk(const resurfi_restorer *r, vec3 p, uint32_t start, double bary[3],
+                                       double *dist2)
+{
+    if (start >= r->triangle_count || !v3_finite(p))
+        return UINT32_MAX;
+    return walk_closest(r, p, start, bary, dist2);
+}
+
 resurfi_restore_outcome resurfi_restorer_point(const resurfi_restorer *r, vec3 p, vec3 *out_point,
                                                uint32_t *out_triangle, double out_bary[3])
 {
     return resurfi_restorer_point_near(r, p, UINT32_MAX, out_point, out_triangle, out_bary);
 }
 
+static resurfi_restore_outcome restore_from(const resurfi_restorer *r, vec3 p, uint32_t hint, int walk,
+                                            vec3 *out_point, uint32_t *out_triangle, double out_bary[3]);
+
 resurfi_restore_outcome resurfi_restorer_point_near(const resurfi_restorer *r, vec3 p, uint32_t hint,
                                                     vec3 *out_point, uint32_t *out_triangle, double out_bary[3])
+{
+    return restore_from(r, p, hint, 0, out_point, out_triangle, out_bary);
+}
+
+resurfi_restore_outcome resurfi_restorer_point_walk(const resurfi_restorer *r, vec3 p, uint32_t start,
+                                                    vec3 *out_point, uint32_t *out_triangle, double out_bary[3])
+{
+    return restore_from(r, p, start, 1, out_point, out_triangle, out_bary);
+}
+
+static resurfi_restore_outcome restore_from(const resurfi_restorer *r, vec3 p, uint32_t hint, int walk,
+                                            vec3 *out_point, uint32_t *out_triangle, double out_bary[3])
 {
     if (hint >= r->triangle_count)
         hint = UINT32_MAX;
@@ -887,7 +983,11 @@ resurfi_restore_outcome resurfi_restorer_point_near(const resurfi_restorer *r, v
             len = local_length(r, chosen);
         } else {
             double bary[3], dist2;
-            uint32_t t = closest_triangle(r, cur, chosen != UINT32_MAX ? chosen : hint, bary, &dist2);
+            uint32_t from = chosen != UINT32_MAX ? chosen : hint, t = UINT32_MAX;
+            if (walk && from != UINT32_MAX)
+                t = walk_closest(r, cur, from, bary, &dist2);
+            else
+                t = closest_triangle(r, cur, from, bary, &dist2);
             if (t == UINT32_MAX)
                 return RESURFI_LEFT_FAR; /* an empty tree */
             len = local_length(r, t);

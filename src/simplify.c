@@ -153,6 +153,7 @@ typedef struct work_pos {
 typedef struct pending {
     size_t index;
     vec3 p, restored;
+    uint32_t home;
     uint8_t restore, left;
 } pending;
 
@@ -192,6 +193,7 @@ typedef struct simplifier {
     resurfi_restorer *restorer;
     resurfi_bvh *own_bvh;       /* when there is no restorer */
     const resurfi_bvh *bvh;     /* over the input's triangles, input triangle ids */
+    uint32_t *home;             /* inline restoration: per position, a triangle of the input near it */
 
     u32vec fan_a, fan_b, fan_c, touched;
     pending *pend;          /* CHUNK: the pass's candidates being applied, pend_next the next one */
@@ -900,18 +902,23 @@ static void plan_collapse(const simplifier *s, uint32_t a, uint32_t b, const u32
  * it is: the restorer left it, or moved it implausibly far. A point near M moves onto S by about its distance to M
  * (M's own sag from S is far smaller), so a move beyond twice that distance plus a quarter of the local edge
  * length is a failure of the projection (seen near sliver triangles of scanned meshes), not a restoration; the
- * vertex then keeps its unrestored place rather than fold the mesh. */
-static vec3 restore_point(const simplifier *s, vec3 p, double scale, int *left)
+ * vertex then keeps its unrestored place rather than fold the mesh. `home` is a triangle of M near p: the
+ * search for p's closest triangle walks from there (resurfi_restorer_point_walk). *out_home receives the triangle
+ * p was restored on (NONE when left). */
+static vec3 restore_point(const simplifier *s, vec3 p, double scale, uint32_t home, int *left, uint32_t *out_home)
 {
     vec3 q;
-    resurfi_restore_outcome o = resurfi_restorer_point(s->restorer, p, &q, NULL, NULL);
+    uint32_t t;
+    resurfi_restore_outcome o = resurfi_restorer_point_walk(s->restorer, p, home, &q, &t, NULL);
     *left = o >= RESURFI_LEFT_FAR;
+    *out_home = *left ? NONE : t;
     double moved = v3_dist(p, q);
     if (!*left && moved > 0.25 * scale) {
-        double d2 = INFINITY;
-        resurfi_bvh_closest(s->bvh, p, INFINITY, NULL, NULL, &d2);
+        double d2 = INFINITY, bary[3];
+        resurfi_restorer_closest_walk(s->restorer, p, home, bary, &d2);
         if (!(moved <= 2 * sqrt(d2) + 0.25 * scale)) {
             *left = 1;
+            *out_home = NONE;
             q = p;
         }
     }
@@ -924,7 +931,8 @@ static float rank_cost(const simplifier *s, uint32_t a, uint32_t b, const plan *
     double cost = pl->cost;
     if (s->opt.cost_at_restored && s->restorer && !pl->pinned) {
         int left;
-        vec3 r = restore_point(s, pl->p, v3_dist(s->P[a].p, s->P[b].p), &left);
+        uint32_t t;
+        vec3 r = restore_point(s, pl->p, v3_dist(s->P[a].p, s->P[b].p), s->home[a], &left, &t);
         resurfi_quadric q = s->P[a].q;
         resurfi_quadric_add(&q, &s->P[b].q);
         cost = qeval(s, &q, r);
@@ -1440,7 +1448,7 @@ static int restore_chunk_block(void *ctx, size_t begin, size_t end, unsigned wor
             continue;
         int left;
         q->p = pl.p;
-        q->restored = restore_point(s, pl.p, v3_dist(s->P[c.a].p, s->P[c.b].p), &left);
+        q->restored = restore_point(s, pl.p, v3_dist(s->P[c.a].p, s->P[c.b].p), s->home[c.a], &left, &q->home);
         q->left = (uint8_t)left;
         q->restore = 1;
     }
@@ -1483,12 +1491,14 @@ static int try_candidate(simplifier *s, const pending *q, scratch *sc)
     resurfi_quadric_add(&qab, &s->P[b].q);
     vec3 p = pl.p;
     int restored = 0, left = 0;
+    uint32_t home = NONE;
     if (s->opt.restore == RESURF_RESTORE_INLINE && s->restorer && !pl.pinned) {
         if (q->restore && v3_dist2(q->p, pl.p) == 0) {
             p = q->restored;
             left = q->left;
+            home = q->home;
         } else {
-            p = restore_point(s, pl.p, v3_dist(s->P[a].p, s->P[b].p), &left);
+            p = restore_point(s, pl.p, v3_dist(s->P[a].p, s->P[b].p), s->home[a], &left, &home);
         }
         restored = 1;
     }
@@ -1544,6 +1554,8 @@ static int try_candidate(simplifier *s, const pending *q, scratch *sc)
         return 0;
     if (refresh_keep && !refresh_flags(s, keep, sc, &changed))
         return 0;
+    if (home != NONE)
+        s->home[keep] = home;
     size_t renew = 0;
     for (size_t i = 0; i < s->touched.count; ++i) {
         uint32_t x = s->touched.data[i];
@@ -1731,7 +1743,8 @@ static int post_restore_block(void *ctx, size_t begin, size_t end, unsigned work
     output_job *j = ctx;
     for (size_t u = begin; u < end; ++u) {
         int left;
-        j->o->base[u] = restore_point(j->s, j->o->base[u], j->o->len[u], &left);
+        uint32_t t;
+        j->o->base[u] = restore_point(j->s, j->o->base[u], j->o->len[u], j->s->home[j->o->upos[u]], &left, &t);
         j->o->outcome[u] = (uint8_t)left;
     }
     return 0;
@@ -1742,8 +1755,9 @@ static int normal_block(void *ctx, size_t begin, size_t end, unsigned worker)
     (void)worker;
     output_job *j = ctx;
     for (size_t u = begin; u < end; ++u) {
-        double bary[3];
-        uint32_t t = resurfi_bvh_closest(j->s->bvh, j->o->base[u], INFINITY, NULL, bary, NULL);
+        double bary[3], d2;
+        uint32_t t = resurfi_restorer_closest_walk(j->s->restorer, j->o->base[u], j->s->home[j->o->upos[u]], bary,
+                                                   &d2);
         j->o->normal[u] = t == NONE ? v3(0, 0, 0) : resurfi_restorer_normal(j->s->restorer, t, bary);
     }
     return 0;
@@ -2231,6 +2245,7 @@ static void simplifier_free(simplifier *s)
     resurfi_free(s->alloc, s->fresh);
     resurfi_free(s->alloc, s->taken.data);
     resurfi_free(s->alloc, s->gen);
+    resurfi_free(s->alloc, s->home);
     resurfi_free(s->alloc, s->fan_a.data);
     resurfi_free(s->alloc, s->fan_b.data);
     resurfi_free(s->alloc, s->fan_c.data);
@@ -2274,10 +2289,15 @@ static resurf_status start(simplifier *s, scratch *scratch, resurf_error *error)
         ro.threads = s->opt.threads;
         ro.progress = (resurf_progress){NULL, NULL};
         ro.allocator = s->alloc;
-        if ((st = resurfi_restorer_create(s->in, &ro, &s->restorer, error)) != RESURF_OK)
+        /* Without its tree: every restored point has a triangle of M nearby to walk from (home). */
+        if ((st = resurfi_restorer_create_ex(s->in, &ro, 0, &s->restorer, error)) != RESURF_OK)
             return st;
-        s->bvh = resurfi_restorer_bvh(s->restorer);
-    } else if (has_attributes(s->in) || s->opt.measure_samples) {
+        if (!(s->home = resurfi_alloc(s->alloc, s->pos_count, sizeof *s->home)))
+            return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
+        for (size_t p = 0; p < s->pos_count; ++p) /* the input triangle of its first corner */
+            s->home[p] = s->P[p].head != NONE ? s->src[s->P[p].head / 3] : NONE;
+    }
+    if (has_attributes(s->in) || s->opt.measure_samples) {
         st = resurfi_bvh_build_threads(s->alloc, s->in->positions, s->in->vertex_count, s->in->indices,
                                        s->in->triangle_count, s->opt.threads, &s->own_bvh);
         if (st != RESURF_OK)
