@@ -886,13 +886,14 @@ static uint32_t closest_around(const resurfi_restorer *r, vec3 p, uint32_t t, do
 }
 
 /* p's closest triangle found by walking M from `start` (a triangle near p) across the side opposite the most
- * negative barycentric of p's projection, to the triangle p projects on, and p's closest point on it. Where no
- * triangle holds the projection (at a convex vertex or a crease the walk turns back), or the walk meets a border,
- * a non-manifold edge or a degenerate triangle, or runs out of steps, the closest of the triangles around the last
- * one. For a point near S (far nearer than the thickness of any part of the shape) that is its closest triangle;
- * where the shape is thin it is the closest one of the sheet `start` is on. The walk reads only the triangles on
- * its way, where a tree search reads a path from the root and the leaves around: mostly cache misses on a large
- * mesh (5 µs against 1 per restored point of a 1M-triangle torus). */
+ * negative barycentric of p's projection, to the triangle p projects on (where no triangle holds the projection,
+ * at a convex vertex or a crease, the walk turns back; it also stops at a border, a non-manifold edge, a degenerate
+ * triangle or after WALK_STEPS), then down to the nearest of the triangles around until none is nearer (where M is
+ * concave, seen from p, a neighbour of the projection's triangle can be). For a point near S, far nearer than the
+ * thickness of any part of the shape, that is its closest triangle; where the shape is thin it is the closest one
+ * of the sheet `start` is on. The walk reads only the triangles on its way, where a tree search reads a path from
+ * the root and the leaves around, mostly cache misses on a large mesh: the simplifier's inline restoration of a
+ * 1M-triangle torus takes 2.9 s instead of 3.3. */
 static uint32_t walk_closest(const resurfi_restorer *r, vec3 p, uint32_t start, double bary[3], double *dist2)
 {
     uint32_t t = start, prev = UINT32_MAX;
@@ -907,8 +908,14 @@ static uint32_t walk_closest(const resurfi_restorer *r, vec3 p, uint32_t start, 
             lambda[k] = v3_dot(n, v3_cross(v3_sub(c[(k + 1) % 3], p), v3_sub(c[(k + 2) % 3], p)));
         int k = lambda[0] <= lambda[1] && lambda[0] <= lambda[2] ? 0 : lambda[1] <= lambda[2] ? 1 : 2;
         if (lambda[k] >= 0) {
-            vec3 q = resurfi_closest_on_triangle(p, c[0], c[1], c[2], bary);
-            *dist2 = v3_dist2(p, q);
+            /* Where M is concave (seen from p) a neighbour may be nearer: descend to the nearest of the triangles
+             * around until none is. */
+            for (int round = 0; round < WALK_STEPS; ++round) {
+                uint32_t u = closest_around(r, p, t, bary, dist2);
+                if (u == t)
+                    break;
+                t = u;
+            }
             return t;
         }
         uint32_t v1 = tri[(k + 1) % 3], v2 = tri[(k + 2) % 3], next = UINT32_MAX;
@@ -923,7 +930,13 @@ static uint32_t walk_closest(const resurfi_restorer *r, vec3 p, uint32_t start, 
         prev = t;
         t = next;
     }
-    return closest_around(r, p, t, bary, dist2);
+    for (int round = 0; round < WALK_STEPS; ++round) {
+        uint32_t u = closest_around(r, p, t, bary, dist2);
+        if (u == t)
+            break;
+        t = u;
+    }
+    return t;
 }
 
 uint32_t resurfi_restorer_closest_walk(const resurfi_restorer *r, vec3 p, uint32_t start, double bary[3],

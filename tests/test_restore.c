@@ -762,6 +762,79 @@ START_TEST(cube_with_split_normals)
 }
 END_TEST
 
+/* A triangle two steps away (across vertices) from triangle t, picked by rng. */
+static uint32_t two_steps_from(const resurf_mesh *M, uint32_t t, uint64_t *rng)
+{
+    for (int step = 0; step < 2; ++step) {
+        uint32_t v = M->indices[3 * (size_t)t + (size_t)(shape_rand_unit(rng) * 3)];
+        uint32_t faces[64], n = 0;
+        for (size_t f = 0; f < M->triangle_count && n < 64; ++f)
+            for (int k = 0; k < 3; ++k)
+                if (M->indices[3 * f + k] == v && f != t) {
+                    faces[n++] = (uint32_t)f;
+                    break;
+                }
+        if (n)
+            t = faces[(size_t)(shape_rand_unit(rng) * n)];
+    }
+    return t;
+}
+
+/* The walk over M (what the simplifier uses, with a restorer built without its tree) from a triangle two steps
+ * from the closest one finds a closest one (the same squared distance as the tree's exhaustive search), on a
+ * closed shape, an open one (points beyond its rims) and the cube (points near its edges and corners, inside,
+ * where a neighbour of the triangle the point projects on is nearer, and outside, where no triangle holds the
+ * projection and the walk turns back); and it restores each point as the full restorer does. */
+START_TEST(walk_finds_the_closest_triangle)
+{
+    for (int s = 0; s < 3; ++s) {
+        resurf_mesh *M = s == 0 ? shape_mesh(SHAPE_TORUS, 6000, 0.3, 7, 0)
+                       : s == 1 ? shape_mesh(SHAPE_CYLINDER, 6000, 0.3, 7, 0)
+                                : tu_cube();
+        resurf_restore_options o = resurf_restore_options_default();
+        o.normals = RESURF_NORMALS_MAX;
+        resurfi_restorer *full = NULL, *bare = NULL;
+        ck_assert_int_eq(resurfi_restorer_create(M, &o, &full, NULL), RESURF_OK);
+        ck_assert_int_eq(resurfi_restorer_create_ex(M, &o, 0, &bare, NULL), RESURF_OK);
+        ck_assert_ptr_null(resurfi_restorer_bvh(bare));
+        const resurfi_bvh *bvh = resurfi_restorer_bvh(full);
+        double h = mean_edge(M);
+        uint64_t rng = 11;
+        int restored = 0;
+        for (int i = 0; i < 400; ++i) {
+            uint32_t t = (uint32_t)(shape_rand_unit(&rng) * (double)M->triangle_count);
+            /* barycentrics in [-0.25, 1.25]: beyond the rims of the open shape */
+            double a = 1.5 * shape_rand_unit(&rng) - 0.25, b = (1 - a) * shape_rand_unit(&rng);
+            double off = 0.2 * h * (2 * shape_rand_unit(&rng) - 1);
+            vec3 p = s < 2 ? near_point(s == 0 ? SHAPE_TORUS : SHAPE_CYLINDER, M, t, a, b, off)
+                           : v3_madd(v3(a, b, 1), v3(1, 1, 1), off); /* the top face, its edges and corners */
+            double d2 = 0, wd2 = -1, bary[3];
+            uint32_t truth = resurfi_bvh_closest(bvh, p, INFINITY, NULL, NULL, &d2);
+            ck_assert_uint_ne(truth, UINT32_MAX);
+            uint32_t start = two_steps_from(M, truth, &rng);
+            uint32_t w = resurfi_restorer_closest_walk(bare, p, start, bary, &wd2);
+            ck_assert_msg(w != UINT32_MAX && wd2 == d2, "shape %d point %d: walk %u at %.17g, tree %u at %.17g", s, i,
+                          w, wd2, truth, d2);
+            vec3 qf, qb;
+            uint32_t tf, tb;
+            resurfi_restore_outcome of = resurfi_restorer_point(full, p, &qf, &tf, NULL);
+            resurfi_restore_outcome ob = resurfi_restorer_point_walk(bare, p, start, &qb, &tb, NULL);
+            ck_assert_int_eq(of, ob);
+            ck_assert_msg(v3_dist(qf, qb) <= 1e-12 * h, "shape %d point %d: restored %.3g apart", s, i,
+                          v3_dist(qf, qb));
+            restored += of < RESURFI_LEFT_FAR;
+        }
+        ck_assert_int_ge(restored, 300);
+        /* without a start the bare restorer leaves a point (it has no tree to search) */
+        vec3 q;
+        ck_assert_int_ge(resurfi_restorer_point(bare, v3(0.5, 0.5, 1), &q, NULL, NULL), RESURFI_LEFT_FAR);
+        resurfi_restorer_free(full);
+        resurfi_restorer_free(bare);
+        resurf_mesh_free(M);
+    }
+}
+END_TEST
+
 /* ---- threads, progress, arguments ---------------------------------------------------------------------------- */
 
 START_TEST(same_result_for_every_thread_count)
@@ -915,6 +988,7 @@ Suite *make_suite(void)
     tcase_add_test(tc, cubic_patch_sides_are_kept);
     tcase_add_test(tc, roof_crease_is_not_rounded);
     tcase_add_test(tc, cube_with_split_normals);
+    tcase_add_test(tc, walk_finds_the_closest_triangle);
     tcase_add_test(tc, same_result_for_every_thread_count);
     tcase_add_test(tc, cancel_at_every_progress_call);
     tcase_add_test(tc, bad_arguments);
