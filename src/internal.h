@@ -253,8 +253,8 @@ typedef enum resurfi_restore_outcome {
 } resurfi_restore_outcome;
 
 /* Builds M's services (welded positions and topology, crease fans, normals, curvatures when the options need them,
- * feature curves, BVH) once; everything is copied, so `original` may change or go afterwards. Triangle indices are
- * M's. The options are checked as resurf_restore() does (their progress is not used). Read-only afterwards: any
+ * feature curves, BVH) once. M's positions (and, without duplicate positions, its indices) are read in place:
+ * `original` must stay unchanged while the restorer lives. Triangle indices are M's. The options are checked as resurf_restore() does (their progress is not used). Read-only afterwards: any
  * number of threads may query it at once. */
 resurf_status resurfi_restorer_create(const resurf_mesh *original, const resurf_restore_options *options,
                                       resurfi_restorer **out, resurf_error *error);
