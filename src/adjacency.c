@@ -33,21 +33,21 @@ static int triangle_valid(const uint32_t *t, size_t vertex_count)
            t[0] != t[2];
 }
 
-static int compare_u32(const void *a, const void *b)
+static int compare_u64(const void *a, const void *b)
 {
-    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
     return (x > y) - (x < y);
 }
 
 /* Sorts a short list in place: insertion sort for the usual handful of neighbours, qsort for high degrees. */
-static void sort_u32(uint32_t *a, size_t n)
+static void sort_u64(uint64_t *a, size_t n)
 {
     if (n > 32) {
-        qsort(a, n, sizeof *a, compare_u32);
+        qsort(a, n, sizeof *a, compare_u64);
         return;
     }
     for (size_t i = 1; i < n; ++i) {
-        uint32_t x = a[i];
+        uint64_t x = a[i];
         size_t j = i;
         for (; j > 0 && a[j - 1] > x; --j)
             a[j] = a[j - 1];
@@ -165,33 +165,48 @@ static resurf_status build_vertex_faces(resurfi_adjacency *adj, const uint32_t *
     return RESURF_OK;
 }
 
-/* Phase 2: the unique edges (a, b), a < b, sorted: for each a in turn, the neighbours b > a found in a's faces. */
-static resurf_status build_edges(resurfi_adjacency *adj, const uint32_t *indices, uint32_t *scratch)
+/* Phase 2: the unique edges (a, b), a < b, sorted: for each a in turn, the neighbours b > a found in a's faces.
+ * Each such neighbour is the far end of one side of the face (a is a corner of it), so the same pass gives every
+ * side its edge id: the face → edges table costs no edge look-up. scratch holds (b, side slot 3 f + i) pairs with b
+ * in the high half, so sorting them groups the sides of each edge. */
+static resurf_status build_edges(resurfi_adjacency *adj, const uint32_t *indices, uint64_t *scratch)
 {
-    const size_t nv = adj->vertex_count;
+    const size_t nv = adj->vertex_count, nt = adj->triangle_count;
     const uint32_t *offset = adj->vertex_face_offset;
     size_t bound = offset[nv]; /* 3 per valid triangle: every edge has at least one face */
     uint32_t *edge_offset = adj->vertex_edge_offset = resurfi_alloc(&adj->alloc, nv + 1, sizeof *edge_offset);
     uint32_t *ev = adj->edge_vertices = resurfi_alloc(&adj->alloc, bound, 2 * sizeof *ev);
-    if (!edge_offset || !ev)
+    uint32_t *fe = adj->face_edges = resurfi_alloc(&adj->alloc, nt, 3 * sizeof *fe);
+    if (!edge_offset || !ev || !fe)
         return RESURF_ERR_OUT_OF_MEMORY;
+    /* sides of ignored triangles keep UINT32_MAX; every side of a valid one is set below */
+    for (size_t t = 0; t < nt; ++t)
+        if (!triangle_valid(indices + 3 * t, nv))
+            fe[3 * t] = fe[3 * t + 1] = fe[3 * t + 2] = UINT32_MAX;
     size_t count = 0;
     for (size_t a = 0; a < nv; ++a) {
         edge_offset[a] = (uint32_t)count;
         size_t n = 0;
         for (uint32_t k = offset[a]; k < offset[a + 1]; ++k) {
-            const uint32_t *tri = indices + 3 * (size_t)adj->vertex_faces[k];
-            for (int i = 0; i < 3; ++i)
-                if (tri[i] > a)
-                    scratch[n++] = tri[i];
+            const uint32_t f = adj->vertex_faces[k];
+            const uint32_t *tri = indices + 3 * (size_t)f;
+            int j = tri[0] == a ? 0 : tri[1] == a ? 1 : 2;
+            int next = j == 2 ? 0 : j + 1, prev = j == 0 ? 2 : j - 1;
+            /* side j runs from a to the next corner, side prev from the previous corner to a */
+            if (tri[next] > a)
+                scratch[n++] = (uint64_t)tri[next] << 32 | (3 * f + (uint32_t)j);
+            if (tri[prev] > a)
+                scratch[n++] = (uint64_t)tri[prev] << 32 | (3 * f + (uint32_t)prev);
         }
-        sort_u32(scratch, n);
+        sort_u64(scratch, n);
         for (size_t i = 0; i < n; ++i) {
-            if (i > 0 && scratch[i] == scratch[i - 1])
-                continue;
-            ev[2 * count] = (uint32_t)a;
-            ev[2 * count + 1] = scratch[i];
-            ++count;
+            uint32_t b = (uint32_t)(scratch[i] >> 32);
+            if (i == 0 || b != (uint32_t)(scratch[i - 1] >> 32)) {
+                ev[2 * count] = (uint32_t)a;
+                ev[2 * count + 1] = b;
+                ++count;
+            }
+            fe[(uint32_t)scratch[i]] = (uint32_t)(count - 1);
         }
     }
     edge_offset[nv] = (uint32_t)count;
@@ -202,24 +217,17 @@ static resurf_status build_edges(resurfi_adjacency *adj, const uint32_t *indices
     return RESURF_OK;
 }
 
-/* Phase 3: face → edges, then edge → faces (each list in increasing face order). */
-static resurf_status build_edge_faces(resurfi_adjacency *adj, const uint32_t *indices)
+/* Phase 3: edge → faces (each list in increasing face order), a counting sort of the face → edges table. */
+static resurf_status build_edge_faces(resurfi_adjacency *adj)
 {
-    const size_t nv = adj->vertex_count, nt = adj->triangle_count, ne = adj->edge_count;
-    uint32_t *fe = adj->face_edges = resurfi_alloc(&adj->alloc, nt, 3 * sizeof *fe);
+    const size_t nt = adj->triangle_count, ne = adj->edge_count;
+    const uint32_t *fe = adj->face_edges;
     uint32_t *offset = adj->edge_face_offset = resurfi_calloc(&adj->alloc, ne + 1, sizeof *offset);
-    if (!fe || !offset)
+    if (!offset)
         return RESURF_ERR_OUT_OF_MEMORY;
-    for (size_t t = 0; t < nt; ++t) {
-        const uint32_t *tri = indices + 3 * t;
-        int valid = triangle_valid(tri, nv);
-        for (int i = 0; i < 3; ++i) {
-            uint32_t e = valid ? resurfi_adjacency_find_edge(adj, tri[i], tri[(i + 1) % 3]) : UINT32_MAX;
-            fe[3 * t + i] = e;
-            if (e != UINT32_MAX)
-                offset[e + 1]++;
-        }
-    }
+    for (size_t k = 0; k < 3 * nt; ++k)
+        if (fe[k] != UINT32_MAX)
+            offset[fe[k] + 1]++;
     for (size_t e = 0; e < ne; ++e)
         offset[e + 1] += offset[e];
     uint32_t *cursor = resurfi_alloc(&adj->alloc, ne, sizeof *cursor);
@@ -333,8 +341,9 @@ static resurf_status count_boundary_loops(resurfi_adjacency *adj, const uint32_t
     return RESURF_OK;
 }
 
-resurf_status resurfi_adjacency_build(const resurf_allocator *alloc, const uint32_t *indices, size_t triangle_count,
-                                      size_t vertex_count, resurfi_adjacency *out)
+/* The build; classify = 0 stops after phase 3 (see resurfi_adjacency_build_edges). */
+static resurf_status build(const resurf_allocator *alloc, const uint32_t *indices, size_t triangle_count,
+                           size_t vertex_count, int classify, resurfi_adjacency *out)
 {
     if (!out)
         return RESURF_ERR_INVALID_ARGUMENT;
@@ -349,12 +358,13 @@ resurf_status resurfi_adjacency_build(const resurf_allocator *alloc, const uint3
     out->vertex_count = vertex_count;
     out->triangle_count = triangle_count;
     uint32_t *scratch = NULL, *fan = NULL;
+    uint64_t *pairs = NULL;
     resurf_status status = RESURF_ERR_OUT_OF_MEMORY;
     if (!(scratch = resurfi_alloc(&out->alloc, vertex_count, sizeof *scratch)))
         goto fail;
     if ((status = build_vertex_faces(out, indices, scratch)) != RESURF_OK)
         goto fail;
-    /* The scratch list of phases 2 and 4 needs 2 entries per face of the busiest vertex. */
+    /* Phase 2 needs 2 pairs per face of the busiest vertex, phase 4 one entry. */
     size_t max_degree = 0;
     for (size_t v = 0; v < vertex_count; ++v) {
         size_t d = out->vertex_face_offset[v + 1] - out->vertex_face_offset[v];
@@ -362,17 +372,23 @@ resurf_status resurfi_adjacency_build(const resurf_allocator *alloc, const uint3
     }
     resurfi_free(&out->alloc, scratch);
     status = RESURF_ERR_OUT_OF_MEMORY;
-    if (!(scratch = resurfi_alloc(&out->alloc, 2 * max_degree, sizeof *scratch)))
+    scratch = NULL;
+    if (!(pairs = resurfi_alloc(&out->alloc, 2 * max_degree + 1, sizeof *pairs)))
         goto fail;
-    if ((status = build_edges(out, indices, scratch)) != RESURF_OK)
+    if ((status = build_edges(out, indices, pairs)) != RESURF_OK)
         goto fail;
-    if ((status = build_edge_faces(out, indices)) != RESURF_OK)
+    resurfi_free(&out->alloc, pairs);
+    pairs = NULL;
+    if ((status = build_edge_faces(out)) != RESURF_OK)
         goto fail;
+    if (!classify)
+        return RESURF_OK;
     status = RESURF_ERR_OUT_OF_MEMORY;
     size_t fan_count = 0;
+    scratch = resurfi_alloc(&out->alloc, max_degree + 1, sizeof *scratch);
     out->vertex_flags = resurfi_calloc(&out->alloc, vertex_count, sizeof *out->vertex_flags);
     fan = resurfi_alloc(&out->alloc, out->vertex_face_offset[vertex_count], sizeof *fan);
-    if (!out->vertex_flags || !fan)
+    if (!scratch || !out->vertex_flags || !fan)
         goto fail;
     classify_vertices(out, indices, scratch, fan, &fan_count);
     if ((status = count_boundary_loops(out, fan, fan_count)) != RESURF_OK)
@@ -382,9 +398,22 @@ resurf_status resurfi_adjacency_build(const resurf_allocator *alloc, const uint3
     return RESURF_OK;
 fail:
     resurfi_free(&out->alloc, scratch);
+    resurfi_free(&out->alloc, pairs);
     resurfi_free(&out->alloc, fan);
     resurfi_adjacency_free(out);
     return status;
+}
+
+resurf_status resurfi_adjacency_build(const resurf_allocator *alloc, const uint32_t *indices, size_t triangle_count,
+                                      size_t vertex_count, resurfi_adjacency *out)
+{
+    return build(alloc, indices, triangle_count, vertex_count, 1, out);
+}
+
+resurf_status resurfi_adjacency_build_edges(const resurf_allocator *alloc, const uint32_t *indices,
+                                            size_t triangle_count, size_t vertex_count, resurfi_adjacency *out)
+{
+    return build(alloc, indices, triangle_count, vertex_count, 0, out);
 }
 
 size_t resurfi_adjacency_components(const resurfi_adjacency *adj, const uint32_t *indices, uint32_t *component)

@@ -117,6 +117,10 @@ enum {
  * does not fit 32 bits; *out is then empty (freeing it is allowed). */
 resurf_status resurfi_adjacency_build(const resurf_allocator *alloc, const uint32_t *indices, size_t triangle_count,
                                       size_t vertex_count, resurfi_adjacency *out);
+/* The same without vertex_flags (left NULL) and boundary_loop_count (left 0): only vertex → faces and the edge
+ * tables, for holders that classify vertices their own way (the restorer). Cheaper by the fan search. */
+resurf_status resurfi_adjacency_build_edges(const resurf_allocator *alloc, const uint32_t *indices,
+                                            size_t triangle_count, size_t vertex_count, resurfi_adjacency *out);
 void resurfi_adjacency_free(resurfi_adjacency *adj);
 /* Frees the edge arrays, keeping the vertex-face lists and flags (for holders that only walk fans afterwards). */
 void resurfi_adjacency_drop_edges(resurfi_adjacency *adj);
@@ -197,6 +201,13 @@ vec3 resurfi_closest_on_triangle(vec3 p, vec3 a, vec3 b, vec3 c, double out_bary
 resurf_status resurfi_vertex_normals(const resurf_allocator *alloc, const double *positions, size_t vertex_count,
                                      const uint32_t *indices, size_t triangle_count, resurf_normal_scheme scheme,
                                      double *out_normals);
+/* The same normals (scheme not JET) for vertices that split positions: corner k of triangle t is vertex
+ * corner_vertex[3 t + k] (< vertex_count) at position tris[3 t + k] (a valid position index), every corner of a
+ * vertex at the same position. Equal, bit for bit, to resurfi_vertex_normals on the positions copied per vertex
+ * with corner_vertex as indices, without making that copy (the restorer's fans, split along creases). */
+resurf_status resurfi_vertex_normals_split(const double *positions, const uint32_t *tris,
+                                           const uint32_t *corner_vertex, size_t vertex_count,
+                                           size_t triangle_count, resurf_normal_scheme scheme, double *out_normals);
 
 /* ---- curvature (curvature.c) --------------------------------------------------------------------------------- */
 

@@ -33,55 +33,86 @@ static int face_valid(const uint32_t *tri, size_t vertex_count)
            tri[1] != tri[2] && tri[2] != tri[0];
 }
 
-/* Sums each face's weighted normal into its three corners (out_normals zeroed by the caller), then normalises. */
-static void accumulate_one_ring(const double *positions, size_t vertex_count, const uint32_t *indices,
-                                size_t triangle_count, resurf_normal_scheme scheme, double *out)
+/* What the weights of one face need: n = e1 × e2 (the same at every corner), |n|, n / |n| and the squared edge
+ * lengths. Returns 0 for a face that contributes nothing. */
+typedef struct face_weights {
+    vec3 p[3], n, nu;
+    double nl, len2[3]; /* len2[k]: edge k runs from corner k to corner k+1 */
+} face_weights;
+
+static inline int face_weights_of(const double *positions, const uint32_t *tri, face_weights *f)
+{
+    for (int k = 0; k < 3; ++k)
+        f->p[k] = v3_load(positions + 3 * (size_t)tri[k]);
+    /* n = (p1 − p0) × (p2 − p0) = e1 × e2 at every corner (edges to the next and the previous corner). */
+    f->n = v3_tri_cross(f->p[0], f->p[1], f->p[2]);
+    double longest = 0;
+    for (int k = 0; k < 3; ++k) {
+        f->len2[k] = v3_dist2(f->p[(k + 1) % 3], f->p[k]);
+        longest = fmax(longest, f->len2[k]);
+    }
+    f->nl = v3_len(f->n);
+    /* Zero area, or so thin (twice the area below 1e-12 of the longest edge squared) that the direction of n is
+     * rounding noise: no contribution. Under inverse-area weights such a face would otherwise dominate. */
+    if (!(f->nl > 1e-12 * longest) || !isfinite(f->nl))
+        return 0;
+    f->nu = v3_scale(f->n, 1.0 / f->nl);
+    return 1;
+}
+
+/* The weighted normal face f adds to its corner k (scheme not JET). */
+static inline vec3 corner_weight(const face_weights *f, int k, resurf_normal_scheme scheme)
+{
+    double l_next = f->len2[k], l_prev = f->len2[(k + 2) % 3]; /* |e1|², |e2|² at corner k */
+    switch (scheme) {
+    case RESURF_NORMALS_INVERSE_AREA:
+        return v3_scale(f->n, 1.0 / (f->nl * f->nl)); /* n_f / A_f up to the constant 2 */
+    case RESURF_NORMALS_AREA:
+        return f->n;
+    case RESURF_NORMALS_MAX:
+        return v3_scale(f->n, 1.0 / (l_next * l_prev));
+    default: { /* angle, also the jet's starting normal */
+        vec3 e1 = v3_sub(f->p[(k + 1) % 3], f->p[k]), e2 = v3_sub(f->p[(k + 2) % 3], f->p[k]);
+        return v3_scale(f->nu, atan2(f->nl, v3_dot(e1, e2)));
+    }
+    }
+}
+
+/* Sums each face's weighted normal into its three corners (out zeroed by the caller), then normalises. A corner's
+ * position is positions[corners[i]] and its vertex indices[i]: the two differ when the vertices split positions
+ * (resurfi_vertex_normals_split). */
+static void accumulate_one_ring(const double *positions, const uint32_t *corners, size_t vertex_count,
+                                const uint32_t *indices, size_t triangle_count, resurf_normal_scheme scheme,
+                                double *out)
 {
     for (size_t t = 0; t < triangle_count; ++t) {
         const uint32_t *tri = indices + 3 * t;
-        if (!face_valid(tri, vertex_count))
+        face_weights f;
+        if (!face_valid(tri, vertex_count) || !face_weights_of(positions, corners + 3 * t, &f))
             continue;
-        vec3 p[3];
-        for (int k = 0; k < 3; ++k)
-            p[k] = v3_load(positions + 3 * (size_t)tri[k]);
-        /* n = (p1 − p0) × (p2 − p0) = e1 × e2 at every corner (edges to the next and the previous corner). */
-        vec3 n = v3_tri_cross(p[0], p[1], p[2]);
-        double len2[3], longest = 0;
         for (int k = 0; k < 3; ++k) {
-            len2[k] = v3_dist2(p[(k + 1) % 3], p[k]); /* edge k runs from corner k to corner k+1 */
-            longest = fmax(longest, len2[k]);
-        }
-        double nl = v3_len(n);
-        /* Zero area, or so thin (twice the area below 1e-12 of the longest edge squared) that the direction of n is
-         * rounding noise: no contribution. Under inverse-area weights such a face would otherwise dominate. */
-        if (!(nl > 1e-12 * longest) || !isfinite(nl))
-            continue;
-        vec3 nu = v3_scale(n, 1.0 / nl);
-        for (int k = 0; k < 3; ++k) {
-            double l_next = len2[k], l_prev = len2[(k + 2) % 3]; /* |e1|², |e2|² at corner k */
-            vec3 w;
-            switch (scheme) {
-            case RESURF_NORMALS_INVERSE_AREA:
-                w = v3_scale(n, 1.0 / (nl * nl)); /* n_f / A_f up to the constant 2 */
-                break;
-            case RESURF_NORMALS_AREA:
-                w = n;
-                break;
-            case RESURF_NORMALS_MAX:
-                w = v3_scale(n, 1.0 / (l_next * l_prev));
-                break;
-            default: { /* angle, also the jet's starting normal */
-                vec3 e1 = v3_sub(p[(k + 1) % 3], p[k]), e2 = v3_sub(p[(k + 2) % 3], p[k]);
-                w = v3_scale(nu, atan2(nl, v3_dot(e1, e2)));
-                break;
-            }
-            }
+            vec3 w = corner_weight(&f, k, scheme);
             double *o = out + 3 * (size_t)tri[k];
             o[0] += w.x, o[1] += w.y, o[2] += w.z;
         }
     }
     for (size_t v = 0; v < vertex_count; ++v)
         v3_store(out + 3 * v, unit(v3_load(out + 3 * v)));
+}
+
+resurf_status resurfi_vertex_normals_split(const double *positions, const uint32_t *tris,
+                                           const uint32_t *corner_vertex, size_t vertex_count,
+                                           size_t triangle_count, resurf_normal_scheme scheme, double *out_normals)
+{
+    if ((unsigned)scheme >= RESURF_NORMALS_COUNT || scheme == RESURF_NORMALS_JET)
+        return RESURF_ERR_INVALID_ARGUMENT;
+    if ((vertex_count && !out_normals) || (triangle_count && (!positions || !tris || !corner_vertex)))
+        return RESURF_ERR_INVALID_ARGUMENT;
+    if (vertex_count == 0)
+        return RESURF_OK;
+    memset(out_normals, 0, 3 * vertex_count * sizeof *out_normals);
+    accumulate_one_ring(positions, tris, vertex_count, corner_vertex, triangle_count, scheme, out_normals);
+    return RESURF_OK;
 }
 
 /* ---- jet fitting --------------------------------------------------------------------------------------------------- */
@@ -328,7 +359,7 @@ resurf_status resurfi_vertex_normals(const resurf_allocator *alloc, const double
     if (vertex_count == 0)
         return RESURF_OK;
     memset(out_normals, 0, 3 * vertex_count * sizeof *out_normals);
-    accumulate_one_ring(positions, vertex_count, indices, triangle_count,
+    accumulate_one_ring(positions, indices, vertex_count, indices, triangle_count,
                         scheme == RESURF_NORMALS_JET ? RESURF_NORMALS_ANGLE : scheme, out_normals);
     if (scheme != RESURF_NORMALS_JET)
         return RESURF_OK;

@@ -47,6 +47,7 @@
 enum {
     CHUNK_VERTICES = 1 << 15, /* vertices between two progress reports */
     BLOCK_VERTICES = 256,     /* parallel block: small enough to balance, large enough to amortise the hand-out */
+    BLOCK_SETUP = 8192,       /* parallel block of the set-up loops (cheap elements) */
 };
 
 /* A barycentric at or below this is zero: the closest point lies on the opposite edge (Ericson's region test in
@@ -257,35 +258,90 @@ static int split_input_normals(const resurfi_restorer *r, const resurf_mesh *m, 
     return 0;
 }
 
-/* Phase 2: topology, crease and boundary edges. */
-static resurf_status classify_edges(resurfi_restorer *r, const resurf_mesh *m, resurf_error *error)
+/* The set-up phases below run their per-element loops on the restorer's threads; each element writes only its own
+ * outputs from inputs no other element writes, so the results do not depend on the thread count. */
+typedef struct setup_job {
+    resurfi_restorer *r;
+    const resurf_mesh *m;
+    double crease_cos;
+    int by_angle, by_normals;
+    double *face_normals; /* 3 per triangle (classify_edges) */
+    uint8_t *reliable;    /* per triangle: reliable_normal (classify_edges) */
+    size_t max_degree;    /* split_fans: the most faces of a position */
+    uint32_t *fan_scratch; /* split_fans: 2 max_degree per worker */
+    uint32_t *fan_base;   /* split_fans: per position, its fan count, then its first fan id */
+} setup_job;
+
+static unsigned setup_threads(const resurfi_restorer *r) { return resurfi_thread_count(r->opt.threads); }
+
+/* Each face's unit normal and reliability once, rather than once per side in the edge loop. */
+static int face_normals_block(void *ctx, size_t begin, size_t end, unsigned worker)
 {
-    resurf_status s = resurfi_adjacency_build(&r->alloc, r->tris, r->triangle_count, r->position_count, &r->adj);
-    if (s != RESURF_OK)
-        return resurfi_error(error, s, "cannot build the original mesh's adjacency");
+    (void)worker;
+    const setup_job *j = ctx;
+    for (size_t t = begin; t < end; ++t) {
+        v3_store(j->face_normals + 3 * t, face_normal(j->r, t));
+        j->reliable[t] = (uint8_t)reliable_normal(j->r, t);
+    }
+    return 0;
+}
+
+static int classify_block(void *ctx, size_t begin, size_t end, unsigned worker)
+{
+    (void)worker;
+    const setup_job *j = ctx;
+    resurfi_restorer *r = j->r;
     const resurfi_adjacency *adj = &r->adj;
-    r->edge_kind = resurfi_calloc(&r->alloc, adj->edge_count ? adj->edge_count : 1, 1);
-    if (!r->edge_kind)
-        return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory classifying edges");
-    double crease_cos = cos(r->opt.crease_angle_deg * (M_PI / 180.0));
-    int by_angle = r->opt.crease_angle_deg < 180;
-    int by_normals = r->opt.use_input_normals && m->normals;
-    for (size_t e = 0; e < adj->edge_count; ++e) {
+    for (size_t e = begin; e < end; ++e) {
         uint32_t nf = resurfi_edge_face_count(adj, (uint32_t)e);
         const uint32_t *faces = adj->edge_faces + adj->edge_face_offset[e];
         if (nf == 1) {
             if (r->opt.boundary)
                 r->edge_kind[e] = FEATURE_BOUNDARY;
         } else if (nf == 2) {
-            vec3 a = face_normal(r, faces[0]), b = face_normal(r, faces[1]);
-            int crease = by_angle && reliable_normal(r, faces[0]) && reliable_normal(r, faces[1]) &&
-                         v3_dot(a, b) < crease_cos;
-            if (!crease && by_normals)
-                crease = split_input_normals(r, m, (uint32_t)e, faces[0], faces[1]);
+            int crease = 0;
+            if (j->by_angle && j->reliable[faces[0]] && j->reliable[faces[1]]) {
+                vec3 a = v3_load(j->face_normals + 3 * (size_t)faces[0]);
+                vec3 b = v3_load(j->face_normals + 3 * (size_t)faces[1]);
+                crease = v3_dot(a, b) < j->crease_cos;
+            }
+            if (!crease && j->by_normals)
+                crease = split_input_normals(r, j->m, (uint32_t)e, faces[0], faces[1]);
             if (crease)
                 r->edge_kind[e] = FEATURE_CREASE;
         }
     }
+    return 0;
+}
+
+/* Phase 2: topology, crease and boundary edges. */
+static resurf_status classify_edges(resurfi_restorer *r, const resurf_mesh *m, resurf_error *error)
+{
+    resurf_status s = resurfi_adjacency_build_edges(&r->alloc, r->tris, r->triangle_count, r->position_count, &r->adj);
+    if (s != RESURF_OK)
+        return resurfi_error(error, s, "cannot build the original mesh's adjacency");
+    const resurfi_adjacency *adj = &r->adj;
+    r->edge_kind = resurfi_calloc(&r->alloc, adj->edge_count ? adj->edge_count : 1, 1);
+    if (!r->edge_kind)
+        return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory classifying edges");
+    setup_job j = {.r = r,
+                   .m = m,
+                   .crease_cos = cos(r->opt.crease_angle_deg * (M_PI / 180.0)),
+                   .by_angle = r->opt.crease_angle_deg < 180,
+                   .by_normals = r->opt.use_input_normals && m->normals};
+    if (j.by_angle) {
+        j.face_normals = resurfi_alloc(&r->alloc, r->triangle_count, 3 * sizeof(double));
+        j.reliable = resurfi_alloc(&r->alloc, r->triangle_count, 1);
+        if (!j.face_normals || !j.reliable) {
+            resurfi_free(&r->alloc, j.face_normals);
+            resurfi_free(&r->alloc, j.reliable);
+            return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory classifying edges");
+        }
+        resurfi_parallel_for(r->triangle_count, BLOCK_SETUP, setup_threads(r), face_normals_block, &j);
+    }
+    resurfi_parallel_for(adj->edge_count, BLOCK_SETUP, setup_threads(r), classify_block, &j);
+    resurfi_free(&r->alloc, j.face_normals);
+    resurfi_free(&r->alloc, j.reliable);
     return RESURF_OK;
 }
 
@@ -296,30 +352,15 @@ static uint32_t uf_find(uint32_t *parent, uint32_t x)
     return x;
 }
 
-/* Phase 3: split every vertex into its fans (faces connected across manifold, non-crease edges ending there) and
- * give each corner the id of its fan. Triangles the adjacency ignores (a repeated position) take the vertex's
- * first fan, or a fan of their own. */
-static resurf_status split_fans(resurfi_restorer *r, resurf_error *error)
+/* Phase 3, per position v: number v's fans 0, 1, ... in the order of their lowest face, give each of v's corners the
+ * number of its fan and put the count in fan_base[v]. Vertices own their corners: blocks write disjoint entries. */
+static int fans_block(void *ctx, size_t begin, size_t end, unsigned worker)
 {
+    const setup_job *j = ctx;
+    resurfi_restorer *r = j->r;
     const resurfi_adjacency *adj = &r->adj;
-    size_t nt = r->triangle_count;
-    r->corner_split = resurfi_alloc(&r->alloc, nt, 3 * sizeof(uint32_t));
-    size_t max_degree = 1;
-    for (size_t v = 0; v < r->position_count; ++v) {
-        size_t d = adj->vertex_face_offset[v + 1] - adj->vertex_face_offset[v];
-        max_degree = d > max_degree ? d : max_degree;
-    }
-    uint32_t *parent = resurfi_alloc(&r->alloc, max_degree, sizeof *parent);
-    uint32_t *fan_id = resurfi_alloc(&r->alloc, max_degree, sizeof *fan_id);
-    if (!r->corner_split || !parent || !fan_id) {
-        resurfi_free(&r->alloc, parent);
-        resurfi_free(&r->alloc, fan_id);
-        return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory splitting crease fans");
-    }
-    for (size_t i = 0; i < 3 * nt; ++i)
-        r->corner_split[i] = UINT32_MAX;
-    uint32_t next = 0;
-    for (size_t v = 0; v < r->position_count; ++v) {
+    uint32_t *parent = j->fan_scratch + 2 * j->max_degree * worker, *fan_id = parent + j->max_degree;
+    for (size_t v = begin; v < end; ++v) {
         const uint32_t *faces = adj->vertex_faces + adj->vertex_face_offset[v];
         uint32_t n = adj->vertex_face_offset[v + 1] - adj->vertex_face_offset[v];
         for (uint32_t i = 0; i < n; ++i)
@@ -333,10 +374,12 @@ static resurf_status split_fans(resurfi_restorer *r, resurf_error *error)
                     r->edge_kind[e] == FEATURE_CREASE)
                     continue;
                 const uint32_t *ef = adj->edge_faces + adj->edge_face_offset[e];
-                uint32_t g = ef[0] == f ? ef[1] : ef[0];
-                for (uint32_t j = 0; j < n; ++j) /* faces are sorted: the fan lists are short */
-                    if (faces[j] == g) {
-                        uint32_t x = uf_find(parent, i), y = uf_find(parent, j);
+                if (ef[0] != f) /* the edge's faces are sorted: join each pair once, from its lower face */
+                    continue;
+                uint32_t g = ef[1];
+                for (uint32_t k = i + 1; k < n; ++k) /* v's faces are sorted too, and few */
+                    if (faces[k] == g) {
+                        uint32_t x = uf_find(parent, i), y = uf_find(parent, k);
                         if (x != y)
                             parent[x > y ? x : y] = x < y ? x : y;
                         break;
@@ -345,16 +388,70 @@ static resurf_status split_fans(resurfi_restorer *r, resurf_error *error)
         }
         for (uint32_t i = 0; i < n; ++i)
             fan_id[i] = UINT32_MAX;
+        uint32_t count = 0;
         for (uint32_t i = 0; i < n; ++i) {
             uint32_t root = uf_find(parent, i);
             if (fan_id[root] == UINT32_MAX)
-                fan_id[root] = next++;
+                fan_id[root] = count++;
             int k = corner_of(r, faces[i], (uint32_t)v);
             r->corner_split[3 * (size_t)faces[i] + k] = fan_id[root];
         }
+        j->fan_base[v] = count;
     }
-    /* corners of ignored triangles */
-    for (size_t t = 0; t < nt; ++t)
+    return 0;
+}
+
+/* Phase 3, per triangle: a vertex's fan number plus the fans of all lower positions is the fan's id. */
+static int fan_ids_block(void *ctx, size_t begin, size_t end, unsigned worker)
+{
+    (void)worker;
+    const setup_job *j = ctx;
+    resurfi_restorer *r = j->r;
+    for (size_t i = 3 * begin; i < 3 * end; ++i)
+        if (r->corner_split[i] != UINT32_MAX)
+            r->corner_split[i] += j->fan_base[r->tris[i]];
+    return 0;
+}
+
+/* Phase 3: split every vertex into its fans (faces connected across manifold, non-crease edges ending there) and
+ * give each corner the id of its fan, numbered position by position. Triangles the adjacency ignores (a repeated
+ * position) take the vertex's first fan, or a fan of their own. */
+static resurf_status split_fans(resurfi_restorer *r, resurf_error *error)
+{
+    const resurfi_adjacency *adj = &r->adj;
+    size_t nt = r->triangle_count, nv = r->position_count;
+    unsigned threads = setup_threads(r);
+    size_t max_degree = 1;
+    for (size_t v = 0; v < nv; ++v) {
+        size_t d = adj->vertex_face_offset[v + 1] - adj->vertex_face_offset[v];
+        max_degree = d > max_degree ? d : max_degree;
+    }
+    setup_job j = {.r = r, .max_degree = max_degree};
+    r->corner_split = resurfi_alloc(&r->alloc, nt, 3 * sizeof(uint32_t));
+    j.fan_scratch = resurfi_alloc(&r->alloc, (size_t)threads * 2 * max_degree, sizeof(uint32_t));
+    j.fan_base = resurfi_alloc(&r->alloc, nv, sizeof(uint32_t));
+    if (!r->corner_split || !j.fan_scratch || !j.fan_base) {
+        resurfi_free(&r->alloc, j.fan_scratch);
+        resurfi_free(&r->alloc, j.fan_base);
+        return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory splitting crease fans");
+    }
+    /* Corners of valid triangles all get a fan below; only ignored triangles (3 fewer vertex-face entries each)
+     * need the mark. */
+    int ignored = adj->vertex_face_offset[nv] != 3 * nt;
+    if (ignored)
+        memset(r->corner_split, 0xff, nt * 3 * sizeof(uint32_t));
+    resurfi_parallel_for(nv, BLOCK_SETUP, threads, fans_block, &j);
+    uint32_t next = 0;
+    for (size_t v = 0; v < nv; ++v) {
+        uint32_t count = j.fan_base[v];
+        j.fan_base[v] = next;
+        next += count;
+    }
+    resurfi_parallel_for(nt, BLOCK_SETUP, threads, fan_ids_block, &j);
+    resurfi_free(&r->alloc, j.fan_scratch);
+    resurfi_free(&r->alloc, j.fan_base);
+    /* corners of ignored triangles, in triangle order */
+    for (size_t t = 0; t < nt && ignored; ++t)
         for (int k = 0; k < 3; ++k) {
             if (r->corner_split[3 * t + k] != UINT32_MAX)
                 continue;
@@ -367,8 +464,6 @@ static resurf_status split_fans(resurfi_restorer *r, resurf_error *error)
                 r->corner_split[3 * t + k] = next++;
             }
         }
-    resurfi_free(&r->alloc, parent);
-    resurfi_free(&r->alloc, fan_id);
     r->split_count = next;
     return RESURF_OK;
 }
@@ -402,17 +497,27 @@ static resurf_status take_input_normals(resurfi_restorer *r, const resurf_mesh *
 static resurf_status estimate_normals(resurfi_restorer *r, const resurf_mesh *m, resurf_error *error)
 {
     size_t ns = r->split_count, nt = r->triangle_count;
-    double *split_positions = resurfi_alloc(&r->alloc, ns ? ns : 1, 3 * sizeof(double));
+    int curvatures = r->opt.side_rule == RESURF_SIDE_CURVATURE && r->opt.displacement == RESURF_DISPLACEMENT_PAPER;
+    /* The 1-ring schemes read the positions through the triangles; the jet and the curvatures need them copied per
+     * split vertex. */
+    int in_place = r->opt.normals != RESURF_NORMALS_JET && !curvatures;
+    double *split_positions = in_place ? NULL : resurfi_alloc(&r->alloc, ns ? ns : 1, 3 * sizeof(double));
     r->split_normals = resurfi_calloc(&r->alloc, ns ? ns : 1, 3 * sizeof(double));
-    if (!split_positions || !r->split_normals) {
+    if ((!in_place && !split_positions) || !r->split_normals) {
         resurfi_free(&r->alloc, split_positions);
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory estimating normals");
     }
-    for (size_t i = 0; i < 3 * nt; ++i)
-        memcpy(split_positions + 3 * (size_t)r->corner_split[i], r->positions + 3 * (size_t)r->tris[i],
-               3 * sizeof(double));
-    resurf_status s = resurfi_vertex_normals(&r->alloc, split_positions, ns, r->corner_split, nt, r->opt.normals,
-                                             r->split_normals);
+    resurf_status s;
+    if (in_place) {
+        s = resurfi_vertex_normals_split(r->positions, r->tris, r->corner_split, ns, nt, r->opt.normals,
+                                         r->split_normals);
+    } else {
+        for (size_t i = 0; i < 3 * nt; ++i)
+            memcpy(split_positions + 3 * (size_t)r->corner_split[i], r->positions + 3 * (size_t)r->tris[i],
+                   3 * sizeof(double));
+        s = resurfi_vertex_normals(&r->alloc, split_positions, ns, r->corner_split, nt, r->opt.normals,
+                                   r->split_normals);
+    }
     if (s != RESURF_OK) {
         resurfi_free(&r->alloc, split_positions);
         return resurfi_error(error, s, "cannot estimate the original mesh's vertex normals");
@@ -421,7 +526,7 @@ static resurf_status estimate_normals(resurfi_restorer *r, const resurf_mesh *m,
         resurfi_free(&r->alloc, split_positions);
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory taking the input normals");
     }
-    if (r->opt.side_rule == RESURF_SIDE_CURVATURE && r->opt.displacement == RESURF_DISPLACEMENT_PAPER) {
+    if (curvatures) {
         r->k1 = resurfi_alloc(&r->alloc, ns ? ns : 1, sizeof(double));
         r->k2 = resurfi_alloc(&r->alloc, ns ? ns : 1, sizeof(double));
         r->dir1 = resurfi_alloc(&r->alloc, ns ? ns : 1, 3 * sizeof(double));
@@ -438,6 +543,20 @@ static resurf_status estimate_normals(resurfi_restorer *r, const resurf_mesh *m,
     }
     resurfi_free(&r->alloc, split_positions);
     return RESURF_OK;
+}
+
+/* Each triangle side's kind from its edge's. */
+static int side_kind_block(void *ctx, size_t begin, size_t end, unsigned worker)
+{
+    (void)worker;
+    resurfi_restorer *r = ((const setup_job *)ctx)->r;
+    for (size_t t = begin; t < end; ++t)
+        for (int k = 0; k < 3; ++k) {
+            uint32_t e = r->adj.face_edges[3 * t + (size_t)k];
+            if (e != UINT32_MAX)
+                r->side_kind[t] |= (uint8_t)(r->edge_kind[e] << (2 * k));
+        }
+    return 0;
 }
 
 /* Phase 5: per position, the mean length of its edges (the local edge length), its feature edges and the
@@ -504,12 +623,8 @@ static resurf_status trace_features(resurfi_restorer *r, resurf_error *error)
     r->side_kind = resurfi_calloc(&r->alloc, r->triangle_count ? r->triangle_count : 1, 1);
     if (!r->side_kind)
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory tracing feature curves");
-    for (size_t t = 0; t < r->triangle_count; ++t)
-        for (int k = 0; k < 3; ++k) {
-            uint32_t e = adj->face_edges[3 * t + (size_t)k];
-            if (e != UINT32_MAX)
-                r->side_kind[t] |= (uint8_t)(r->edge_kind[e] << (2 * k));
-        }
+    setup_job j = {.r = r};
+    resurfi_parallel_for(r->triangle_count, BLOCK_SETUP, setup_threads(r), side_kind_block, &j);
     resurfi_adjacency_drop_edges(&r->adj);
     resurfi_free(&r->alloc, r->edge_kind);
     r->edge_kind = NULL;
@@ -526,12 +641,11 @@ static vec3 tangent_at(const resurfi_restorer *r, uint32_t v)
 /* Phase 6: which triangles can carry a root. A zero-area triangle (a T-junction sliver, a collapsed face), one
  * with a corner that has no normal (a vertex of zero-area faces only) or one whose corner normals are 90° or more
  * apart gives no meaningful optimal direction; the search then goes to the triangles around it. */
-static resurf_status mark_usable(resurfi_restorer *r, resurf_error *error)
+static int usable_block(void *ctx, size_t begin, size_t end, unsigned worker)
 {
-    r->usable = resurfi_alloc(&r->alloc, r->triangle_count, 1);
-    if (!r->usable)
-        return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory marking triangles");
-    for (size_t t = 0; t < r->triangle_count; ++t) {
+    (void)worker;
+    resurfi_restorer *r = ((const setup_job *)ctx)->r;
+    for (size_t t = begin; t < end; ++t) {
         const uint32_t *i = r->tris + 3 * t;
         vec3 a = position(r, i[0]), b = position(r, i[1]), c = position(r, i[2]);
         double longest2 = fmax(fmax(v3_dist2(a, b), v3_dist2(b, c)), v3_dist2(c, a));
@@ -547,6 +661,16 @@ static resurf_status mark_usable(resurfi_restorer *r, resurf_error *error)
             ok = v3_dot(n[k], n[(k + 1) % 3]) > 0;
         r->usable[t] = (uint8_t)ok;
     }
+    return 0;
+}
+
+static resurf_status mark_usable(resurfi_restorer *r, resurf_error *error)
+{
+    r->usable = resurfi_alloc(&r->alloc, r->triangle_count, 1);
+    if (!r->usable)
+        return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory marking triangles");
+    setup_job j = {.r = r};
+    resurfi_parallel_for(r->triangle_count, BLOCK_SETUP, setup_threads(r), usable_block, &j);
     return RESURF_OK;
 }
 

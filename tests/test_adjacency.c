@@ -485,6 +485,20 @@ static void check_against_brute_force(const resurf_mesh *m)
         ck_assert_uint_eq(adj.vertex_flags[v], expected);
     }
     ck_assert_uint_eq(resurfi_adjacency_components(&adj, m->indices, NULL), naive_components(m, 0));
+    /* The edge-only build: the same tables (checked above), no flags, no loop count. */
+    resurfi_adjacency lite;
+    ck_assert_int_eq(resurfi_adjacency_build_edges(NULL, m->indices, nt, nv, &lite), RESURF_OK);
+    ck_assert_uint_eq(lite.edge_count, adj.edge_count);
+    ck_assert_ptr_null(lite.vertex_flags);
+    ck_assert_uint_eq(lite.boundary_loop_count, 0);
+    ck_assert_mem_eq(lite.vertex_face_offset, adj.vertex_face_offset, (nv + 1) * sizeof(uint32_t));
+    ck_assert_mem_eq(lite.vertex_faces, adj.vertex_faces, adj.vertex_face_offset[nv] * sizeof(uint32_t));
+    ck_assert_mem_eq(lite.vertex_edge_offset, adj.vertex_edge_offset, (nv + 1) * sizeof(uint32_t));
+    ck_assert_mem_eq(lite.edge_vertices, adj.edge_vertices, 2 * adj.edge_count * sizeof(uint32_t));
+    ck_assert_mem_eq(lite.edge_face_offset, adj.edge_face_offset, (adj.edge_count + 1) * sizeof(uint32_t));
+    ck_assert_mem_eq(lite.edge_faces, adj.edge_faces, adj.edge_face_offset[adj.edge_count] * sizeof(uint32_t));
+    ck_assert_mem_eq(lite.face_edges, adj.face_edges, 3 * nt * sizeof(uint32_t));
+    resurfi_adjacency_free(&lite);
     free(faces);
     resurfi_adjacency_free(&adj);
 }

@@ -227,6 +227,40 @@ START_TEST(rejects_bad_arguments)
 }
 END_TEST
 
+/* Vertices that split positions (as the restorer splits them along creases): reading the positions through the
+ * triangles gives bit for bit the normals of the mesh whose positions are copied per vertex, degenerate faces with
+ * a repeated position but distinct vertices included. */
+START_TEST(split_vertices_match_copied_positions)
+{
+    resurf_mesh *m = shape_mesh(SHAPE_TORUS, 3000, 0.3, 5, 0);
+    ck_assert_ptr_nonnull(m);
+    size_t nt = m->triangle_count + 1, nv = m->vertex_count, ns = 2 * nv;
+    uint32_t *tris = malloc(3 * nt * sizeof *tris), *split = malloc(3 * nt * sizeof *split);
+    double *copied = malloc(3 * ns * sizeof *copied), *a = malloc(3 * ns * sizeof *a), *b = malloc(3 * ns * sizeof *b);
+    ck_assert(tris && split && copied && a && b);
+    memcpy(tris, m->indices, 3 * m->triangle_count * sizeof *tris);
+    tris[3 * nt - 3] = 0, tris[3 * nt - 2] = 0, tris[3 * nt - 1] = 1; /* a repeated position */
+    for (size_t i = 0; i < 3 * nt; ++i) /* vertex 2v or 2v + 1 of position v: by the triangle's parity */
+        split[i] = 2 * tris[i] + (uint32_t)((i / 3) % 2);
+    split[3 * nt - 2] ^= 1; /* distinct vertices on the repeated position */
+    for (size_t v = 0; v < ns; ++v)
+        memcpy(copied + 3 * v, m->positions + 3 * (v / 2), 3 * sizeof(double));
+    for (int sc = 0; sc < RESURF_NORMALS_COUNT; ++sc) {
+        resurf_normal_scheme scheme = (resurf_normal_scheme)sc;
+        if (scheme == RESURF_NORMALS_JET) {
+            ck_assert_int_eq(resurfi_vertex_normals_split(m->positions, tris, split, ns, nt, scheme, b),
+                             RESURF_ERR_INVALID_ARGUMENT);
+            continue;
+        }
+        ck_assert_int_eq(resurfi_vertex_normals(NULL, copied, ns, split, nt, scheme, a), RESURF_OK);
+        ck_assert_int_eq(resurfi_vertex_normals_split(m->positions, tris, split, ns, nt, scheme, b), RESURF_OK);
+        ck_assert_msg(memcmp(a, b, 3 * ns * sizeof *a) == 0, "%s: split normals differ", scheme_names[sc]);
+    }
+    free(tris), free(split), free(copied), free(a), free(b);
+    resurf_mesh_free(m);
+}
+END_TEST
+
 Suite *make_suite(void)
 {
     Suite *s = suite_create("normals");
@@ -239,6 +273,7 @@ Suite *make_suite(void)
     tcase_add_test(tc, jet_falls_back_on_small_rings);
     tcase_add_test(tc, flipped_orientation_flips_normals);
     tcase_add_test(tc, rejects_bad_arguments);
+    tcase_add_test(tc, split_vertices_match_copied_positions);
     suite_add_tcase(s, tc);
     return s;
 }
