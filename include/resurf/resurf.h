@@ -815,7 +815,11 @@ typedef struct resurf_simplify_report {
 } resurf_simplify_report;
 
 /* Simplifies a mesh by edge collapses (Garland–Heckbert quadrics) over welded positions, restoring new vertices
- * onto the smooth surface the input approximates (Semenova et al., §4.2) as options->restore says.
+ * onto the smooth surface the input approximates (Semenova et al., §4.2) as options->restore says. Cheapest
+ * first: the candidate collapses, sorted by cost, are taken in passes of collapses that share no end (each pass up
+ * to a cost limit), so every cost stays exact while a pass runs and a pass's placements can be restored on all
+ * threads at once. A new vertex's closest triangle of the input is found by walking the input from the triangle
+ * where its collapsed end was restored.
  * - in: finite positions where triangles refer, indices in range (else RESURF_ERR_INVALID_MESH naming the element);
  *   triangles with a repeated position are dropped; any topology is accepted (non-manifold vertices stay put).
  *   Not modified.
