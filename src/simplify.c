@@ -60,6 +60,15 @@ static const double TIP_GUARD = 0.25;
 static const double TIP_ERROR = 2;
 static const double TIP_PENALTY = 1e6;
 
+/* A triangle's plane enters its corners' quadrics weighted by its area, but by at least AREA_FLOOR × the mean
+ * triangle area: with the area alone, a dense cluster of tiny triangles (a small sharp feature or a scanning
+ * artefact) is erased at almost no cost, though the Hausdorff distance counts it fully. Measured with
+ * bench_simplify on the dragon scan (871k triangles), two-sided Hausdorff over meshoptimizer's at 50%, 10%, 2%:
+ * without the floor 1.04, 0.63, 0.88 (--restore none) and 1.65, 0.87, 0.90 (inline); at 0.75: 0.23, 0.46, 0.61 and
+ * 1.43, 0.60, 0.77 (0.5 and 1 did worse on the scan or on the analytic cubic surface, whose mean distances at 10% and
+ * 2% move by 1% or less at 0.75). */
+static const double AREA_FLOOR = 0.75;
+
 /* A pass of collapse_until goes up to the cost of the candidate at PASS_SHARE of the sorted list. Measured with
  * bench_simplify on the 20k analytic shapes at 10% and 2%: at 0.05 the distances to the true surface are those of
  * one collapse at a time (the order of a binary heap) within ±1%, at 0.25 within 3%, at 1 up to 6% worse; the time
@@ -163,6 +172,7 @@ typedef struct simplifier {
     const resurf_allocator *alloc; /* the call's (options, else the input's): temporaries and the output */
     unsigned threads;
     double diagonal, max_error;
+    double area_floor;   /* AREA_FLOOR × the mean triangle area */
     vec3 origin;         /* the bounding box's centre: quadrics are built around it, where their expanded form
                             xᵀAx + 2bᵀx + c loses the fewest digits to cancellation */
 
@@ -630,6 +640,15 @@ static int analyse_position(simplifier *s, uint32_t a, scratch *sc, uint8_t *out
             resurfi_quadric tq = resurfi_quadric_triangle(v3_sub(s->P[TV(3 * t)].p, s->origin),
                                                           v3_sub(s->P[TV(3 * t + 1)].p, s->origin),
                                                           v3_sub(s->P[TV(3 * t + 2)].p, s->origin));
+            if (tq.w > 0 && tq.w < s->area_floor) {
+                double k = s->area_floor / tq.w;
+                for (int j = 0; j < 6; ++j)
+                    tq.a[j] *= k;
+                for (int j = 0; j < 3; ++j)
+                    tq.b[j] *= k;
+                tq.c *= k;
+                tq.w *= k;
+            }
             resurfi_quadric_add(&q, &tq);
         }
     vec3 pa = s->P[a].p;
@@ -2306,6 +2325,10 @@ static resurf_status start(simplifier *s, scratch *scratch, resurf_error *error)
     }
     if (resurfi_progress(&s->opt.progress, "prepare", 0.5))
         return resurfi_error(error, RESURF_ERR_CANCELLED, "simplification cancelled");
+    double area = 0;
+    for (size_t t = 0; t < s->tri_count; ++t)
+        area += 0.5 * v3_len(v3_tri_cross(s->P[s->tri[t].v[0]].p, s->P[s->tri[t].v[1]].p, s->P[s->tri[t].v[2]].p));
+    s->area_floor = AREA_FLOOR * area / (double)s->tri_count;
     uint32_t *up = resurfi_alloc(s->alloc, s->pos_count, sizeof *up);
     analyse_job aj = {s, scratch, up};
     if (!up || resurfi_parallel_for(s->pos_count, BLOCK_POSITIONS, s->threads, analyse_block, &aj)) {
