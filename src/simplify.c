@@ -21,8 +21,9 @@
  * Collapses work on welded positions. A triangle corner keeps its wedge (the id of an input attribute vertex); when
  * a position disappears, each corner takes the wedge of the surviving position on its side of any seam, which is
  * why a seam vertex may only collapse along its seam (the rule table is in plan_collapse).
- * Nothing here depends on the thread count: parallel phases write per-element results only, and the collapses are
- * applied one after the other. */
+ * Nothing here depends on the thread count: parallel phases write per-element results only, and the collapses
+ * applied in parallel are those of a chunk with disjoint stars (collapse_until), whose results are merged in the
+ * chunk's order. */
 #include <float.h>
 #include <math.h>
 #include <stdlib.h>
@@ -45,7 +46,8 @@ enum {
     BLOCK_POSITIONS = 1024,       /* parallel block sizes */
     BLOCK_SAMPLES = 4096,
     SMALL_SORT = 24,              /* fans up to this size are insertion-sorted */
-    CHUNK = 1024,                 /* candidates of a pass planned and restored together (inline restoration) */
+    CHUNK = 1024,                 /* candidates of a pass applied together */
+    WINDOW = 1536,                /* candidates whose stars are gathered for a chunk, besides those put aside */
 };
 
 /* The tip guard (tip_excess): an end's old position may lie TIP_GUARD × the edge's length, or TIP_ERROR × the
@@ -74,6 +76,15 @@ static const double AREA_FLOOR = 0.75;
  * one collapse at a time (the order of a binary heap) within ±1%, at 0.25 within 3%, at 1 up to 6% worse; the time
  * on 1M triangles hardly changes (most of a pass's cost is per collapse, not per pass). */
 static const double PASS_SHARE = 0.05;
+
+/* Whether collapse_until applies chunks of candidates with disjoint stars in parallel, with inline restoration and
+ * without (see collapse_until). A choice by mode, never by thread count: results depend on it. Finding the stars
+ * costs about 30% more work in all (so one thread is that much slower); measured on a 1M torus at 10% with 2 threads
+ * on a quiet 2-core machine, three runs each: none 1.75–1.82 -> 1.38–1.53 s, inline 2.84–2.90 -> 2.41–2.49 s. On a
+ * machine busy with other jobs the medians lose (a fork-join per chunk waits for a descheduled thread). With 0
+ * both keep the one-by-one application, whose results are those of the sequential loop. */
+static const int PARALLEL_INLINE = 1;
+static const int PARALLEL_PLAIN = 1;
 
 /* Per-position flags. */
 enum {
@@ -122,6 +133,7 @@ typedef struct scratch {
     uint32_t *uf;
     size_t pairs_cap;
     size_t blocked[5]; /* candidates refused while seeding, by BLOCK_* reason */
+    char pad[128];     /* one per worker, side by side: keeps their counters off each other's cache lines */
 } scratch;
 
 /* A planned collapse of edge (a, b). */
@@ -158,13 +170,45 @@ typedef struct work_pos {
 #define TW(c) (s->tri[(c) / 3].w[(c) % 3])
 #define TNEXT(c) (s->tri[(c) / 3].next[(c) % 3])
 
-/* A candidate taken up by a pass: its place in the list and, with inline restoration, its placement restored. */
+/* Candidate `index` of the list as gathered ahead of the claims (star_block): its ends' fans (live corners, in
+ * list order: what gather_fan returns) and its closed star (the ends and their neighbours, each once). count is 0
+ * when the candidate has no business in this pass, STAR_OVERFLOW when it did not fit in STAR_MAX words (gathered
+ * again where needed). */
+typedef struct window_entry {
+    size_t index;
+    uint32_t count; /* of star positions */
+    uint32_t na, nb;
+} window_entry;
+
+enum { STAR_MAX = 96, STAR_OVERFLOW = UINT32_MAX };
+
+/* A candidate taken up by a pass: its place in the list and, with inline restoration, its placement restored.
+ * Applied on a worker (apply_block), also where its results wait in that worker's lane. */
 typedef struct pending {
     size_t index;
     vec3 p, restored;
     uint32_t home;
     uint8_t restore, left;
+    unsigned worker;
+    uint32_t window;                 /* its entry in the window (its ends' fans gathered), NONE if none */
+    uint32_t keep;                   /* the surviving end, when collapsed */
+    size_t fresh_begin, fresh_end;   /* its new candidates in the lane's fresh */
+    size_t renew_begin, renew_end;   /* its renewed neighbours in the lane's renew, planned after the chunk */
 } pending;
+
+/* What one collapse writes besides its own star: per worker, so that the collapses of a chunk run in parallel
+ * (see collapse_until). Merged into the simplifier after each chunk, in the chunk's order. */
+typedef struct lane {
+    u32vec fan_a, fan_b, fan_c, touched, renew;
+    uint32_t *mark;         /* scratch stamps, see next_stamp (lane 0's is the simplifier's) */
+    uint32_t stamp;
+    candidate *fresh;       /* candidates planned or requeued, for the simplifier's fresh */
+    size_t fresh_count, fresh_cap;
+    resurf_simplify_report rep; /* counters to add to the simplifier's */
+    size_t dead_tris, dead_positions;
+    int skipped_error;
+    char pad[128]; /* side by side: keeps the lanes' counters off each other's cache lines */
+} lane;
 
 typedef struct simplifier {
     const resurf_mesh *in;
@@ -182,8 +226,7 @@ typedef struct simplifier {
     size_t pos_count, alive_positions;
     work_pos *P;         /* inside P_mem, 64-byte aligned */
     void *P_mem;
-    uint32_t *mark;    /* scratch stamps, see next_stamp */
-    uint32_t stamp;
+    uint32_t *mark;    /* lane 0's scratch stamps (allocated with the working mesh) */
 
     /* attribute sides (only when the input has attributes and seams): chart of each input triangle and wedge */
     uint32_t *chart_of_input_tri;
@@ -197,6 +240,12 @@ typedef struct simplifier {
                                marks an end of a candidate taken up by the current pass. Apart from the 128-byte
                                records: a pass reads it for every candidate. */
     u32vec taken;           /* the positions marked taken */
+    int star_chunks;        /* chunks of candidates with disjoint stars, applied in parallel (else one by one) */
+    u32vec claimed;         /* the positions marked claimed (stars of the chunk's candidates) */
+    size_t *skip;           /* CHUNK: candidates of the pass whose star met a claimed one: for the next chunk */
+    size_t skip_count;
+    struct window_entry *win; /* CHUNK + WINDOW: the candidates examined for a chunk */
+    uint32_t *stars;        /* STAR_MAX per window entry: their stars */
     int skipped_error;      /* a candidate was skipped for max_error in this collapse_until */
 
     int last_level;             /* building the last output: the working mesh may go once read */
@@ -205,7 +254,7 @@ typedef struct simplifier {
     const resurfi_bvh *bvh;     /* over the input's triangles, input triangle ids */
     uint32_t *home;             /* inline restoration: per position, a triangle of the input near it */
 
-    u32vec fan_a, fan_b, fan_c, touched;
+    lane *lanes;            /* one per thread */
     pending *pend;          /* CHUNK: the pass's candidates being applied, pend_next the next one */
     size_t pend_count, pend_next;
     int pass_open;
@@ -238,15 +287,15 @@ static void scratch_free(scratch *s)
     resurfi_free(s->alloc, s->uf);
 }
 
-/* A fresh stamp for the mark array: a position is "marked" when mark[p] equals it. */
-static uint32_t next_stamp(simplifier *s)
+/* A fresh stamp for lane L's mark array: a position is "marked" when mark[p] equals it. */
+static uint32_t next_stamp(const simplifier *s, lane *L)
 {
-    if (s->stamp >= UINT32_MAX - 4) {
-        memset(s->mark, 0, s->pos_count * sizeof *s->mark);
-        s->stamp = 0;
+    if (L->stamp >= UINT32_MAX - 4) {
+        memset(L->mark, 0, s->pos_count * sizeof *L->mark);
+        L->stamp = 0;
     }
-    s->stamp += 2;
-    return s->stamp;
+    L->stamp += 2;
+    return L->stamp;
 }
 
 static uint32_t corner_next(uint32_t c) { return c - c % 3 + (c % 3 + 1) % 3; }
@@ -1031,21 +1080,40 @@ static int reserve_candidates(simplifier *s, size_t n)
     return 1;
 }
 
-static int push_fresh(simplifier *s, candidate c)
+/* Appends n candidates to a fresh buffer (the simplifier's or a lane's); 0 when out of memory. */
+static int append_fresh(const resurf_allocator *alloc, candidate **buf, size_t *count, size_t *cap,
+                        const candidate *c, size_t n)
 {
-    if (s->fresh_count == s->fresh_cap) {
-        size_t cap = s->fresh_cap ? 2 * s->fresh_cap : 1024;
-        candidate *f = resurfi_realloc(s->alloc, s->fresh, cap, sizeof *f);
+    if (n == 0)
+        return 1;
+    if (*count + n > *cap) {
+        size_t want = *cap ? 2 * *cap : 1024;
+        want = want < *count + n ? *count + n : want;
+        candidate *f = resurfi_realloc(alloc, *buf, want, sizeof *f);
         if (!f)
             return 0;
-        s->fresh = f;
-        s->fresh_cap = cap;
+        *buf = f;
+        *cap = want;
     }
-    s->fresh[s->fresh_count++] = c;
+    memcpy(*buf + *count, c, n * sizeof *c);
+    *count += n;
     return 1;
 }
 
-enum { TAKEN = 0x80000000u, GEN = 0x7fffffffu };
+static int push_fresh(const simplifier *s, lane *L, candidate c)
+{
+    return append_fresh(s->alloc, &L->fresh, &L->fresh_count, &L->fresh_cap, &c, 1);
+}
+
+/* The top bits of gen: TAKEN marks an end of a candidate taken up by the current pass, CLAIMED a position of the
+ * star of a candidate of the current chunk. */
+enum { TAKEN = 0x80000000u, CLAIMED = 0x40000000u, GEN = 0x3fffffffu };
+
+/* Position x changed: its candidates go stale. */
+static void bump_gen(simplifier *s, uint32_t x)
+{
+    s->gen[x] = (s->gen[x] & ~GEN) | ((s->gen[x] + 1) & GEN);
+}
 
 /* Is candidate c still what its ends are? Generations only grow, so the sum matches only if neither changed. */
 static int candidate_current(const simplifier *s, candidate c)
@@ -1055,25 +1123,25 @@ static int candidate_current(const simplifier *s, candidate c)
 
 /* Plans the candidates of position a (fan given) to every neighbour except `except` and those flagged POS_RENEW
  * (which plan their own), for the next pass. Returns 0 when out of memory. */
-static int push_edges(simplifier *s, uint32_t a, const u32vec *fan, uint32_t except)
+static int push_edges(simplifier *s, lane *L, uint32_t a, const u32vec *fan, uint32_t except)
 {
-    uint32_t st = next_stamp(s);
+    uint32_t st = next_stamp(s, L);
     for (size_t i = 0; i < fan->count; ++i) {
         uint32_t xs[2];
         corner_others(s, fan->data[i], xs);
         for (int k = 0; k < 2; ++k) {
             uint32_t x = xs[k];
-            if (s->mark[x] == st || x == except || (s->P[x].flags & POS_RENEW))
+            if (L->mark[x] == st || x == except || (s->P[x].flags & POS_RENEW))
                 continue;
-            s->mark[x] = st;
+            L->mark[x] = st;
             plan pl;
             plan_collapse(s, a, x, fan, &pl);
             if (pl.block != BLOCK_NONE) {
-                count_block(&s->rep, pl.block);
+                count_block(&L->rep, pl.block);
                 continue;
             }
             candidate c = {rank_cost(s, a, x, &pl), a, x, (s->gen[a] + s->gen[x]) & GEN};
-            if (!push_fresh(s, c))
+            if (!push_fresh(s, L, c))
                 return 0;
         }
     }
@@ -1195,37 +1263,38 @@ static resurf_status seed_candidates(simplifier *s, scratch *scratch, const uint
 /* Asks for what a collapse reads of the positions around a fan: their records (both cache lines: the checks read
  * their places, the new candidates their quadrics) and their marks (link_ok). One neighbour per corner covers a
  * closed fan. */
-static void prefetch_ring(const simplifier *s, const u32vec *fan)
+static void prefetch_ring(const simplifier *s, const lane *L, const u32vec *fan)
 {
     for (size_t i = 0; i < fan->count; ++i) {
         uint32_t x = TV(corner_next(fan->data[i]));
         PREFETCH(&s->P[x]);
         PREFETCH(&s->P[x].q.c);
-        PREFETCH(&s->mark[x]);
+        PREFETCH(&L->mark[x]);
     }
 }
 
 /* Does collapsing (a, b) keep the mesh a manifold? The link condition: the positions adjacent to both a and b must
  * be exactly the third corners of the edge's triangles. Also refused: collapses that leave a double-sided sheet
  * (both ends also share a triangle with those two corners: a tetrahedron) or no triangle at all. */
-static int link_ok(simplifier *s, const u32vec *fan_a, const u32vec *fan_b, uint32_t a, uint32_t b, const plan *pl)
+static int link_ok(const simplifier *s, lane *L, const u32vec *fan_a, const u32vec *fan_b, uint32_t a, uint32_t b,
+                   const plan *pl)
 {
     if (fan_a->count + fan_b->count <= 2 * (size_t)pl->shared_count)
         return 0;
-    uint32_t st = next_stamp(s);
+    uint32_t st = next_stamp(s, L);
     for (size_t i = 0; i < fan_a->count; ++i) {
         uint32_t xs[2];
         corner_others(s, fan_a->data[i], xs);
-        s->mark[xs[0]] = st;
-        s->mark[xs[1]] = st;
+        L->mark[xs[0]] = st;
+        L->mark[xs[1]] = st;
     }
     int common = 0;
     for (size_t i = 0; i < fan_b->count; ++i) {
         uint32_t xs[2];
         corner_others(s, fan_b->data[i], xs);
         for (int k = 0; k < 2; ++k)
-            if (xs[k] != a && s->mark[xs[k]] == st) {
-                s->mark[xs[k]] = st + 1; /* count once */
+            if (xs[k] != a && L->mark[xs[k]] == st) {
+                L->mark[xs[k]] = st + 1; /* count once */
                 ++common;
             }
     }
@@ -1340,11 +1409,11 @@ static double tip_excess(const simplifier *s, const u32vec *fan_a, const u32vec 
 }
 
 /* Removes `gone` into `keep` at p, with the wedge map read from the edge's triangles. fan_keep and fan_gone are
- * the ends' fans before the collapse; s->fan_c receives keep's fan after it, s->touched the neighbours whose
+ * the ends' fans before the collapse; L->fan_c receives keep's fan after it, L->touched the neighbours whose
  * flags must be recomputed (seam positions next to the edge) or whose blocked candidates are worth another try.
  * *refresh_keep is set when keep's flags must be recomputed from its fan. */
-static int apply_collapse(simplifier *s, uint32_t keep, uint32_t gone, vec3 p, const plan *pl, const u32vec *fan_keep,
-                          const u32vec *fan_gone, int *refresh_keep)
+static int apply_collapse(simplifier *s, lane *L, uint32_t keep, uint32_t gone, vec3 p, const plan *pl,
+                          const u32vec *fan_keep, const u32vec *fan_gone, int *refresh_keep)
 {
     uint32_t from[2], to[2];
     int maps = pl->shared_count;
@@ -1360,28 +1429,27 @@ static int apply_collapse(simplifier *s, uint32_t keep, uint32_t gone, vec3 p, c
                 opposite[k] = TV(3 * t + i);
         s->tri[t].dead = 1;
     }
-    s->alive_tris -= (size_t)maps;
-    /* Re-label gone's corners (dropping dead ones from the list) and splice its list in front of keep's. */
-    uint32_t prev = NONE;
-    for (uint32_t c = s->P[gone].head; c != NONE;) {
-        uint32_t next = TNEXT(c);
-        if (s->tri[c / 3].dead) {
-            if (prev == NONE)
-                s->P[gone].head = next;
-            else
-                TNEXT(prev) = next;
-        } else {
-            TV(c) = keep;
-            uint32_t w = TW(c);
-            TW(c) = maps == 1 || w == from[0] ? to[0] : w == from[1] ? to[1] : to[0];
-            prev = c;
+    L->dead_tris += (size_t)maps;
+    /* Re-label gone's live corners. keep's list becomes its fan after the collapse, gone's live corners first
+     * (the order of splicing gone's list in front of keep's), without the dead corners either list held. */
+    L->fan_c.count = 0;
+    const u32vec *fans[2] = {fan_gone, fan_keep};
+    for (int side = 0; side < 2; ++side)
+        for (size_t i = 0; i < fans[side]->count; ++i) {
+            uint32_t c = fans[side]->data[i];
+            if (s->tri[c / 3].dead)
+                continue;
+            if (side == 0) {
+                TV(c) = keep;
+                uint32_t w = TW(c);
+                TW(c) = maps == 1 || w == from[0] ? to[0] : w == from[1] ? to[1] : to[0];
+            }
+            if (!vec_push(s->alloc, &L->fan_c, c))
+                return 0;
         }
-        c = next;
-    }
-    if (prev != NONE) {
-        TNEXT(prev) = s->P[keep].head;
-        s->P[keep].head = s->P[gone].head;
-    }
+    for (size_t i = 0; i < L->fan_c.count; ++i)
+        TNEXT(L->fan_c.data[i]) = i + 1 < L->fan_c.count ? L->fan_c.data[i + 1] : NONE;
+    s->P[keep].head = L->fan_c.count ? L->fan_c.data[0] : NONE;
     s->P[gone].head = NONE;
     s->P[keep].p = p;
     resurfi_quadric_add(&s->P[keep].q, &s->P[gone].q);
@@ -1392,34 +1460,26 @@ static int apply_collapse(simplifier *s, uint32_t keep, uint32_t gone, vec3 p, c
     *refresh_keep = ((fk | fg) & (POS_SEAM | POS_COMPLEX)) != 0;
     s->P[keep].flags = (uint8_t)(fk | (fg & POS_BORDER));
     s->P[gone].flags = POS_DEAD;
-    s->gen[keep] = (s->gen[keep] & TAKEN) | ((s->gen[keep] + 1) & GEN);
-    s->gen[gone] = (s->gen[gone] & TAKEN) | ((s->gen[gone] + 1) & GEN);
-    s->alive_positions--;
+    bump_gen(s, keep);
+    bump_gen(s, gone);
+    L->dead_positions++;
 
     /* Flags that may have changed: keep's, and the opposite corners' (they lost a triangle). A changed flag changes
      * that position's candidates: it is planned again, like a blocked neighbour. */
-    s->touched.count = 0;
-    s->fan_c.count = 0;
-    const u32vec *fans[2] = {fan_gone, fan_keep};
-    for (int side = 0; side < 2; ++side)
-        for (size_t i = 0; i < fans[side]->count; ++i) {
-            uint32_t c = fans[side]->data[i];
-            if (!s->tri[c / 3].dead && !vec_push(s->alloc, &s->fan_c, c))
-                return 0;
-        }
-    uint32_t st = next_stamp(s);
-    for (size_t i = 0; i < s->fan_c.count; ++i) {
+    L->touched.count = 0;
+    uint32_t st = next_stamp(s, L);
+    for (size_t i = 0; i < L->fan_c.count; ++i) {
         uint32_t xs[2];
-        corner_others(s, s->fan_c.data[i], xs);
+        corner_others(s, L->fan_c.data[i], xs);
         for (int k = 0; k < 2; ++k) {
             uint32_t x = xs[k];
-            if (s->mark[x] == st)
+            if (L->mark[x] == st)
                 continue;
-            s->mark[x] = st;
+            L->mark[x] = st;
             int again = (s->P[x].flags & POS_BLOCKED) != 0;
             if ((x == opposite[0] || x == opposite[1]) && (s->P[x].flags & (POS_SEAM | POS_COMPLEX)))
                 again = 1;
-            if (again && !vec_push(s->alloc, &s->touched, x))
+            if (again && !vec_push(s->alloc, &L->touched, x))
                 return 0;
         }
     }
@@ -1476,30 +1536,43 @@ static int restore_chunk_block(void *ctx, size_t begin, size_t end, unsigned wor
 
 /* Tries the candidate of pending q: planned again on the current mesh, checked, restored, applied. A candidate
  * that is done or refused leaves the list; one whose cost went up, or that the tip guard defers, goes back in with
- * its new cost. Returns 0 when out of memory. */
-static int try_candidate(simplifier *s, const pending *q, scratch *sc)
+ * its new cost. New candidates, counters and scratch go to lane L. With `defer` (a chunk applied in parallel) the
+ * neighbours to plan again are left in L->renew for plan_renewed (their edges reach beyond the star); q->keep
+ * receives the surviving end. Returns 0 when out of memory. */
+static int try_candidate(simplifier *s, pending *q, lane *L, scratch *sc, int defer)
 {
-    resurf_simplify_report *r = &s->rep;
+    resurf_simplify_report *r = &L->rep;
     candidate *entry = &s->cand[q->index];
     candidate e = *entry;
     uint32_t a = e.a, b = e.b;
     entry->a = NONE;
     if (!candidate_current(s, e))
         return 1; /* an earlier collapse changed an end's flags: planned again */
-    if (!gather_fan(s, a, &s->fan_a, 1) || !gather_fan(s, b, &s->fan_b, 1))
+    /* The ends' fans: gathered with the chunk's stars when applied in parallel (nothing in the star changed since) */
+    u32vec view_a, view_b;
+    const u32vec *fa = &L->fan_a, *fb = &L->fan_b;
+    if (defer && q->window != NONE) {
+        const window_entry *w = &s->win[q->window];
+        uint32_t *words = s->stars + (size_t)q->window * STAR_MAX;
+        view_a = (u32vec){words, w->na, w->na};
+        view_b = (u32vec){words + w->na, w->nb, w->nb};
+        fa = &view_a;
+        fb = &view_b;
+    } else if (!gather_fan(s, a, &L->fan_a, 1) || !gather_fan(s, b, &L->fan_b, 1)) {
         return 0;
-    prefetch_ring(s, &s->fan_a);
-    prefetch_ring(s, &s->fan_b);
+    }
+    prefetch_ring(s, L, fa);
+    prefetch_ring(s, L, fb);
     plan pl;
-    plan_collapse(s, a, b, &s->fan_a, &pl);
+    plan_collapse(s, a, b, fa, &pl);
     if (pl.block != BLOCK_NONE) {
         count_block(r, pl.block);
         return 1;
     }
     float now = rank_cost(s, a, b, &pl);
     if (now > e.cost * 1.000001f + FLT_MIN)
-        return push_fresh(s, (candidate){now, a, b, e.stamp});
-    if (!link_ok(s, &s->fan_a, &s->fan_b, a, b, &pl)) {
+        return push_fresh(s, L, (candidate){now, a, b, e.stamp});
+    if (!link_ok(s, L, fa, fb, a, b, &pl)) {
         r->blocked_link++;
         s->P[a].flags |= POS_BLOCKED;
         s->P[b].flags |= POS_BLOCKED;
@@ -1524,10 +1597,10 @@ static int try_candidate(simplifier *s, const pending *q, scratch *sc)
     double err = qab.w > 0 ? sqrt(qeval(s, &qab, p) / qab.w) : 0;
     if (err > s->max_error) {
         r->skipped_error++;
-        s->skipped_error = 1;
+        L->skipped_error = 1;
         return 1;
     }
-    int g = geometry_ok(s, &s->fan_a, &s->fan_b, a, b, p, &pl);
+    int g = geometry_ok(s, fa, fb, a, b, p, &pl);
     if (g) {
         if (g == 1)
             r->blocked_flip++;
@@ -1539,7 +1612,7 @@ static int try_candidate(simplifier *s, const pending *q, scratch *sc)
     }
     /* The tip guard defers rather than refuses: such a collapse goes back into the list at its penalised cost (and
      * is done when its turn comes again), so targets stay reachable. */
-    double excess = tip_excess(s, &s->fan_a, &s->fan_b, a, b, p, &pl, err);
+    double excess = tip_excess(s, fa, fb, a, b, p, &pl, err);
     if (excess > 0) {
         double d2 = s->diagonal * s->diagonal;
         double cost = qeval(s, &qab, p) + TIP_PENALTY * qab.w * excess * excess;
@@ -1547,7 +1620,7 @@ static int try_candidate(simplifier *s, const pending *q, scratch *sc)
         float priced = scaled < FLT_MAX ? (float)scaled : FLT_MAX;
         if (e.cost < priced * 0.999999f) {
             r->blocked_distance++;
-            return push_fresh(s, (candidate){priced, a, b, e.stamp});
+            return push_fresh(s, L, (candidate){priced, a, b, e.stamp});
         }
     }
     /* Which end survives: the one that must (held in place or not removable), else the one with more triangles
@@ -1557,7 +1630,7 @@ static int try_candidate(simplifier *s, const pending *q, scratch *sc)
         keep = a, gone = b;
     else if (!pl.b_removable)
         keep = b, gone = a;
-    else if (s->fan_b.count > s->fan_a.count)
+    else if (fb->count > fa->count)
         keep = b, gone = a;
     else
         keep = a, gone = b;
@@ -1568,39 +1641,80 @@ static int try_candidate(simplifier *s, const pending *q, scratch *sc)
     r->collapses++;
     s->P[keep].flags &= (uint8_t)~POS_BLOCKED;
     int refresh_keep, changed = 0;
-    if (!apply_collapse(s, keep, gone, p, &pl, keep == a ? &s->fan_a : &s->fan_b, keep == a ? &s->fan_b : &s->fan_a,
+    if (!apply_collapse(s, L, keep, gone, p, &pl, keep == a ? fa : fb, keep == a ? fb : fa,
                         &refresh_keep))
         return 0;
+    q->keep = keep;
     if (refresh_keep && !refresh_flags(s, keep, sc, &changed))
         return 0;
     if (home != NONE)
         s->home[keep] = home;
     size_t renew = 0;
-    for (size_t i = 0; i < s->touched.count; ++i) {
-        uint32_t x = s->touched.data[i];
+    for (size_t i = 0; i < L->touched.count; ++i) {
+        uint32_t x = L->touched.data[i];
         changed = 0;
         if ((s->P[x].flags & (POS_SEAM | POS_COMPLEX)) && !refresh_flags(s, x, sc, &changed))
             return 0;
         if (changed || (s->P[x].flags & POS_BLOCKED)) {
             s->P[x].flags &= (uint8_t)~POS_BLOCKED;
-            s->gen[x] = (s->gen[x] & TAKEN) | ((s->gen[x] + 1) & GEN);
-            s->touched.data[renew++] = x;
+            bump_gen(s, x);
+            L->touched.data[renew++] = x;
         }
     }
     /* Planned now, while their fans are in the cache. keep's candidates first (they reach every neighbour), then
      * those of renewed neighbours to the rest; each edge between two renewed neighbours is planned by the later
      * one. */
-    if (!push_edges(s, keep, &s->fan_c, NONE))
+    if (!push_edges(s, L, keep, &L->fan_c, NONE))
         return 0;
+    if (defer) {
+        for (size_t i = 0; i < renew; ++i)
+            if (!vec_push(s->alloc, &L->renew, L->touched.data[i]))
+                return 0;
+        return 1;
+    }
     for (size_t i = 0; i < renew; ++i)
-        s->P[s->touched.data[i]].flags |= POS_RENEW;
+        s->P[L->touched.data[i]].flags |= POS_RENEW;
     int ok = 1;
     for (size_t i = 0; i < renew; ++i) {
-        uint32_t x = s->touched.data[i];
+        uint32_t x = L->touched.data[i];
         s->P[x].flags &= (uint8_t)~POS_RENEW;
-        if (ok && !(gather_fan(s, x, &s->fan_b, 1) && push_edges(s, x, &s->fan_b, keep)))
+        if (ok && !(gather_fan(s, x, &L->fan_b, 1) && push_edges(s, L, x, &L->fan_b, keep)))
             ok = 0;
     }
+    return ok;
+}
+
+/* Adds lane L's counters to the simplifier's and clears them (its fresh candidates are the caller's business). */
+static void merge_lane_counts(simplifier *s, lane *L)
+{
+    resurf_simplify_report *r = &s->rep, *l = &L->rep;
+    r->collapses += l->collapses;
+    r->blocked_link += l->blocked_link;
+    r->blocked_flip += l->blocked_flip;
+    r->blocked_min_angle += l->blocked_min_angle;
+    r->blocked_distance += l->blocked_distance;
+    r->blocked_border += l->blocked_border;
+    r->blocked_seam += l->blocked_seam;
+    r->blocked_nonmanifold += l->blocked_nonmanifold;
+    r->skipped_error += l->skipped_error;
+    r->restored += l->restored;
+    r->restore_left += l->restore_left;
+    if (l->max_error_estimate > r->max_error_estimate)
+        r->max_error_estimate = l->max_error_estimate;
+    memset(l, 0, sizeof *l);
+    s->alive_tris -= L->dead_tris;
+    s->alive_positions -= L->dead_positions;
+    L->dead_tris = L->dead_positions = 0;
+    s->skipped_error |= L->skipped_error;
+    L->skipped_error = 0;
+}
+
+/* Moves lane L's fresh candidates to the simplifier's, with its counters; 0 when out of memory. */
+static int merge_lane(simplifier *s, lane *L)
+{
+    merge_lane_counts(s, L);
+    int ok = append_fresh(s->alloc, &s->fresh, &s->fresh_count, &s->fresh_cap, L->fresh, L->fresh_count);
+    L->fresh_count = 0;
     return ok;
 }
 
@@ -1620,11 +1734,181 @@ static int open_pass(simplifier *s)
     return 1;
 }
 
-/* Takes up the pass's next CHUNK candidates whose ends no earlier one took; closes the pass when none is left
- * under its limit. Past the limit, while the pass has not done a collapse yet, one at a time (so a run of refused
- * candidates at the front cannot make every pass a walk over the whole list for one collapse). Returns 0 when out
- * of memory. */
-static int take_chunk(simplifier *s)
+/* Fills words[]: a's corners, b's corners, then the star's positions; returns the position count, or STAR_OVERFLOW
+ * when they may not fit in max words. Reads the mesh only. */
+static uint32_t gather_star(const simplifier *s, candidate c, const u32vec *fan_a, const u32vec *fan_b,
+                            uint32_t *words, size_t max)
+{
+    size_t na = fan_a->count, nb = fan_b->count;
+    if (3 * (na + nb) + 2 > max)
+        return STAR_OVERFLOW;
+    if (na)
+        memcpy(words, fan_a->data, na * sizeof *words);
+    if (nb)
+        memcpy(words + na, fan_b->data, nb * sizeof *words);
+    uint32_t *star = words + na + nb;
+    uint32_t n = 0;
+    star[n++] = c.a;
+    star[n++] = c.b;
+    for (size_t k = 0; k < na + nb; ++k) {
+        uint32_t xs[2];
+        corner_others(s, words[k], xs);
+        for (int j = 0; j < 2; ++j) {
+            uint32_t i = 0;
+            while (i < n && star[i] != xs[j])
+                ++i;
+            if (i == n)
+                star[n++] = xs[j];
+        }
+    }
+    return n;
+}
+
+typedef struct star_job {
+    simplifier *s;
+    scratch *scratch;
+} star_job;
+
+/* Gathers window entries [begin, end) (in parallel: nothing writes the mesh meanwhile). */
+static int star_block(void *ctx, size_t begin, size_t end, unsigned worker)
+{
+    star_job *j = ctx;
+    const simplifier *s = j->s;
+    scratch *sc = &j->scratch[worker];
+    lane *L = &j->s->lanes[worker];
+    for (size_t k = begin; k < end; ++k) {
+        window_entry *e = &s->win[k];
+        candidate c = s->cand[e->index];
+        e->count = 0;
+        if (c.a == NONE || ((s->gen[c.a] | s->gen[c.b]) & TAKEN) || !candidate_current(s, c))
+            continue;
+        if (!gather_fan(j->s, c.a, &sc->fan, 0) || !gather_fan(j->s, c.b, &L->fan_c, 0))
+            return 1;
+        e->na = (uint32_t)sc->fan.count;
+        e->nb = (uint32_t)L->fan_c.count;
+        e->count = gather_star(s, c, &sc->fan, &L->fan_c, s->stars + k * STAR_MAX, STAR_MAX);
+    }
+    return 0;
+}
+
+/* Claims window entry k for the chunk if the candidate's closed star meets no star claimed before in the chunk:
+ * its ends are marked taken for the pass, its star claimed for the chunk. Returns 1 when taken, 0 when it has no
+ * business in this pass (done, stale, or an end taken), 2 when its star meets a claimed position (a later chunk
+ * of the pass may take it), -1 when out of memory. */
+static int claim_candidate(simplifier *s, size_t k)
+{
+    const window_entry *e = &s->win[k];
+    candidate c = s->cand[e->index];
+    if (e->count == 0 || ((s->gen[c.a] | s->gen[c.b]) & TAKEN))
+        return 0;
+    const uint32_t *star;
+    size_t n = e->count;
+    if (e->count == STAR_OVERFLOW) { /* a vertex of high valence: gathered here */
+        lane *L = &s->lanes[0];
+        if (!gather_fan(s, c.a, &L->fan_a, 0) || !gather_fan(s, c.b, &L->fan_b, 0))
+            return -1;
+        L->touched.count = 0;
+        const u32vec *fans[2] = {&L->fan_a, &L->fan_b};
+        if (!vec_push(s->alloc, &L->touched, c.a) || !vec_push(s->alloc, &L->touched, c.b))
+            return -1;
+        for (int side = 0; side < 2; ++side)
+            for (size_t i = 0; i < fans[side]->count; ++i) {
+                uint32_t xs[2];
+                corner_others(s, fans[side]->data[i], xs);
+                if (!vec_push(s->alloc, &L->touched, xs[0]) || !vec_push(s->alloc, &L->touched, xs[1]))
+                    return -1;
+            }
+        star = L->touched.data;
+        n = L->touched.count;
+    } else {
+        star = s->stars + k * STAR_MAX + e->na + e->nb;
+    }
+    for (size_t i = 0; i < n; ++i)
+        if (s->gen[star[i]] & CLAIMED)
+            return 2;
+    s->gen[c.a] |= TAKEN;
+    s->gen[c.b] |= TAKEN;
+    if (!vec_push(s->alloc, &s->taken, c.a) || !vec_push(s->alloc, &s->taken, c.b))
+        return -1;
+    for (size_t i = 0; i < n; ++i)
+        if (!(s->gen[star[i]] & CLAIMED)) {
+            s->gen[star[i]] |= CLAIMED;
+            if (!vec_push(s->alloc, &s->claimed, star[i]))
+                return -1;
+        }
+    uint32_t window = e->count == STAR_OVERFLOW ? NONE : (uint32_t)k;
+    s->pend[s->pend_count++] = (pending){.index = e->index, .window = window};
+    return 1;
+}
+
+/* Takes up the pass's next CHUNK candidates whose ends no earlier one of the pass took and whose stars are
+ * disjoint (claim_candidate): first those an earlier chunk put aside (their stars met its claims), then the next
+ * in the list. The stars of a window of candidates are gathered first, on all threads; the claims, in list order,
+ * then only read their marks. Closes the pass when none is left under its limit. Past the limit, while the pass
+ * has not done a collapse yet, one at a time (so a run of refused candidates at the front cannot make every pass a
+ * walk over the whole list for one collapse). Returns 0 when out of memory. */
+static int take_chunk_ends(simplifier *s);
+
+static int take_chunk(simplifier *s, scratch *sc)
+{
+    if (!s->star_chunks)
+        return take_chunk_ends(s);
+    for (size_t t = 0; t < s->claimed.count; ++t)
+        s->gen[s->claimed.data[t]] &= ~CLAIMED;
+    s->claimed.count = 0;
+    s->pend_count = s->pend_next = 0;
+    for (;;) {
+        size_t n = 0;
+        for (size_t k = 0; k < s->skip_count; ++k) /* in list order, all before pass_next */
+            s->win[n++].index = s->skip[k];
+        size_t nskip = n;
+        for (size_t i = s->pass_next; n < nskip + WINDOW && i < s->cand_count; ++i) {
+            if (s->cand[i].cost > s->pass_limit && s->rep.collapses > s->pass_before)
+                break;
+            s->win[n++].index = i;
+        }
+        star_job job = {s, sc};
+        if (resurfi_parallel_for(n, 64, s->threads, star_block, &job))
+            return 0;
+        s->skip_count = 0;
+        size_t k = 0;
+        for (; k < n && s->pend_count < CHUNK; ++k) {
+            if (k >= nskip) {
+                if (s->skip_count >= CHUNK)
+                    break;
+                candidate c = s->cand[s->win[k].index];
+                if (c.cost > s->pass_limit && (s->rep.collapses > s->pass_before || s->pend_count > 0))
+                    break;
+            }
+            int r = claim_candidate(s, k);
+            if (r < 0)
+                return 0;
+            if (r == 2)
+                s->skip[s->skip_count++] = s->win[k].index;
+        }
+        if (k < nskip) {
+            for (; k < nskip; ++k)
+                s->skip[s->skip_count++] = s->win[k].index;
+        } else {
+            s->pass_next = k < n ? s->win[k].index : n > nskip ? s->win[n - 1].index + 1 : s->pass_next;
+        }
+        /* Nothing taken from a whole window that did not reach the limit: the next window. */
+        if (s->pend_count > 0 || k < n || n == nskip || s->pass_next >= s->cand_count)
+            break;
+    }
+    if (s->pend_count == 0) {
+        for (size_t t = 0; t < s->taken.count; ++t)
+            s->gen[s->taken.data[t]] &= ~TAKEN;
+        s->taken.count = 0;
+        s->skip_count = 0;
+        s->pass_open = 0;
+    }
+    return 1;
+}
+
+/* take_chunk without stars, for chunks applied one collapse after the other: the pass's next CHUNK candidates
+ * whose ends no earlier one of the pass took. Returns 0 when out of memory. */
+static int take_chunk_ends(simplifier *s)
 {
     s->pend_count = s->pend_next = 0;
     size_t i = s->pass_next;
@@ -1638,16 +1922,81 @@ static int take_chunk(simplifier *s)
         s->gen[c.b] |= TAKEN;
         if (!vec_push(s->alloc, &s->taken, c.a) || !vec_push(s->alloc, &s->taken, c.b))
             return 0;
-        s->pend[s->pend_count++] = (pending){.index = i};
+        s->pend[s->pend_count++] = (pending){.index = i, .window = NONE};
     }
     s->pass_next = i;
     if (s->pend_count == 0) {
         for (size_t t = 0; t < s->taken.count; ++t)
-            s->gen[s->taken.data[t]] &= GEN;
+            s->gen[s->taken.data[t]] &= ~TAKEN;
         s->taken.count = 0;
         s->pass_open = 0;
     }
     return 1;
+}
+
+/* Applies the chunk's collapses [begin, end) on worker `worker`: each into its worker's lane, its results' places
+ * noted in its pending entry. */
+static int apply_block(void *ctx, size_t begin, size_t end, unsigned worker)
+{
+    chunk_job *j = ctx;
+    simplifier *s = j->s;
+    lane *L = &s->lanes[worker];
+    for (size_t i = begin; i < end; ++i) {
+        pending *q = &s->pend[i];
+        if (i + 2 < end) {
+            candidate ahead = s->cand[s->pend[i + 2].index];
+            PREFETCH(&s->P[ahead.a]);
+            PREFETCH(&s->P[ahead.b]);
+        }
+        q->worker = worker;
+        q->fresh_begin = L->fresh_count;
+        q->renew_begin = L->renew.count;
+        if (!try_candidate(s, q, L, &j->scratch[worker], 1))
+            return 1;
+        q->fresh_end = L->fresh_count;
+        q->renew_end = L->renew.count;
+    }
+    return 0;
+}
+
+/* After a chunk applied in parallel: the lanes' candidates moved to the list's fresh part in the chunk's order (so
+ * that nothing downstream depends on which worker did what), then the renewed neighbours' edges planned, in the
+ * chunk's order (they reach positions of other stars, which were changing during the chunk). As in try_candidate,
+ * each edge between two renewed positions is planned by the later one. Returns 0 when out of memory. */
+static int finish_parallel_chunk(simplifier *s)
+{
+    for (size_t k = 0; k < s->pend_count; ++k) {
+        const pending *q = &s->pend[k];
+        const lane *L = &s->lanes[q->worker];
+        if (!append_fresh(s->alloc, &s->fresh, &s->fresh_count, &s->fresh_cap, L->fresh + q->fresh_begin,
+                          q->fresh_end - q->fresh_begin))
+            return 0;
+    }
+    for (unsigned w = 0; w < s->threads; ++w) {
+        s->lanes[w].fresh_count = 0;
+        merge_lane_counts(s, &s->lanes[w]);
+    }
+    for (size_t k = 0; k < s->pend_count; ++k) {
+        const pending *q = &s->pend[k];
+        const lane *L = &s->lanes[q->worker];
+        for (size_t i = q->renew_begin; i < q->renew_end; ++i)
+            s->P[L->renew.data[i]].flags |= POS_RENEW;
+    }
+    lane *L0 = &s->lanes[0];
+    int ok = 1;
+    for (size_t k = 0; k < s->pend_count; ++k) {
+        const pending *q = &s->pend[k];
+        const lane *L = &s->lanes[q->worker];
+        for (size_t i = q->renew_begin; i < q->renew_end; ++i) {
+            uint32_t x = L->renew.data[i];
+            s->P[x].flags &= (uint8_t)~POS_RENEW;
+            if (ok && !(gather_fan(s, x, &L0->fan_b, 1) && push_edges(s, L0, x, &L0->fan_b, q->keep)))
+                ok = 0;
+        }
+    }
+    for (unsigned w = 0; w < s->threads; ++w)
+        s->lanes[w].renew.count = 0;
+    return merge_lane(s, L0) && ok;
 }
 
 /* Collapses until at most `target` triangles are left or nothing can be collapsed.
@@ -1656,9 +2005,15 @@ static int take_chunk(simplifier *s)
  * the candidates in cost order up to a cost limit, each only if neither end was taken by an earlier one of the
  * same pass. A collapse changes only its ends' quadrics, so every other candidate's cost stays exact through the
  * pass and the order is the greedy one among independent collapses. The limit is the cost of the candidate at
- * PASS_SHARE of the list. The candidates of a pass are independent, so with inline restoration CHUNK of them are
- * planned and restored on all threads, then applied in order (each planned and checked again: its neighbourhood
- * may have changed). The new candidates of a collapse are planned at once and wait for the next pass.
+ * PASS_SHARE of the list. The new candidates of a collapse are planned at once and wait for the next pass.
+ *
+ * A pass is taken in chunks of up to CHUNK candidates with disjoint closed stars (an end and its neighbours):
+ * a collapse reads and writes its star's positions and its ends' triangles only, so the chunk's collapses are
+ * applied on all threads, each as if alone, and their results merged in the chunk's order; the edges of renewed
+ * neighbours, which reach outside the star, are planned after the chunk. Near the target (when the chunk could
+ * remove all the triangles left above it) the chunk is applied one collapse after the other, stopping at the
+ * target, with inline restoration planned and restored on all threads first. Which way a chunk goes depends on
+ * the counts only: the result is the same for every thread count.
  * Nothing depends on the target but where the work stops: a pass interrupted at one level goes on at the next, so
  * a LOD chain's level is the mesh a single call to its target makes. */
 static resurf_status collapse_until(simplifier *s, size_t target, scratch *sc, resurf_error *error)
@@ -1669,6 +2024,7 @@ static resurf_status collapse_until(simplifier *s, size_t target, scratch *sc, r
     s->skipped_error = 0;
     int batched = s->opt.restore == RESURF_RESTORE_INLINE && s->restorer && s->threads > 1;
     chunk_job job = {s, sc};
+    lane *L0 = &s->lanes[0];
     while (s->alive_tris > target) {
         if (s->pend_next < s->pend_count) {
             size_t k = s->pend_next++;
@@ -1677,7 +2033,7 @@ static resurf_status collapse_until(simplifier *s, size_t target, scratch *sc, r
                 PREFETCH(&s->P[ahead.a]);
                 PREFETCH(&s->P[ahead.b]);
             }
-            if (!try_candidate(s, &s->pend[k], sc))
+            if (!try_candidate(s, &s->pend[k], L0, sc, 0) || !merge_lane(s, L0))
                 goto oom;
             if (s->pend_next == s->pend_count) {
                 double done = start > target ? (double)(start - s->alive_tris) / (double)(start - target) : 1;
@@ -1694,8 +2050,20 @@ static resurf_status collapse_until(simplifier *s, size_t target, scratch *sc, r
                 break;
             }
         }
-        if (!take_chunk(s))
+        if (!take_chunk(s, sc))
             goto oom;
+        if (s->star_chunks && s->pend_count && s->alive_tris > target + 2 * s->pend_count) {
+            /* each collapse removes at most two triangles: the whole chunk stays above the target */
+            if (resurfi_parallel_for(s->pend_count, CHUNK / 64, s->threads, apply_block, &job))
+                goto oom;
+            if (!finish_parallel_chunk(s))
+                goto oom;
+            s->pend_next = s->pend_count;
+            double done = start > target ? (double)(start - s->alive_tris) / (double)(start - target) : 1;
+            if (resurfi_progress(&s->opt.progress, "simplify", done))
+                return resurfi_error(error, RESURF_ERR_CANCELLED, "simplification cancelled");
+            continue;
+        }
         if (batched && resurfi_parallel_for(s->pend_count, CHUNK / 16, s->threads, restore_chunk_block, &job))
             goto oom;
     }
@@ -2031,6 +2399,12 @@ static resurf_status place_output(simplifier *s, output *o)
         resurfi_free(s->alloc, s->tri);
         resurfi_free(s->alloc, s->mark);
         s->P_mem = NULL, s->P = NULL, s->tri = NULL, s->mark = NULL;
+        if (s->lanes)
+            for (unsigned w = 0; w < s->threads; ++w) {
+                if (w > 0)
+                    resurfi_free(s->alloc, s->lanes[w].mark);
+                s->lanes[w].mark = NULL;
+            }
     }
     measure_edges(o);
     output_job job = {s, o, NULL};
@@ -2265,10 +2639,23 @@ static void simplifier_free(simplifier *s)
     resurfi_free(s->alloc, s->taken.data);
     resurfi_free(s->alloc, s->gen);
     resurfi_free(s->alloc, s->home);
-    resurfi_free(s->alloc, s->fan_a.data);
-    resurfi_free(s->alloc, s->fan_b.data);
-    resurfi_free(s->alloc, s->fan_c.data);
-    resurfi_free(s->alloc, s->touched.data);
+    resurfi_free(s->alloc, s->claimed.data);
+    resurfi_free(s->alloc, s->skip);
+    resurfi_free(s->alloc, s->win);
+    resurfi_free(s->alloc, s->stars);
+    if (s->lanes)
+        for (unsigned w = 0; w < s->threads; ++w) {
+            lane *L = &s->lanes[w];
+            resurfi_free(s->alloc, L->fan_a.data);
+            resurfi_free(s->alloc, L->fan_b.data);
+            resurfi_free(s->alloc, L->fan_c.data);
+            resurfi_free(s->alloc, L->touched.data);
+            resurfi_free(s->alloc, L->renew.data);
+            resurfi_free(s->alloc, L->fresh);
+            if (w > 0)
+                resurfi_free(s->alloc, L->mark);
+        }
+    resurfi_free(s->alloc, s->lanes);
     resurfi_free(s->alloc, s->pend);
     resurfi_restorer_free(s->restorer);
     resurfi_bvh_free(s->own_bvh);
@@ -2351,8 +2738,18 @@ static resurf_status start(simplifier *s, scratch *scratch, resurf_error *error)
     if (st != RESURF_OK)
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory queueing %zu edges",
                              3 * s->tri_count / 2);
-    if (!(s->pend = resurfi_alloc(s->alloc, CHUNK, sizeof *s->pend)))
+    if (!(s->pend = resurfi_alloc(s->alloc, CHUNK, sizeof *s->pend)) ||
+        !(s->skip = resurfi_alloc(s->alloc, CHUNK, sizeof *s->skip)) ||
+        !(s->win = resurfi_alloc(s->alloc, CHUNK + WINDOW, sizeof *s->win)) ||
+        !(s->stars = resurfi_alloc(s->alloc, (CHUNK + WINDOW) * (size_t)STAR_MAX, sizeof *s->stars)) ||
+        !(s->lanes = resurfi_calloc(s->alloc, s->threads, sizeof *s->lanes)))
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
+    /* With chunks applied in parallel, each further thread has its own marks: 4 bytes per position. */
+    s->star_chunks = s->opt.restore == RESURF_RESTORE_INLINE && s->restorer ? PARALLEL_INLINE : PARALLEL_PLAIN;
+    s->lanes[0].mark = s->mark;
+    for (unsigned w = 1; w < s->threads && s->star_chunks; ++w)
+        if (!(s->lanes[w].mark = resurfi_calloc(s->alloc, s->pos_count, sizeof *s->lanes[w].mark)))
+            return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
     if (resurfi_progress(&s->opt.progress, "prepare", 1))
         return resurfi_error(error, RESURF_ERR_CANCELLED, "simplification cancelled");
     return RESURF_OK;
