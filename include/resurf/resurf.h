@@ -831,8 +831,8 @@ typedef struct resurf_simplify_report {
  *   the input's relative order; vertices are numbered in order of first use.
  * - out_report: may be NULL.
  * The result is byte-identical for the same input and options whatever options->threads is. On error or cancel
- * *out is NULL. Time about n log n for n triangles; peak memory about 150–170 bytes per input triangle without
- * restoration, about 250–300 with it (the restorer's services over the input take the difference). */
+ * *out is NULL. Time about n log n for n triangles; peak memory about 150 bytes per input triangle without
+ * restoration, about 210–230 with it (the restorer's services over the input take the difference). */
 RESURF_API resurf_status resurf_simplify(const resurf_mesh *in, const resurf_simplify_options *options,
                                          resurf_mesh **out, resurf_simplify_report *out_report,
                                          resurf_error *error);
