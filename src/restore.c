@@ -1031,17 +1031,8 @@ static uint32_t walk_closest(const resurfi_restorer *r, vec3 p, uint32_t start, 
         for (int k = 0; k < 3; ++k) /* signed areas of the projection's sub-triangles (p's height drops out) */
             lambda[k] = v3_dot(n, v3_cross(v3_sub(c[(k + 1) % 3], p), v3_sub(c[(k + 2) % 3], p)));
         int k = lambda[0] <= lambda[1] && lambda[0] <= lambda[2] ? 0 : lambda[1] <= lambda[2] ? 1 : 2;
-        if (lambda[k] >= 0) {
-            /* Where M is concave (seen from p) a neighbour may be nearer: descend to the nearest of the triangles
-             * around until none is. */
-            for (int round = 0; round < WALK_STEPS; ++round) {
-                uint32_t u = closest_around(r, p, t, bary, dist2);
-                if (u == t)
-                    break;
-                t = u;
-            }
-            return t;
-        }
+        if (lambda[k] >= 0)
+            break; /* the projection is inside t */
         uint32_t v1 = tri[(k + 1) % 3], v2 = tri[(k + 2) % 3], next = UINT32_MAX;
         const uint32_t *faces = r->adj.vertex_faces + r->adj.vertex_face_offset[v1];
         uint32_t nf = r->adj.vertex_face_offset[v1 + 1] - r->adj.vertex_face_offset[v1];
@@ -1054,6 +1045,8 @@ static uint32_t walk_closest(const resurfi_restorer *r, vec3 p, uint32_t start, 
         prev = t;
         t = next;
     }
+    /* Where M is concave (seen from p) a neighbour may be nearer: down to the nearest of the triangles around until
+     * none is. */
     for (int round = 0; round < WALK_STEPS; ++round) {
         uint32_t u = closest_around(r, p, t, bary, dist2);
         if (u == t)

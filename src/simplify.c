@@ -1764,15 +1764,10 @@ static uint32_t gather_star(const simplifier *s, candidate c, const u32vec *fan_
     return n;
 }
 
-typedef struct star_job {
-    simplifier *s;
-    scratch *scratch;
-} star_job;
-
 /* Gathers window entries [begin, end) (in parallel: nothing writes the mesh meanwhile). */
 static int star_block(void *ctx, size_t begin, size_t end, unsigned worker)
 {
-    star_job *j = ctx;
+    chunk_job *j = ctx;
     const simplifier *s = j->s;
     scratch *sc = &j->scratch[worker];
     lane *L = &j->s->lanes[worker];
@@ -1867,7 +1862,7 @@ static int take_chunk(simplifier *s, scratch *sc)
                 break;
             s->win[n++].index = i;
         }
-        star_job job = {s, sc};
+        chunk_job job = {s, sc};
         if (resurfi_parallel_for(n, 64, s->threads, star_block, &job))
             return 0;
         s->skip_count = 0;
