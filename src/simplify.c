@@ -1963,9 +1963,9 @@ static int finish_parallel_chunk(simplifier *s)
     for (size_t k = 0; k < s->pend_count; ++k) {
         const pending *q = &s->pend[k];
         const lane *L = &s->lanes[q->worker];
-        if (!append_fresh(s->alloc, &s->fresh, &s->fresh_count, &s->fresh_cap, L->fresh + q->fresh_begin,
-                          q->fresh_end - q->fresh_begin))
-            return 0;
+        size_t n = q->fresh_end - q->fresh_begin;
+        if (n && !append_fresh(s->alloc, &s->fresh, &s->fresh_count, &s->fresh_cap, L->fresh + q->fresh_begin, n))
+            return 0; /* (n = 0 may come with an empty lane: no pointer arithmetic on its NULL buffer) */
     }
     for (unsigned w = 0; w < s->threads; ++w) {
         s->lanes[w].fresh_count = 0;
