@@ -300,6 +300,11 @@ uint32_t resurfi_restorer_closest_walk(const resurfi_restorer *r, vec3 p, uint32
 vec3 resurfi_restorer_normal(const resurfi_restorer *r, uint32_t t, const double bary[3]);
 /* The BVH over M (for closest-point queries by callers that already hold a restorer). */
 const resurfi_bvh *resurfi_restorer_bvh(const resurfi_restorer *r);
+/* q moved along the normal of M's triangle t until its height over t's plane is at most limit × the local edge
+ * length there (t out of range: q itself). */
+vec3 resurfi_restorer_limit_height(const resurfi_restorer *r, uint32_t t, vec3 q, double limit);
+/* The local edge length of M at triangle t (the largest mean edge length of its corners); 0 for t out of range. */
+double resurfi_restorer_edge_length(const resurfi_restorer *r, uint32_t t);
 
 /* ---- error quadrics (quadric.c), for the simplifier (simplify.c) --------------------------------------------- */
 

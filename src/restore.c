@@ -1275,3 +1275,25 @@ resurf_status resurf_restore(const resurf_mesh *original, resurf_mesh *processed
         *out_report = rep;
     return RESURF_OK;
 }
+
+vec3 resurfi_restorer_limit_height(const resurfi_restorer *r, uint32_t t, vec3 q, double limit)
+{
+    if (t >= r->triangle_count)
+        return q;
+    const uint32_t *i = r->tris + 3 * (size_t)t;
+    vec3 p0 = position(r, i[0]);
+    vec3 n = v3_tri_cross(p0, position(r, i[1]), position(r, i[2]));
+    double len2 = v3_len2(n);
+    if (!(len2 > 0))
+        return q;
+    n = v3_scale(n, 1 / sqrt(len2));
+    double h = v3_dot(n, v3_sub(q, p0)), cap = limit * local_length(r, t);
+    if (fabs(h) <= cap)
+        return q;
+    return v3_madd(q, n, (h > 0 ? cap : -cap) - h);
+}
+
+double resurfi_restorer_edge_length(const resurfi_restorer *r, uint32_t t)
+{
+    return t < r->triangle_count ? local_length(r, t) : 0;
+}
