@@ -728,8 +728,10 @@ typedef struct resurf_simplify_options {
     double sag_offset;            /* with restoration: once vertices lie on S, the facets between them cut inside
                                      convex parts of S by the chord sag (about h²κ/8 for an edge of length h where
                                      S bends by κ). Each output vertex is moved along S's normal by sag_offset × its
-                                     estimated local sag so that the facets straddle S. 0 = vertices exactly on S;
-                                     range [0, 4]; default 1 */
+                                     estimated local sag beyond the input's own (the input's edges, of length h_M,
+                                     sag by h_M²κ/8: the offset is (h² − h_M²)κ/8) so that the facets straddle the
+                                     input's surface, which the report measures against. 0 = vertices exactly on
+                                     S; range [0, 4]; default 1 */
     int cost_at_restored;         /* with INLINE: 1 = rank candidate collapses by the quadric at their restored
                                      position (restores every candidate: slower); default 0 */
 
@@ -762,9 +764,9 @@ typedef struct resurf_simplify_options {
 /* The defaults: target_ratio 0.5, quadric placement, inline restoration, sag_offset 1, cost_at_restored 0,
  * max_normal_change_deg 60, min_angle_deg 0, border_weight 1, measure_samples 100000, all cores. Measured with
  * tools/bench_simplify.c on the irregular analytic sphere, torus and cubic surface (20k triangles, 10% and 2%): the
- * mean distance of the LOD's surface to the true surface is lowest at sag_offset 1 (about 0.23, 0.34 and 0.75 of
- * meshoptimizer's; 0.86–0.89 with the offset at 0, 0.26–0.41 at 0.5 or 1.5), as the chord-sag model predicts (the
- * mean depth of an equilateral facet under a sphere equals its edges' sag h²κ/8). Ranking by the quadric at the
+ * mean distance of the LOD's surface to the true surface is lowest at sag_offset 1 (about 0.24–0.27, 0.36–0.38 and
+ * 0.74–0.77 of meshoptimizer's; 0.86–0.89 with the offset at 0), as the chord-sag model predicts (the mean depth of
+ * an equilateral facet under a sphere equals its edges' sag h²κ/8). Ranking by the quadric at the
  * restored position changed nothing measurable and doubles the time; normal-change bounds from 40° to 90° gave the
  * same figures. */
 RESURF_API resurf_simplify_options resurf_simplify_options_default(void);
@@ -819,7 +821,9 @@ typedef struct resurf_simplify_report {
  * first: the candidate collapses, sorted by cost, are taken in passes of collapses that share no end (each pass up
  * to a cost limit), so every cost stays exact while a pass runs and a pass's placements can be restored on all
  * threads at once. A new vertex's closest triangle of the input is found by walking the input from the triangle
- * where its collapsed end was restored.
+ * where its collapsed end was restored. A restored vertex stays within 0.05 × the input's local edge length of the
+ * plane of the input triangle it was restored on: where the input's normals turn by more than about 17° per edge,
+ * as at a scan's sharp ridges, S bulges over the input by up to 0.3 of an edge.
  * - in: finite positions where triangles refer, indices in range (else RESURF_ERR_INVALID_MESH naming the element);
  *   triangles with a repeated position are dropped; any topology is accepted (non-manifold vertices stay put).
  *   Not modified.
