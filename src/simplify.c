@@ -46,8 +46,11 @@ enum {
     BLOCK_POSITIONS = 1024,       /* parallel block sizes */
     BLOCK_SAMPLES = 4096,
     SMALL_SORT = 24,              /* fans up to this size are insertion-sorted */
-    CHUNK = 1024,                 /* candidates of a pass applied together */
+    CHUNK = 1024,                 /* candidates of a pass applied together, at most */
     WINDOW = 1536,                /* candidates whose stars are gathered for a chunk, besides those put aside */
+    CHUNK_MIN = 16,               /* a chunk's size is alive positions / CHUNK_SPREAD, within [CHUNK_MIN, CHUNK] */
+    CHUNK_SPREAD = 256,
+    CHUNK_THREADS = 128,          /* smaller chunks run on one thread: starting threads would cost more than it saves */
 };
 
 /* The tip guard (tip_excess): an end's old position may lie TIP_GUARD × the edge's length, or TIP_ERROR × the
@@ -251,6 +254,7 @@ typedef struct simplifier {
                                records: a pass reads it for every candidate. */
     u32vec taken;           /* the positions marked taken */
     int star_chunks;        /* chunks of candidates with disjoint stars, applied in parallel (else one by one) */
+    size_t chunk, window;   /* this pass's chunk size and window (open_pass) */
     u32vec claimed;         /* the positions marked claimed (stars of the chunk's candidates) */
     size_t *skip;           /* CHUNK: candidates of the pass whose star met a claimed one: for the next chunk */
     size_t skip_count;
@@ -1730,6 +1734,9 @@ static int merge_lane(simplifier *s, lane *L)
     return ok;
 }
 
+/* Threads for a chunk's parallel steps (the result is the same for any number). */
+static unsigned chunk_threads(const simplifier *s) { return s->chunk >= CHUNK_THREADS ? s->threads : 1; }
+
 /* Opens a pass: the list brought up to date and the pass's cost limit. Returns 0 when out of memory. */
 static int open_pass(simplifier *s)
 {
@@ -1738,6 +1745,12 @@ static int open_pass(simplifier *s)
     s->pass_open = s->cand_count > 0;
     s->pass_next = 0;
     s->pass_before = s->rep.collapses;
+    /* Stars of a chunk must be disjoint: the more of the mesh a chunk would cover, the more of its window's stars
+     * meet claimed ones and are gathered again for the next chunk (on 20k triangles, chunks of 1024 made gathering
+     * stars a sixth of the time). The size depends on the counts only, as the result must. */
+    size_t chunk = s->alive_positions / CHUNK_SPREAD;
+    s->chunk = chunk < CHUNK_MIN ? CHUNK_MIN : chunk > CHUNK ? CHUNK : chunk;
+    s->window = s->chunk * WINDOW / CHUNK;
     if (s->pass_open) {
         size_t nth = (size_t)((double)s->cand_count * PASS_SHARE);
         nth = nth < 1 ? 1 : nth;
@@ -1869,19 +1882,19 @@ static int take_chunk(simplifier *s, scratch *sc)
         for (size_t k = 0; k < s->skip_count; ++k) /* in list order, all before pass_next */
             s->win[n++].index = s->skip[k];
         size_t nskip = n;
-        for (size_t i = s->pass_next; n < nskip + WINDOW && i < s->cand_count; ++i) {
+        for (size_t i = s->pass_next; n < nskip + s->window && i < s->cand_count; ++i) {
             if (s->cand[i].cost > s->pass_limit && s->rep.collapses > s->pass_before)
                 break;
             s->win[n++].index = i;
         }
         chunk_job job = {s, sc};
-        if (resurfi_parallel_for(n, 64, s->threads, star_block, &job))
+        if (resurfi_parallel_for(n, 64, chunk_threads(s), star_block, &job))
             return 0;
         s->skip_count = 0;
         size_t k = 0;
-        for (; k < n && s->pend_count < CHUNK; ++k) {
+        for (; k < n && s->pend_count < s->chunk; ++k) {
             if (k >= nskip) {
-                if (s->skip_count >= CHUNK)
+                if (s->skip_count >= s->chunk)
                     break;
                 candidate c = s->cand[s->win[k].index];
                 if (c.cost > s->pass_limit && (s->rep.collapses > s->pass_before || s->pend_count > 0))
@@ -1919,7 +1932,7 @@ static int take_chunk_ends(simplifier *s)
 {
     s->pend_count = s->pend_next = 0;
     size_t i = s->pass_next;
-    for (; s->pend_count < CHUNK && i < s->cand_count; ++i) {
+    for (; s->pend_count < s->chunk && i < s->cand_count; ++i) {
         candidate c = s->cand[i];
         if (c.cost > s->pass_limit && (s->rep.collapses > s->pass_before || s->pend_count > 0))
             break;
@@ -2061,7 +2074,7 @@ static resurf_status collapse_until(simplifier *s, size_t target, scratch *sc, r
             goto oom;
         if (s->star_chunks && s->pend_count && s->alive_tris > target + 2 * s->pend_count) {
             /* each collapse removes at most two triangles: the whole chunk stays above the target */
-            if (resurfi_parallel_for(s->pend_count, CHUNK / 64, s->threads, apply_block, &job))
+            if (resurfi_parallel_for(s->pend_count, s->chunk / 64 + 1, chunk_threads(s), apply_block, &job))
                 goto oom;
             if (!finish_parallel_chunk(s))
                 goto oom;
@@ -2071,7 +2084,8 @@ static resurf_status collapse_until(simplifier *s, size_t target, scratch *sc, r
                 return resurfi_error(error, RESURF_ERR_CANCELLED, "simplification cancelled");
             continue;
         }
-        if (batched && resurfi_parallel_for(s->pend_count, CHUNK / 16, s->threads, restore_chunk_block, &job))
+        if (batched && resurfi_parallel_for(s->pend_count, s->chunk / 16 + 1, chunk_threads(s),
+                                        restore_chunk_block, &job))
             goto oom;
     }
     return RESURF_OK;
