@@ -49,7 +49,7 @@ enum {
     CHUNK = 1024,                 /* candidates of a pass applied together, at most */
     WINDOW = 1536,                /* candidates whose stars are gathered for a chunk, besides those put aside */
     CHUNK_MIN = 16,               /* a chunk's size is alive positions / CHUNK_SPREAD, within [CHUNK_MIN, CHUNK] */
-    CHUNK_SPREAD = 256,
+    CHUNK_SPREAD = 64,
     CHUNK_THREADS = 128,          /* smaller chunks run on one thread: starting threads would cost more than it saves */
 };
 
