@@ -764,8 +764,8 @@ typedef struct resurf_simplify_options {
 /* The defaults: target_ratio 0.5, quadric placement, inline restoration, sag_offset 1, cost_at_restored 0,
  * max_normal_change_deg 60, min_angle_deg 0, border_weight 1, measure_samples 100000, all cores. Measured with
  * tools/bench_simplify.c on the irregular analytic sphere, torus and cubic surface (20k triangles, 10% and 2%): the
- * mean distance of the LOD's surface to the true surface is lowest at sag_offset 1 (about 0.24–0.27, 0.36–0.38 and
- * 0.74–0.77 of meshoptimizer's; 0.86–0.89 with the offset at 0), as the chord-sag model predicts (the mean depth of
+ * mean distance of the LOD's surface to the true surface is lowest at sag_offset 1 (about 0.24–0.26, 0.35–0.38 and
+ * 0.74–0.80 of meshoptimizer's; 0.86–0.89 with the offset at 0), as the chord-sag model predicts (the mean depth of
  * an equilateral facet under a sphere equals its edges' sag h²κ/8). Ranking by the quadric at the
  * restored position changed nothing measurable and doubles the time; normal-change bounds from 40° to 90° gave the
  * same figures. */
