@@ -2084,8 +2084,8 @@ static resurf_status collapse_until(simplifier *s, size_t target, scratch *sc, r
                 return resurfi_error(error, RESURF_ERR_CANCELLED, "simplification cancelled");
             continue;
         }
-        if (batched && resurfi_parallel_for(s->pend_count, s->chunk / 16 + 1, chunk_threads(s),
-                                        restore_chunk_block, &job))
+        if (batched &&
+            resurfi_parallel_for(s->pend_count, s->chunk / 16 + 1, chunk_threads(s), restore_chunk_block, &job))
             goto oom;
     }
     return RESURF_OK;
