@@ -791,8 +791,11 @@ typedef struct resurf_simplify_report {
     double max_error_estimate;       /* largest estimated error (see max_error) of a collapse done */
 
     /* Measured: distance from the result's surface (its vertices and measure_samples area-uniform samples) to the
-     * input's surface, one-sided, exact point–triangle distances through a BVH over the input. The *_rel figures
-     * divide by diagonal. NaN when not measured (measure_samples = 0) or the result is empty. */
+     * input's surface, one-sided, exact point–triangle distances through a BVH over the input. max_distance is the
+     * largest at those points, so a lower bound: the farthest point can lie between samples, as on the dragon
+     * scan's 2% level, where an edge bridging a thin feature measures 0.84 mm at 100k samples, 0.93 mm on a dense
+     * grid. The *_rel figures divide by diagonal. NaN when not measured (measure_samples = 0) or the result is
+     * empty. */
     double max_distance, mean_distance;
     double max_distance_rel, mean_distance_rel;
     double diagonal;                 /* of the input's bounding box */
