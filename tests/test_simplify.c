@@ -744,30 +744,36 @@ START_TEST(simplify_drops_fins)
 }
 END_TEST
 
-/* A pencil: a thin closed hexagonal tube (radius 0.01, length 1) with short cone tips, 100 times longer than wide:
- * a thin feature must keep its length at 10% (its tips' cone planes pin them) whether or not it is restored. The
- * tip guard's own case, a scan's spike whose tip quadrics let shrink over many collapses, is the next test: no
- * small hand-made mesh reproduced it. */
-static resurf_mesh *pencil(unsigned rings)
+/* A closed tube: `rings` rings of `sides` corners on a circle of `radius`, `length` from the first ring to the last,
+ * a cone tip `cap` beyond each end. With `slant`, every other ring is turned by half a side (an antiprism tube: every
+ * triangle slants); without, each side is a quad cut by a diagonal. */
+static resurf_mesh *tube(unsigned sides, unsigned rings, double radius, double length, double cap, int slant)
 {
-    const unsigned sides = 6;
     resurf_mesh *m = NULL;
     ck_assert_int_eq(resurf_mesh_create(rings * sides + 2, 2 * sides * (rings - 1) + 2 * sides, 0, &m, NULL),
                      RESURF_OK);
     for (unsigned i = 0; i < rings; ++i)
         for (unsigned k = 0; k < sides; ++k) {
-            double a = 2 * M_PI * k / sides;
-            v3_store(m->positions + 3 * (i * sides + k), v3(0.01 * cos(a), 0.01 * sin(a), (double)i / (rings - 1)));
+            double a = 2 * M_PI * (k + (slant && i % 2 ? 0.5 : 0)) / sides;
+            v3_store(m->positions + 3 * (i * sides + k),
+                     v3(radius * cos(a), radius * sin(a), length * i / (rings - 1)));
         }
     uint32_t bottom = rings * sides, top = bottom + 1;
-    v3_store(m->positions + 3 * bottom, v3(0, 0, -0.01));
-    v3_store(m->positions + 3 * top, v3(0, 0, 1.01));
+    v3_store(m->positions + 3 * bottom, v3(0, 0, -cap));
+    v3_store(m->positions + 3 * top, v3(0, 0, length + cap));
     uint32_t *t = m->indices;
     for (unsigned i = 0; i + 1 < rings; ++i)
         for (unsigned k = 0; k < sides; ++k) {
-            uint32_t a = i * sides + k, b = i * sides + (k + 1) % sides, c = a + sides, d = b + sides;
-            *t++ = a, *t++ = b, *t++ = d;
-            *t++ = a, *t++ = d, *t++ = c;
+            /* lower corners l0, l1 (side k of ring i), upper u0, u1 (ring i + 1) */
+            uint32_t l0 = i * sides + k, l1 = i * sides + (k + 1) % sides;
+            uint32_t u0 = l0 + sides, u1 = l1 + sides;
+            if (slant && i % 2 == 0) { /* u0 lies over the middle of (l0, l1) */
+                *t++ = l0, *t++ = l1, *t++ = u0;
+                *t++ = l1, *t++ = u1, *t++ = u0;
+            } else { /* u1 does, or the quad's diagonal (l0, u1) */
+                *t++ = l0, *t++ = l1, *t++ = u1;
+                *t++ = l0, *t++ = u1, *t++ = u0;
+            }
         }
     for (unsigned k = 0; k < sides; ++k) {
         *t++ = bottom, *t++ = (k + 1) % sides, *t++ = k;
@@ -775,6 +781,12 @@ static resurf_mesh *pencil(unsigned rings)
     }
     return m;
 }
+
+/* A pencil: a thin closed hexagonal tube (radius 0.01, length 1) with short cone tips, 100 times longer than wide:
+ * a thin feature must keep its length at 10% (its tips' cone planes pin them) whether or not it is restored. The
+ * tip guard's own case, a scan's spike whose tip quadrics let shrink over many collapses, is the next test: no
+ * small hand-made mesh reproduced it. */
+static resurf_mesh *pencil(unsigned rings) { return tube(6, rings, 0.01, 1, 0.01, 0); }
 
 START_TEST(simplify_keeps_a_pencils_length)
 {
@@ -798,54 +810,17 @@ START_TEST(simplify_keeps_a_pencils_length)
 }
 END_TEST
 
-/* A tube of `rings` octagons of radius 1, each turned by half a side from the one before (an antiprism tube: every
- * triangle slants), 0.66 apart so that every edge is about 0.765 long, closed by a cone at each end. Its normals
- * turn by 45° per edge: S, the smooth surface they describe, rises about 0.076 over the middle of a side, a tenth of
- * an edge, where the circle through the octagon would. */
-static resurf_mesh *slanted_tube(unsigned rings)
-{
-    const unsigned sides = 8;
-    resurf_mesh *m = NULL;
-    ck_assert_int_eq(resurf_mesh_create(rings * sides + 2, 2 * sides * (rings - 1) + 2 * sides, 0, &m, NULL),
-                     RESURF_OK);
-    for (unsigned i = 0; i < rings; ++i)
-        for (unsigned k = 0; k < sides; ++k) {
-            double a = 2 * M_PI * (k + 0.5 * (i % 2)) / sides;
-            v3_store(m->positions + 3 * (i * sides + k), v3(cos(a), sin(a), 0.66 * i));
-        }
-    uint32_t bottom = rings * sides, top = bottom + 1;
-    v3_store(m->positions + 3 * bottom, v3(0, 0, -0.5));
-    v3_store(m->positions + 3 * top, v3(0, 0, 0.66 * (rings - 1) + 0.5));
-    uint32_t *t = m->indices;
-    for (unsigned i = 0; i + 1 < rings; ++i)
-        for (unsigned k = 0; k < sides; ++k) {
-            /* lower corners l0, l1 (side k of ring i), upper u0, u1 (ring i + 1), each side's triangle pointing up
-             * and the one pointing down between them */
-            uint32_t l0 = i * sides + k, l1 = i * sides + (k + 1) % sides;
-            uint32_t u0 = l0 + sides, u1 = l1 + sides;
-            if (i % 2 == 0) { /* u0 lies over the middle of (l0, l1) */
-                *t++ = l0, *t++ = l1, *t++ = u0;
-                *t++ = l1, *t++ = u1, *t++ = u0;
-            } else { /* u1 does */
-                *t++ = l0, *t++ = l1, *t++ = u1;
-                *t++ = l0, *t++ = u1, *t++ = u0;
-            }
-        }
-    for (unsigned k = 0; k < sides; ++k) {
-        *t++ = bottom, *t++ = (k + 1) % sides, *t++ = k;
-        *t++ = top, *t++ = (rings - 1) * sides + k, *t++ = (rings - 1) * sides + (k + 1) % sides;
-    }
-    return m;
-}
-
-/* Where M's normals turn sharply, restored vertices stay near M: within 0.05 of M's local edge length of the plane
+/* An antiprism tube of 30 octagons of radius 1, 0.66 apart so that every edge is about 0.765 long: its normals turn
+ * by 45° per edge, and S, the smooth surface they describe, rises about 0.076 over the middle of a side, a tenth of
+ * an edge, where the circle through the octagon would.
+ * Where M's normals turn sharply, restored vertices stay near M: within 0.05 of M's local edge length of the plane
  * of the triangle they were restored on (the rise limit of src/simplify.c), although S rises a tenth of an edge
  * there. Midpoint placement puts new vertices on M's chords, so every one is restored; the straddling offset is off.
  * Asserted against the brute-force distance to M, with 10% to spare: at most 0.05 × 1.1 × the longest edge at a
  * corner of the closest triangle (0.77 on the tube, 1.12 at the cones). */
 START_TEST(simplify_restored_vertices_stay_near_sharp_bends)
 {
-    resurf_mesh *m = slanted_tube(30);
+    resurf_mesh *m = tube(8, 30, 1, 0.66 * 29, 0.5, 1);
     ck_assert_int_eq(validation(m).nonmanifold_edges, 0);
     double *longest = calloc(m->vertex_count, sizeof *longest); /* per vertex of M: its longest edge */
     ck_assert_ptr_nonnull(longest);
