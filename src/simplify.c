@@ -1407,11 +1407,12 @@ static double tip_excess(const simplifier *s, const u32vec *fan_a, const u32vec 
     const u32vec *fans[2] = {fan_a, fan_b};
     double bound = TIP_GUARD * v3_dist(s->P[a].p, s->P[b].p);
     bound = fmax(bound, TIP_ERROR * err);
-    double excess = 0;
+    double excess = 0, bound2 = bound * bound;
     for (int side = 0; side < 2; ++side) {
         vec3 end = s->P[side ? b : a].p;
         double near2 = INFINITY;
-        for (size_t i = 0; i < fans[side]->count; ++i) {
+        /* The first triangle within the bound settles this end (sqrt of a correctly rounded bound² is the bound). */
+        for (size_t i = 0; i < fans[side]->count && !(near2 <= bound2); ++i) {
             vec3 neu[3];
             if (!moved_triangle(s, fans[side]->data[i] / 3, a, b, p, pl, NULL, neu))
                 continue;
