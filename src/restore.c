@@ -760,7 +760,7 @@ vec3 resurfi_restorer_normal(const resurfi_restorer *r, uint32_t t, const double
 static double local_length(const resurfi_restorer *r, uint32_t t)
 {
     const uint32_t *i = r->tris + 3 * (size_t)t;
-    return fmax(fmax(r->local_length[i[0]], r->local_length[i[1]]), r->local_length[i[2]]);
+    return dmax(dmax(r->local_length[i[0]], r->local_length[i[1]]), r->local_length[i[2]]);
 }
 
 /* Height above the chord, at chord coordinate x from its midpoint, of the circular arc through both chord ends
