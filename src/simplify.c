@@ -247,6 +247,7 @@ typedef struct simplifier {
 
     candidate *cand;        /* the candidates, sorted by cost */
     size_t cand_count, cand_cap;
+    candidate *spare;       /* cand_cap: where refresh_candidates merges the next list */
     candidate *fresh;       /* planned or requeued during a pass: merged into the list before the next */
     size_t fresh_count, fresh_cap;
     uint32_t *gen;          /* per position: bumped when it changes (its candidates then go stale); the top bit
@@ -1085,7 +1086,7 @@ static void sort_candidates(candidate *c, size_t n, int shift)
                 sort_candidates(c + end[b] - count[b], count[b], shift - 8);
 }
 
-/* Grows the list to hold n candidates; 0 when out of memory. */
+/* Grows the list, and its spare, to hold n candidates; 0 when out of memory. */
 static int reserve_candidates(simplifier *s, size_t n)
 {
     if (n <= s->cand_cap)
@@ -1095,6 +1096,9 @@ static int reserve_candidates(simplifier *s, size_t n)
     if (!c)
         return 0;
     s->cand = c;
+    resurfi_free(s->alloc, s->spare);
+    if (!(s->spare = resurfi_alloc(s->alloc, cap, sizeof *s->spare)))
+        return 0;
     s->cand_cap = cap;
     return 1;
 }
@@ -1167,34 +1171,90 @@ static int push_edges(simplifier *s, lane *L, uint32_t a, const u32vec *fan, uin
     return 1;
 }
 
+/* The list is merged in MERGE_PARTS parts, each a range of the old list with the fresh candidates that go among
+ * them, on all threads. */
+enum { MERGE_PARTS = 8, MERGE_MIN = 1 << 16 };
+
+typedef struct merge_job {
+    simplifier *s;
+    size_t m;                                   /* fresh candidates, sorted */
+    size_t list[MERGE_PARTS + 1], fresh[MERGE_PARTS + 1]; /* each part's ranges */
+    size_t written[MERGE_PARTS];                /* each part's output, at spare + list[k] + fresh[k] */
+} merge_job;
+
+/* Part k of the merge: its current candidates and its fresh ones, by cost, the older first on equal costs. */
+static int merge_block(void *ctx, size_t begin, size_t end, unsigned worker)
+{
+    (void)worker;
+    merge_job *j = ctx;
+    const simplifier *s = j->s;
+    for (size_t k = begin; k < end; ++k) {
+        const candidate *c = s->cand, *f = s->fresh;
+        candidate *out = s->spare + j->list[k] + j->fresh[k];
+        size_t i = j->list[k], ie = j->list[k + 1], n = 0;
+        for (size_t x = j->fresh[k]; x < j->fresh[k + 1]; ++x) {
+            for (; i < ie && c[i].cost <= f[x].cost; ++i)
+                if (candidate_current(s, c[i]))
+                    out[n++] = c[i];
+            out[n++] = f[x];
+        }
+        for (; i < ie; ++i)
+            if (candidate_current(s, c[i]))
+                out[n++] = c[i];
+        j->written[k] = n;
+    }
+    return 0;
+}
+
 /* The list for the next pass: the current candidates keep their places (their ends' quadrics and flags, hence
- * their costs, are the same); those planned during the pass are sorted and merged in. Returns 0 when out of
- * memory. */
+ * their costs, are the same); those planned during the pass are sorted and merged in. The list is cut into parts
+ * at fixed places, and each fresh candidate goes to the part of the last candidate not more costly: the result
+ * is the same for any thread count. Returns 0 when out of memory. */
 static int refresh_candidates(simplifier *s)
 {
-    size_t n = 0;
-    for (size_t i = 0; i < s->cand_count; ++i)
-        if (candidate_current(s, s->cand[i]))
-            s->cand[n++] = s->cand[i];
-    s->cand_count = n;
     size_t m = 0;
     for (size_t i = 0; i < s->fresh_count; ++i)
         if (candidate_current(s, s->fresh[i]))
             s->fresh[m++] = s->fresh[i];
+    s->fresh_count = 0;
+    size_t n = s->cand_count;
     if (!reserve_candidates(s, n + m))
         return 0;
     sort_candidates(s->fresh, m, 24);
-    s->fresh_count = 0;
-    const candidate *f = s->fresh;
-    /* merge from the back; on equal costs the older candidate comes first */
-    size_t i = n, j = m, k = n + m;
-    while (j > 0) {
-        if (i > 0 && s->cand[i - 1].cost > f[j - 1].cost)
-            s->cand[--k] = s->cand[--i];
-        else
-            s->cand[--k] = f[--j];
+    merge_job j = {.s = s, .m = m};
+    size_t parts = n >= MERGE_MIN ? MERGE_PARTS : 1;
+    for (size_t k = 0; k <= parts; ++k) {
+        j.list[k] = k == parts ? n : n / parts * k;
+        if (k == 0 || k == parts) {
+            j.fresh[k] = k ? m : 0;
+            continue;
+        }
+        /* the first fresh candidate at least as costly as the part's first candidate */
+        float first = s->cand[j.list[k]].cost;
+        size_t lo = j.fresh[k - 1], hi = m;
+        while (lo < hi) {
+            size_t mid = lo + (hi - lo) / 2;
+            if (s->fresh[mid].cost < first)
+                lo = mid + 1;
+            else
+                hi = mid;
+        }
+        j.fresh[k] = lo;
     }
-    s->cand_count = n + m;
+    unsigned threads = parts > 1 ? s->threads : 1;
+    resurfi_parallel_for(parts, 1, threads, merge_block, &j);
+    /* close the gaps the stale candidates left */
+    size_t count = 0;
+    for (size_t k = 0; k < parts; ++k) {
+        candidate *from = s->spare + j.list[k] + j.fresh[k];
+        if (from != s->spare + count && j.written[k])
+            memmove(s->spare + count, from, j.written[k] * sizeof *from);
+        count += j.written[k];
+    }
+    candidate *old = s->cand;
+    s->cand = s->spare;
+    s->spare = old;
+    s->cand_count = count;
     return 1;
 }
 
@@ -2671,6 +2731,7 @@ static void simplifier_free(simplifier *s)
     resurfi_free(s->alloc, s->chart_of_input_tri);
     resurfi_free(s->alloc, s->chart_of_wedge);
     resurfi_free(s->alloc, s->cand);
+    resurfi_free(s->alloc, s->spare);
     resurfi_free(s->alloc, s->fresh);
     resurfi_free(s->alloc, s->taken.data);
     resurfi_free(s->alloc, s->gen);
@@ -2822,8 +2883,9 @@ static resurf_status simplify_levels(const resurf_mesh *in, const resurf_simplif
         if (i + 1 == count) { /* no more collapses: the queue's memory goes before the output's comes */
             s.last_level = 1;
             resurfi_free(s.alloc, s.cand);
+            resurfi_free(s.alloc, s.spare);
             resurfi_free(s.alloc, s.fresh);
-            s.cand = s.fresh = NULL;
+            s.cand = s.spare = s.fresh = NULL;
             s.cand_count = s.cand_cap = s.fresh_count = s.fresh_cap = 0;
         }
         resurf_simplify_report rep;
