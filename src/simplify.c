@@ -1046,20 +1046,12 @@ static uint32_t cost_key(float cost)
  * array): a radix sort from the most significant byte down, each bucket permuted in place (the "American flag"
  * sort), small buckets by insertion. Equal costs end in an order that depends on the input order only, never on
  * the thread count. */
-static void sort_candidates(candidate *c, size_t n, int shift)
+/* One digit of sort_candidates: permutes c[0..n) into buckets by the byte at `shift`; end[b] is where bucket b
+ * ends, count[b] its size. */
+static void bucket_candidates(candidate *c, size_t n, int shift, size_t count[256], size_t end[256])
 {
-    if (n <= 32) {
-        for (size_t i = 1; i < n; ++i) {
-            candidate x = c[i];
-            uint32_t k = cost_key(x.cost);
-            size_t j = i;
-            for (; j > 0 && cost_key(c[j - 1].cost) > k; --j)
-                c[j] = c[j - 1];
-            c[j] = x;
-        }
-        return;
-    }
-    size_t count[256] = {0}, next[256], end[256];
+    size_t next[256];
+    memset(count, 0, 256 * sizeof *count);
     for (size_t i = 0; i < n; ++i)
         count[(cost_key(c[i].cost) >> shift) & 255]++;
     size_t sum = 0;
@@ -1080,10 +1072,78 @@ static void sort_candidates(candidate *c, size_t n, int shift)
             }
             c[next[b]++] = x;
         }
+}
+
+static void sort_candidates(candidate *c, size_t n, int shift)
+{
+    if (n <= 32) {
+        for (size_t i = 1; i < n; ++i) {
+            candidate x = c[i];
+            uint32_t k = cost_key(x.cost);
+            size_t j = i;
+            for (; j > 0 && cost_key(c[j - 1].cost) > k; --j)
+                c[j] = c[j - 1];
+            c[j] = x;
+        }
+        return;
+    }
+    size_t count[256], end[256];
+    bucket_candidates(c, n, shift, count, end);
     if (shift > 0)
         for (int b = 0; b < 256; ++b)
             if (count[b] > 1)
                 sort_candidates(c + end[b] - count[b], count[b], shift - 8);
+}
+
+/* sort_candidates on all threads: the first digit (and the second in buckets holding more than 1/16 of the list)
+ * here, the rest bucket by bucket in parallel. The same permutations as on one thread, so the same order. */
+enum { SORT_PARALLEL = 1 << 16, SORT_TASKS = 256 * 16 + 256 };
+
+typedef struct sort_task {
+    size_t begin, count;
+    int shift;
+} sort_task;
+
+typedef struct sort_job {
+    candidate *c;
+    sort_task *tasks;
+} sort_job;
+
+static int sort_block(void *ctx, size_t begin, size_t end, unsigned worker)
+{
+    (void)worker;
+    const sort_job *j = ctx;
+    for (size_t t = begin; t < end; ++t)
+        sort_candidates(j->c + j->tasks[t].begin, j->tasks[t].count, j->tasks[t].shift);
+    return 0;
+}
+
+/* (Without memory for the task list, on one thread.) */
+static void sort_candidates_threads(const simplifier *s, candidate *c, size_t n)
+{
+    sort_task *tasks = NULL;
+    if (n < SORT_PARALLEL || s->threads < 2 || !(tasks = resurfi_alloc(s->alloc, SORT_TASKS, sizeof *tasks))) {
+        sort_candidates(c, n, 24);
+        return;
+    }
+    size_t count[256], end[256], count2[256], end2[256], nt = 0;
+    bucket_candidates(c, n, 24, count, end);
+    for (int b = 0; b < 256; ++b) {
+        size_t first = end[b] - count[b];
+        if (count[b] <= 1)
+            continue;
+        if (count[b] <= n / 16 || count[b] <= 32) {
+            tasks[nt++] = (sort_task){first, count[b], 16};
+            continue;
+        }
+        bucket_candidates(c + first, count[b], 16, count2, end2);
+        for (int d = 0; d < 256; ++d)
+            if (count2[d] > 1)
+                tasks[nt++] = (sort_task){first + end2[d] - count2[d], count2[d], 8};
+    }
+    sort_job j = {c, tasks};
+    resurfi_parallel_for(nt, 4, s->threads, sort_block, &j);
+    resurfi_free(s->alloc, tasks);
 }
 
 /* Grows the list, and its spare, to hold n candidates; 0 when out of memory. */
@@ -1220,7 +1280,7 @@ static int refresh_candidates(simplifier *s)
     size_t n = s->cand_count;
     if (!reserve_candidates(s, n + m))
         return 0;
-    sort_candidates(s->fresh, m, 24);
+    sort_candidates_threads(s, s->fresh, m);
     merge_job j = {.s = s, .m = m};
     size_t parts = n >= MERGE_MIN ? MERGE_PARTS : 1;
     for (size_t k = 0; k <= parts; ++k) {
@@ -1332,7 +1392,7 @@ static resurf_status seed_candidates(simplifier *s, scratch *scratch, const uint
     for (size_t i = 0; i < total; ++i)
         if (s->cand[i].a != NONE)
             s->cand[n++] = s->cand[i];
-    sort_candidates(s->cand, n, 24);
+    sort_candidates_threads(s, s->cand, n);
     s->cand_count = n;
     return RESURF_OK;
 }
