@@ -985,7 +985,9 @@ static uint32_t closest_triangle(const resurfi_restorer *r, vec3 p, uint32_t hin
 
 enum { WALK_STEPS = 64 };
 
-/* The closest of the triangles around t's corners (t included) to p, and p's closest point on it. */
+/* The closest of the triangles around t's corners (t included) to p, and p's closest point on it. Each triangle is
+ * measured once: at the first of t's corners it has (a third of the work of measuring t and its edge neighbours
+ * again at each corner). */
 static uint32_t closest_around(const resurfi_restorer *r, vec3 p, uint32_t t, double bary[3], double *dist2)
 {
     const uint32_t *tri = r->tris + 3 * (size_t)t;
@@ -997,6 +999,11 @@ static uint32_t closest_around(const resurfi_restorer *r, vec3 p, uint32_t t, do
         for (uint32_t i = 0; i < n; ++i) {
             uint32_t f = faces[i];
             const uint32_t *c = r->tris + 3 * (size_t)f;
+            int seen = 0;
+            for (int j = 0; j < k; ++j)
+                seen |= c[0] == tri[j] || c[1] == tri[j] || c[2] == tri[j];
+            if (seen)
+                continue;
             double b[3];
             vec3 q = resurfi_closest_on_triangle(p, position(r, c[0]), position(r, c[1]), position(r, c[2]), b);
             double d2 = v3_dist2(p, q);
