@@ -26,6 +26,7 @@
  * chunk's order. */
 #include <float.h>
 #include <math.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -165,23 +166,21 @@ typedef struct plan {
 typedef struct work_tri {
     uint32_t v[3];    /* position of each corner */
     uint32_t w[3];    /* wedge of each corner: the lowest input vertex with the same position and attributes */
-    uint32_t next[3]; /* next corner of the same position, NONE at the end */
     uint32_t dead;
 } work_tri;
 
 /* 128 bytes, allocated on a 64-byte boundary: the first cache line holds what every visit reads (flags, position,
- * list head), the quadric follows. */
+ * where its corners are), the quadric follows. */
 typedef struct work_pos {
     vec3 p;
-    uint32_t head;    /* first corner */
-    uint32_t unused;
+    uint32_t fan;       /* its corners: fan_count words of the simplifier's fans from here (some may be dead) */
+    uint32_t fan_count;
     uint8_t flags;
     resurfi_quadric q;
 } work_pos;
 
 #define TV(c) (s->tri[(c) / 3].v[(c) % 3])
 #define TW(c) (s->tri[(c) / 3].w[(c) % 3])
-#define TNEXT(c) (s->tri[(c) / 3].next[(c) % 3])
 
 /* Candidate `index` of the list as gathered ahead of the claims (star_block): its ends' fans (live corners, in
  * list order: what gather_fan returns) and its closed star (the ends and their neighbours, each once). count is 0
@@ -239,6 +238,12 @@ typedef struct simplifier {
     size_t pos_count, alive_positions;
     work_pos *P;         /* inside P_mem, 64-byte aligned */
     void *P_mem;
+    /* Each position's corners, side by side: a fan is one read, and its triangles' misses overlap (a list would
+     * chain them). A collapse writes the survivor's new fan at the end (fans_used, taken atomically by the
+     * chunk's workers); make_room compacts the array when a chunk might not fit. */
+    uint32_t *fans;
+    size_t fans_cap;
+    atomic_size_t fans_used;
     uint32_t *mark;    /* lane 0's scratch stamps (allocated with the working mesh) */
 
     /* attribute sides (only when the input has attributes and seams): chart of each input triangle and wedge */
@@ -280,6 +285,20 @@ typedef struct simplifier {
 } simplifier;
 
 /* ---- small helpers ------------------------------------------------------------------------------------------- */
+
+/* Room for n words in v; 0 when out of memory. */
+static int vec_reserve(const resurf_allocator *alloc, u32vec *v, size_t n)
+{
+    if (n <= v->cap)
+        return 1;
+    size_t cap = n < 16 ? 32 : 2 * n;
+    uint32_t *d = resurfi_realloc(alloc, v->data, cap, sizeof *d);
+    if (!d)
+        return 0;
+    v->data = d;
+    v->cap = cap;
+    return 1;
+}
 
 static int vec_push(const resurf_allocator *alloc, u32vec *v, uint32_t x)
 {
@@ -325,31 +344,71 @@ static void corner_others(const simplifier *s, uint32_t c, uint32_t xs[2])
     xs[1] = s->tri[t].v[k == 0 ? 2 : k - 1];
 }
 
-/* The corners of live triangles at position v, in list order. With unlink, dead triangles' corners are dropped
- * from the list on the way (only the sequential collapse loop may do that). Returns 0 when out of memory. */
-static int gather_fan(simplifier *s, uint32_t v, u32vec *out, int unlink)
+/* The corners of position v, in fan order (a fan never holds a dead triangle: see apply_collapse). Returns 0
+ * when out of memory. */
+static int gather_fan(const simplifier *s, uint32_t v, u32vec *out)
 {
+    uint32_t n = s->P[v].fan_count;
     out->count = 0;
-    uint32_t prev = NONE;
-    for (uint32_t c = s->P[v].head; c != NONE;) {
-        uint32_t next = TNEXT(c);
-        if (s->tri[c / 3].dead) {
-            if (unlink) {
-                if (prev == NONE)
-                    s->P[v].head = next;
-                else
-                    TNEXT(prev) = next;
-            } else {
-                prev = c;
-            }
-        } else {
-            if (!vec_push(s->alloc, out, c))
-                return 0;
-            prev = c;
-        }
-        c = next;
-    }
+    if (!vec_reserve(s->alloc, out, n))
+        return 0;
+    if (n)
+        memcpy(out->data, s->fans + s->P[v].fan, n * sizeof *out->data);
+    out->count = n;
     return 1;
+}
+
+/* Drops corner c from the fan of its position v, keeping the order of the others. */
+static void drop_corner(simplifier *s, uint32_t v, uint32_t c)
+{
+    uint32_t *f = s->fans + s->P[v].fan, n = s->P[v].fan_count, i = 0;
+    while (i < n && f[i] != c)
+        ++i;
+    if (i == n)
+        return;
+    memmove(f + i, f + i + 1, (n - i - 1) * sizeof *f);
+    s->P[v].fan_count = n - 1;
+}
+
+/* Makes sure that `need` more words fit at the end of the fans (a collapse writes at most its ends' fan_counts):
+ * if not, the live fans are copied, side by side in position order, into a new array with as much room again.
+ * Offsets change, never contents or order. Returns 0 when out of memory. */
+static int make_room(simplifier *s, size_t need)
+{
+    size_t used = atomic_load_explicit(&s->fans_used, memory_order_relaxed);
+    if (s->fans_cap - used >= need)
+        return 1;
+    size_t live = 0;
+    for (size_t p = 0; p < s->pos_count; ++p)
+        live += s->P[p].fan_count;
+    size_t cap = 2 * live + need + 1024;
+    if (cap > UINT32_MAX) {
+        cap = UINT32_MAX;
+        if (cap - live < need)
+            return 0;
+    }
+    uint32_t *fans = resurfi_alloc(s->alloc, cap, sizeof *fans);
+    if (!fans)
+        return 0;
+    size_t at = 0;
+    for (size_t p = 0; p < s->pos_count; ++p) {
+        uint32_t n = s->P[p].fan_count;
+        if (n)
+            memcpy(fans + at, s->fans + s->P[p].fan, n * sizeof *fans);
+        s->P[p].fan = (uint32_t)at;
+        at += n;
+    }
+    resurfi_free(s->alloc, s->fans);
+    s->fans = fans;
+    s->fans_cap = cap;
+    atomic_store_explicit(&s->fans_used, at, memory_order_relaxed);
+    return 1;
+}
+
+/* The words a collapse of candidate c may write at the end of the fans. */
+static size_t fan_need(const simplifier *s, candidate c)
+{
+    return c.a == NONE ? 0 : (size_t)s->P[c.a].fan_count + s->P[c.b].fan_count;
 }
 
 static int pair_less(fan_pair p, fan_pair q) { return p.x < q.x || (p.x == q.x && p.slot < q.slot); }
@@ -635,22 +694,32 @@ static resurf_status prepare_mesh(simplifier *s, resurf_error *error)
     }
     for (size_t v = 0; v < nv; ++v)
         s->P[remap[v]].p = resurfi_position(in, (uint32_t)v);
-    /* Lists in increasing triangle order: insert from the back. The heads are built in the (still unused) marks,
-     * 4 bytes per position, not in the 128-byte records: 3 random writes per triangle then stay in the cache. */
-    uint32_t *head = s->mark;
-    memset(head, 0xff, pc * sizeof *head);
-    for (size_t c = 3 * nt; c-- > 0;) {
-        TNEXT(c) = head[TV(c)];
-        head[TV(c)] = (uint32_t)c;
-    }
+    /* Fans in increasing corner order, by counting (in the still unused marks: 4 bytes per position, not the
+     * 128-byte records, so the random writes stay in the cache). Room for half as many corners again: the new fans
+     * of collapses go at the end (make_room). */
+    s->fans_cap = 3 * nt + 3 * nt / 2 + 64;
+    s->fans_cap = s->fans_cap < UINT32_MAX ? s->fans_cap : UINT32_MAX; /* offsets are 32-bit */
+    if (!(s->fans = resurfi_alloc(s->alloc, s->fans_cap, sizeof *s->fans)))
+        goto done;
+    uint32_t *cursor = s->mark;
+    for (size_t c = 0; c < 3 * nt; ++c)
+        cursor[TV(c)]++;
+    uint32_t sum = 0;
     for (size_t p = 0; p < pc; ++p) {
-        s->P[p].head = head[p];
-        if (head[p] == NONE)
+        s->P[p].fan = sum;
+        s->P[p].fan_count = cursor[p];
+        if (cursor[p] == 0)
             s->P[p].flags = POS_DEAD;
         else
             s->alive_positions++;
+        uint32_t n = cursor[p];
+        cursor[p] = sum;
+        sum += n;
     }
-    memset(head, 0, pc * sizeof *head);
+    for (size_t c = 0; c < 3 * nt; ++c)
+        s->fans[cursor[TV(c)]++] = (uint32_t)c;
+    atomic_init(&s->fans_used, sum);
+    memset(cursor, 0, pc * sizeof *cursor);
     st = RESURF_OK;
 done:
     resurfi_free(s->alloc, remap);
@@ -680,7 +749,7 @@ static resurfi_quadric edge_plane(vec3 p, vec3 q, vec3 n, double w)
 static int analyse_position(simplifier *s, uint32_t a, scratch *sc, uint8_t *out_flags, resurfi_quadric *out_q,
                             uint32_t *out_up)
 {
-    if (!gather_fan(s, a, &sc->fan, 0))
+    if (!gather_fan(s, a, &sc->fan))
         return 0;
     const u32vec *fan = &sc->fan;
     size_t n = fan_pairs(s, fan, sc);
@@ -822,7 +891,7 @@ static resurf_status find_charts(simplifier *s, scratch *sc)
     for (size_t a = 0; a < s->pos_count; ++a) {
         if (s->P[a].flags & POS_DEAD)
             continue;
-        if (!gather_fan(s, (uint32_t)a, &sc->fan, 0)) {
+        if (!gather_fan(s, (uint32_t)a, &sc->fan)) {
             resurfi_free(s->alloc, parent);
             return RESURF_ERR_OUT_OF_MEMORY;
         }
@@ -1335,7 +1404,7 @@ static int seed_block(void *ctx, size_t begin, size_t end, unsigned worker)
         candidate *slot = s->cand + j->offset[a];
         size_t room = j->offset[a + 1] - j->offset[a], used = 0;
         if (!(s->P[a].flags & POS_DEAD)) {
-            if (!gather_fan(s, (uint32_t)a, &sc->fan, 0))
+            if (!gather_fan(s, (uint32_t)a, &sc->fan))
                 return 1;
             size_t n = fan_pairs(s, &sc->fan, sc);
             if (n == SIZE_MAX)
@@ -1565,13 +1634,15 @@ static int apply_collapse(simplifier *s, lane *L, uint32_t keep, uint32_t gone, 
     for (int k = 0; k < maps; ++k) {
         uint32_t t = pl->shared[k];
         for (int i = 0; i < 3; ++i)
-            if (TV(3 * t + i) != keep && TV(3 * t + i) != gone)
+            if (TV(3 * t + i) != keep && TV(3 * t + i) != gone) {
                 opposite[k] = TV(3 * t + i);
+                drop_corner(s, opposite[k], 3 * t + (uint32_t)i); /* in the star: this collapse's to write */
+            }
         s->tri[t].dead = 1;
     }
     L->dead_tris += (size_t)maps;
-    /* Re-label gone's live corners. keep's list becomes its fan after the collapse, gone's live corners first
-     * (the order of splicing gone's list in front of keep's), without the dead corners either list held. */
+    /* Re-label gone's live corners. keep's fan after the collapse: gone's live corners, then keep's (the order a
+     * list would have after splicing gone's in front of keep's). */
     L->fan_c.count = 0;
     const u32vec *fans[2] = {fan_gone, fan_keep};
     for (int side = 0; side < 2; ++side)
@@ -1587,10 +1658,12 @@ static int apply_collapse(simplifier *s, lane *L, uint32_t keep, uint32_t gone, 
             if (!vec_push(s->alloc, &L->fan_c, c))
                 return 0;
         }
-    for (size_t i = 0; i < L->fan_c.count; ++i)
-        TNEXT(L->fan_c.data[i]) = i + 1 < L->fan_c.count ? L->fan_c.data[i + 1] : NONE;
-    s->P[keep].head = L->fan_c.count ? L->fan_c.data[0] : NONE;
-    s->P[gone].head = NONE;
+    size_t n = L->fan_c.count, at = atomic_fetch_add_explicit(&s->fans_used, n, memory_order_relaxed);
+    if (n)
+        memcpy(s->fans + at, L->fan_c.data, n * sizeof *s->fans); /* make_room left room */
+    s->P[keep].fan = (uint32_t)at;
+    s->P[keep].fan_count = (uint32_t)n;
+    s->P[gone].fan_count = 0;
     s->P[keep].p = p;
     resurfi_quadric_add(&s->P[keep].q, &s->P[gone].q);
     /* Only wedges can change a position's flags here: the link condition keeps the mesh a manifold, a border vertex
@@ -1659,7 +1732,7 @@ static int restore_chunk_block(void *ctx, size_t begin, size_t end, unsigned wor
         pending *q = &s->pend[i];
         candidate c = s->cand[q->index];
         q->restore = 0;
-        if (!gather_fan(s, c.a, &sc->fan, 0))
+        if (!gather_fan(s, c.a, &sc->fan))
             return 1;
         plan pl;
         plan_collapse(s, c.a, c.b, &sc->fan, &pl);
@@ -1698,7 +1771,7 @@ static int try_candidate(simplifier *s, pending *q, lane *L, scratch *sc, int de
         view_b = (u32vec){words + w->na, w->nb, w->nb};
         fa = &view_a;
         fb = &view_b;
-    } else if (!gather_fan(s, a, &L->fan_a, 1) || !gather_fan(s, b, &L->fan_b, 1)) {
+    } else if (!gather_fan(s, a, &L->fan_a) || !gather_fan(s, b, &L->fan_b)) {
         return 0;
     }
     prefetch_ring(s, L, fa);
@@ -1818,7 +1891,7 @@ static int try_candidate(simplifier *s, pending *q, lane *L, scratch *sc, int de
     for (size_t i = 0; i < renew; ++i) {
         uint32_t x = L->touched.data[i];
         s->P[x].flags &= (uint8_t)~POS_RENEW;
-        if (ok && !(gather_fan(s, x, &L->fan_b, 1) && push_edges(s, L, x, &L->fan_b, keep)))
+        if (ok && !(gather_fan(s, x, &L->fan_b) && push_edges(s, L, x, &L->fan_b, keep)))
             ok = 0;
     }
     return ok;
@@ -1931,7 +2004,7 @@ static int star_block(void *ctx, size_t begin, size_t end, unsigned worker)
         e->count = 0;
         if (c.a == NONE || ((s->gen[c.a] | s->gen[c.b]) & TAKEN) || !candidate_current(s, c))
             continue;
-        if (!gather_fan(j->s, c.a, &sc->fan, 0) || !gather_fan(j->s, c.b, &L->fan_c, 0))
+        if (!gather_fan(j->s, c.a, &sc->fan) || !gather_fan(j->s, c.b, &L->fan_c))
             return 1;
         e->na = (uint32_t)sc->fan.count;
         e->nb = (uint32_t)L->fan_c.count;
@@ -1954,7 +2027,7 @@ static int claim_candidate(simplifier *s, size_t k)
     size_t n = e->count;
     if (e->count == STAR_OVERFLOW) { /* a vertex of high valence: gathered here */
         lane *L = &s->lanes[0];
-        if (!gather_fan(s, c.a, &L->fan_a, 0) || !gather_fan(s, c.b, &L->fan_b, 0))
+        if (!gather_fan(s, c.a, &L->fan_a) || !gather_fan(s, c.b, &L->fan_b))
             return -1;
         L->touched.count = 0;
         const u32vec *fans[2] = {&L->fan_a, &L->fan_b};
@@ -2139,7 +2212,7 @@ static int finish_parallel_chunk(simplifier *s)
         for (size_t i = q->renew_begin; i < q->renew_end; ++i) {
             uint32_t x = L->renew.data[i];
             s->P[x].flags &= (uint8_t)~POS_RENEW;
-            if (ok && !(gather_fan(s, x, &L0->fan_b, 1) && push_edges(s, L0, x, &L0->fan_b, q->keep)))
+            if (ok && !(gather_fan(s, x, &L0->fan_b) && push_edges(s, L0, x, &L0->fan_b, q->keep)))
                 ok = 0;
         }
     }
@@ -2182,7 +2255,8 @@ static resurf_status collapse_until(simplifier *s, size_t target, scratch *sc, r
                 PREFETCH(&s->P[ahead.a]);
                 PREFETCH(&s->P[ahead.b]);
             }
-            if (!try_candidate(s, &s->pend[k], L0, sc, 0) || !merge_lane(s, L0))
+            if (!make_room(s, fan_need(s, s->cand[s->pend[k].index])) || !try_candidate(s, &s->pend[k], L0, sc, 0) ||
+                !merge_lane(s, L0))
                 goto oom;
             if (s->pend_next == s->pend_count) {
                 double done = start > target ? (double)(start - s->alive_tris) / (double)(start - target) : 1;
@@ -2203,6 +2277,11 @@ static resurf_status collapse_until(simplifier *s, size_t target, scratch *sc, r
             goto oom;
         if (star_pass(s) && s->pend_count && s->alive_tris > target + 2 * s->pend_count) {
             /* each collapse removes at most two triangles: the whole chunk stays above the target */
+            size_t need = 0;
+            for (size_t k = 0; k < s->pend_count; ++k)
+                need += fan_need(s, s->cand[s->pend[k].index]);
+            if (!make_room(s, need))
+                goto oom;
             if (resurfi_parallel_for(s->pend_count, s->chunk / 64 + 1, chunk_threads(s), apply_block, &job))
                 goto oom;
             if (!finish_parallel_chunk(s))
@@ -2788,6 +2867,7 @@ static void simplifier_free(simplifier *s)
     resurfi_free(s->alloc, s->src);
     resurfi_free(s->alloc, s->P_mem);
     resurfi_free(s->alloc, s->mark);
+    resurfi_free(s->alloc, s->fans);
     resurfi_free(s->alloc, s->chart_of_input_tri);
     resurfi_free(s->alloc, s->chart_of_wedge);
     resurfi_free(s->alloc, s->cand);
@@ -2858,7 +2938,7 @@ static resurf_status start(simplifier *s, scratch *scratch, resurf_error *error)
         if (!(s->home = resurfi_alloc(s->alloc, s->pos_count, sizeof *s->home)))
             return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
         for (size_t p = 0; p < s->pos_count; ++p) /* the input triangle of its first corner */
-            s->home[p] = s->P[p].head != NONE ? s->src[s->P[p].head / 3] : NONE;
+            s->home[p] = s->P[p].fan_count ? s->src[s->fans[s->P[p].fan] / 3] : NONE;
     }
     if (has_attributes(s->in) || s->opt.measure_samples) {
         st = resurfi_bvh_build_threads(s->alloc, s->in->positions, s->in->vertex_count, s->in->indices,
