@@ -26,7 +26,6 @@
 
 #include "internal.h"
 
-
 /* Is triangle t usable: every index in range and no index repeated? */
 static int triangle_valid(const uint32_t *t, size_t vertex_count)
 {
