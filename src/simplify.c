@@ -26,7 +26,6 @@
  * chunk's order. */
 #include <float.h>
 #include <math.h>
-#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -166,21 +165,23 @@ typedef struct plan {
 typedef struct work_tri {
     uint32_t v[3];    /* position of each corner */
     uint32_t w[3];    /* wedge of each corner: the lowest input vertex with the same position and attributes */
+    uint32_t next[3]; /* next corner of the same position, NONE at the end */
     uint32_t dead;
 } work_tri;
 
 /* 128 bytes, allocated on a 64-byte boundary: the first cache line holds what every visit reads (flags, position,
- * where its corners are), the quadric follows. */
+ * list head), the quadric follows. */
 typedef struct work_pos {
     vec3 p;
-    uint32_t fan;       /* its corners: fan_count words of the simplifier's fans from here (some may be dead) */
-    uint32_t fan_count;
+    uint32_t head;    /* first corner */
+    uint32_t unused;
     uint8_t flags;
     resurfi_quadric q;
 } work_pos;
 
 #define TV(c) (s->tri[(c) / 3].v[(c) % 3])
 #define TW(c) (s->tri[(c) / 3].w[(c) % 3])
+#define TNEXT(c) (s->tri[(c) / 3].next[(c) % 3])
 
 /* Candidate `index` of the list as gathered ahead of the claims (star_block): its ends' fans (live corners, in
  * list order: what gather_fan returns) and its closed star (the ends and their neighbours, each once). count is 0
@@ -238,12 +239,6 @@ typedef struct simplifier {
     size_t pos_count, alive_positions;
     work_pos *P;         /* inside P_mem, 64-byte aligned */
     void *P_mem;
-    /* Each position's corners, side by side: a fan is one read, and its triangles' misses overlap (a list would
-     * chain them). A collapse writes the survivor's new fan at the end (fans_used, taken atomically by the
-     * chunk's workers); make_room compacts the array when a chunk might not fit. */
-    uint32_t *fans;
-    size_t fans_cap;
-    atomic_size_t fans_used;
     uint32_t *mark;    /* lane 0's scratch stamps (allocated with the working mesh) */
 
     /* attribute sides (only when the input has attributes and seams): chart of each input triangle and wedge */
@@ -252,7 +247,6 @@ typedef struct simplifier {
 
     candidate *cand;        /* the candidates, sorted by cost */
     size_t cand_count, cand_cap;
-    candidate *spare;       /* cand_cap: where refresh_candidates merges the next list */
     candidate *fresh;       /* planned or requeued during a pass: merged into the list before the next */
     size_t fresh_count, fresh_cap;
     uint32_t *gen;          /* per position: bumped when it changes (its candidates then go stale); the top bit
@@ -285,20 +279,6 @@ typedef struct simplifier {
 } simplifier;
 
 /* ---- small helpers ------------------------------------------------------------------------------------------- */
-
-/* Room for n words in v; 0 when out of memory. */
-static int vec_reserve(const resurf_allocator *alloc, u32vec *v, size_t n)
-{
-    if (n <= v->cap)
-        return 1;
-    size_t cap = n < 16 ? 32 : 2 * n;
-    uint32_t *d = resurfi_realloc(alloc, v->data, cap, sizeof *d);
-    if (!d)
-        return 0;
-    v->data = d;
-    v->cap = cap;
-    return 1;
-}
 
 static int vec_push(const resurf_allocator *alloc, u32vec *v, uint32_t x)
 {
@@ -344,71 +324,31 @@ static void corner_others(const simplifier *s, uint32_t c, uint32_t xs[2])
     xs[1] = s->tri[t].v[k == 0 ? 2 : k - 1];
 }
 
-/* The corners of position v, in fan order (a fan never holds a dead triangle: see apply_collapse). Returns 0
- * when out of memory. */
-static int gather_fan(const simplifier *s, uint32_t v, u32vec *out)
+/* The corners of live triangles at position v, in list order. With unlink, dead triangles' corners are dropped
+ * from the list on the way (only the sequential collapse loop may do that). Returns 0 when out of memory. */
+static int gather_fan(simplifier *s, uint32_t v, u32vec *out, int unlink)
 {
-    uint32_t n = s->P[v].fan_count;
     out->count = 0;
-    if (!vec_reserve(s->alloc, out, n))
-        return 0;
-    if (n)
-        memcpy(out->data, s->fans + s->P[v].fan, n * sizeof *out->data);
-    out->count = n;
-    return 1;
-}
-
-/* Drops corner c from the fan of its position v, keeping the order of the others. */
-static void drop_corner(simplifier *s, uint32_t v, uint32_t c)
-{
-    uint32_t *f = s->fans + s->P[v].fan, n = s->P[v].fan_count, i = 0;
-    while (i < n && f[i] != c)
-        ++i;
-    if (i == n)
-        return;
-    memmove(f + i, f + i + 1, (n - i - 1) * sizeof *f);
-    s->P[v].fan_count = n - 1;
-}
-
-/* Makes sure that `need` more words fit at the end of the fans (a collapse writes at most its ends' fan_counts):
- * if not, the live fans are copied, side by side in position order, into a new array with as much room again.
- * Offsets change, never contents or order. Returns 0 when out of memory. */
-static int make_room(simplifier *s, size_t need)
-{
-    size_t used = atomic_load_explicit(&s->fans_used, memory_order_relaxed);
-    if (s->fans_cap - used >= need)
-        return 1;
-    size_t live = 0;
-    for (size_t p = 0; p < s->pos_count; ++p)
-        live += s->P[p].fan_count;
-    size_t cap = 2 * live + need + 1024;
-    if (cap > UINT32_MAX) {
-        cap = UINT32_MAX;
-        if (cap - live < need)
-            return 0;
+    uint32_t prev = NONE;
+    for (uint32_t c = s->P[v].head; c != NONE;) {
+        uint32_t next = TNEXT(c);
+        if (s->tri[c / 3].dead) {
+            if (unlink) {
+                if (prev == NONE)
+                    s->P[v].head = next;
+                else
+                    TNEXT(prev) = next;
+            } else {
+                prev = c;
+            }
+        } else {
+            if (!vec_push(s->alloc, out, c))
+                return 0;
+            prev = c;
+        }
+        c = next;
     }
-    uint32_t *fans = resurfi_alloc(s->alloc, cap, sizeof *fans);
-    if (!fans)
-        return 0;
-    size_t at = 0;
-    for (size_t p = 0; p < s->pos_count; ++p) {
-        uint32_t n = s->P[p].fan_count;
-        if (n)
-            memcpy(fans + at, s->fans + s->P[p].fan, n * sizeof *fans);
-        s->P[p].fan = (uint32_t)at;
-        at += n;
-    }
-    resurfi_free(s->alloc, s->fans);
-    s->fans = fans;
-    s->fans_cap = cap;
-    atomic_store_explicit(&s->fans_used, at, memory_order_relaxed);
     return 1;
-}
-
-/* The words a collapse of candidate c may write at the end of the fans. */
-static size_t fan_need(const simplifier *s, candidate c)
-{
-    return c.a == NONE ? 0 : (size_t)s->P[c.a].fan_count + s->P[c.b].fan_count;
 }
 
 static int pair_less(fan_pair p, fan_pair q) { return p.x < q.x || (p.x == q.x && p.slot < q.slot); }
@@ -694,32 +634,22 @@ static resurf_status prepare_mesh(simplifier *s, resurf_error *error)
     }
     for (size_t v = 0; v < nv; ++v)
         s->P[remap[v]].p = resurfi_position(in, (uint32_t)v);
-    /* Fans in increasing corner order, by counting (in the still unused marks: 4 bytes per position, not the
-     * 128-byte records, so the random writes stay in the cache). Room for half as many corners again: the new fans
-     * of collapses go at the end (make_room). */
-    s->fans_cap = 3 * nt + 3 * nt / 2 + 64;
-    s->fans_cap = s->fans_cap < UINT32_MAX ? s->fans_cap : UINT32_MAX; /* offsets are 32-bit */
-    if (!(s->fans = resurfi_alloc(s->alloc, s->fans_cap, sizeof *s->fans)))
-        goto done;
-    uint32_t *cursor = s->mark;
-    for (size_t c = 0; c < 3 * nt; ++c)
-        cursor[TV(c)]++;
-    uint32_t sum = 0;
+    /* Lists in increasing triangle order: insert from the back. The heads are built in the (still unused) marks,
+     * 4 bytes per position, not in the 128-byte records: 3 random writes per triangle then stay in the cache. */
+    uint32_t *head = s->mark;
+    memset(head, 0xff, pc * sizeof *head);
+    for (size_t c = 3 * nt; c-- > 0;) {
+        TNEXT(c) = head[TV(c)];
+        head[TV(c)] = (uint32_t)c;
+    }
     for (size_t p = 0; p < pc; ++p) {
-        s->P[p].fan = sum;
-        s->P[p].fan_count = cursor[p];
-        if (cursor[p] == 0)
+        s->P[p].head = head[p];
+        if (head[p] == NONE)
             s->P[p].flags = POS_DEAD;
         else
             s->alive_positions++;
-        uint32_t n = cursor[p];
-        cursor[p] = sum;
-        sum += n;
     }
-    for (size_t c = 0; c < 3 * nt; ++c)
-        s->fans[cursor[TV(c)]++] = (uint32_t)c;
-    atomic_init(&s->fans_used, sum);
-    memset(cursor, 0, pc * sizeof *cursor);
+    memset(head, 0, pc * sizeof *head);
     st = RESURF_OK;
 done:
     resurfi_free(s->alloc, remap);
@@ -749,7 +679,7 @@ static resurfi_quadric edge_plane(vec3 p, vec3 q, vec3 n, double w)
 static int analyse_position(simplifier *s, uint32_t a, scratch *sc, uint8_t *out_flags, resurfi_quadric *out_q,
                             uint32_t *out_up)
 {
-    if (!gather_fan(s, a, &sc->fan))
+    if (!gather_fan(s, a, &sc->fan, 0))
         return 0;
     const u32vec *fan = &sc->fan;
     size_t n = fan_pairs(s, fan, sc);
@@ -891,7 +821,7 @@ static resurf_status find_charts(simplifier *s, scratch *sc)
     for (size_t a = 0; a < s->pos_count; ++a) {
         if (s->P[a].flags & POS_DEAD)
             continue;
-        if (!gather_fan(s, (uint32_t)a, &sc->fan)) {
+        if (!gather_fan(s, (uint32_t)a, &sc->fan, 0)) {
             resurfi_free(s->alloc, parent);
             return RESURF_ERR_OUT_OF_MEMORY;
         }
@@ -1115,12 +1045,20 @@ static uint32_t cost_key(float cost)
  * array): a radix sort from the most significant byte down, each bucket permuted in place (the "American flag"
  * sort), small buckets by insertion. Equal costs end in an order that depends on the input order only, never on
  * the thread count. */
-/* One digit of sort_candidates: permutes c[0..n) into buckets by the byte at `shift`; end[b] is where bucket b
- * ends, count[b] its size. */
-static void bucket_candidates(candidate *c, size_t n, int shift, size_t count[256], size_t end[256])
+static void sort_candidates(candidate *c, size_t n, int shift)
 {
-    size_t next[256];
-    memset(count, 0, 256 * sizeof *count);
+    if (n <= 32) {
+        for (size_t i = 1; i < n; ++i) {
+            candidate x = c[i];
+            uint32_t k = cost_key(x.cost);
+            size_t j = i;
+            for (; j > 0 && cost_key(c[j - 1].cost) > k; --j)
+                c[j] = c[j - 1];
+            c[j] = x;
+        }
+        return;
+    }
+    size_t count[256] = {0}, next[256], end[256];
     for (size_t i = 0; i < n; ++i)
         count[(cost_key(c[i].cost) >> shift) & 255]++;
     size_t sum = 0;
@@ -1141,81 +1079,13 @@ static void bucket_candidates(candidate *c, size_t n, int shift, size_t count[25
             }
             c[next[b]++] = x;
         }
-}
-
-static void sort_candidates(candidate *c, size_t n, int shift)
-{
-    if (n <= 32) {
-        for (size_t i = 1; i < n; ++i) {
-            candidate x = c[i];
-            uint32_t k = cost_key(x.cost);
-            size_t j = i;
-            for (; j > 0 && cost_key(c[j - 1].cost) > k; --j)
-                c[j] = c[j - 1];
-            c[j] = x;
-        }
-        return;
-    }
-    size_t count[256], end[256];
-    bucket_candidates(c, n, shift, count, end);
     if (shift > 0)
         for (int b = 0; b < 256; ++b)
             if (count[b] > 1)
                 sort_candidates(c + end[b] - count[b], count[b], shift - 8);
 }
 
-/* sort_candidates on all threads: the first digit (and the second in buckets holding more than 1/16 of the list)
- * here, the rest bucket by bucket in parallel. The same permutations as on one thread, so the same order. */
-enum { SORT_PARALLEL = 1 << 16, SORT_TASKS = 256 * 16 + 256 };
-
-typedef struct sort_task {
-    size_t begin, count;
-    int shift;
-} sort_task;
-
-typedef struct sort_job {
-    candidate *c;
-    sort_task *tasks;
-} sort_job;
-
-static int sort_block(void *ctx, size_t begin, size_t end, unsigned worker)
-{
-    (void)worker;
-    const sort_job *j = ctx;
-    for (size_t t = begin; t < end; ++t)
-        sort_candidates(j->c + j->tasks[t].begin, j->tasks[t].count, j->tasks[t].shift);
-    return 0;
-}
-
-/* (Without memory for the task list, on one thread.) */
-static void sort_candidates_threads(const simplifier *s, candidate *c, size_t n)
-{
-    sort_task *tasks = NULL;
-    if (n < SORT_PARALLEL || s->threads < 2 || !(tasks = resurfi_alloc(s->alloc, SORT_TASKS, sizeof *tasks))) {
-        sort_candidates(c, n, 24);
-        return;
-    }
-    size_t count[256], end[256], count2[256], end2[256], nt = 0;
-    bucket_candidates(c, n, 24, count, end);
-    for (int b = 0; b < 256; ++b) {
-        size_t first = end[b] - count[b];
-        if (count[b] <= 1)
-            continue;
-        if (count[b] <= n / 16 || count[b] <= 32) {
-            tasks[nt++] = (sort_task){first, count[b], 16};
-            continue;
-        }
-        bucket_candidates(c + first, count[b], 16, count2, end2);
-        for (int d = 0; d < 256; ++d)
-            if (count2[d] > 1)
-                tasks[nt++] = (sort_task){first + end2[d] - count2[d], count2[d], 8};
-    }
-    sort_job j = {c, tasks};
-    resurfi_parallel_for(nt, 4, s->threads, sort_block, &j);
-    resurfi_free(s->alloc, tasks);
-}
-
-/* Grows the list, and its spare, to hold n candidates; 0 when out of memory. */
+/* Grows the list to hold n candidates; 0 when out of memory. */
 static int reserve_candidates(simplifier *s, size_t n)
 {
     if (n <= s->cand_cap)
@@ -1225,9 +1095,6 @@ static int reserve_candidates(simplifier *s, size_t n)
     if (!c)
         return 0;
     s->cand = c;
-    resurfi_free(s->alloc, s->spare);
-    if (!(s->spare = resurfi_alloc(s->alloc, cap, sizeof *s->spare)))
-        return 0;
     s->cand_cap = cap;
     return 1;
 }
@@ -1300,90 +1167,34 @@ static int push_edges(simplifier *s, lane *L, uint32_t a, const u32vec *fan, uin
     return 1;
 }
 
-/* The list is merged in MERGE_PARTS parts, each a range of the old list with the fresh candidates that go among
- * them, on all threads. */
-enum { MERGE_PARTS = 8, MERGE_MIN = 1 << 16 };
-
-typedef struct merge_job {
-    simplifier *s;
-    size_t m;                                   /* fresh candidates, sorted */
-    size_t list[MERGE_PARTS + 1], fresh[MERGE_PARTS + 1]; /* each part's ranges */
-    size_t written[MERGE_PARTS];                /* each part's output, at spare + list[k] + fresh[k] */
-} merge_job;
-
-/* Part k of the merge: its current candidates and its fresh ones, by cost, the older first on equal costs. */
-static int merge_block(void *ctx, size_t begin, size_t end, unsigned worker)
-{
-    (void)worker;
-    merge_job *j = ctx;
-    const simplifier *s = j->s;
-    for (size_t k = begin; k < end; ++k) {
-        const candidate *c = s->cand, *f = s->fresh;
-        candidate *out = s->spare + j->list[k] + j->fresh[k];
-        size_t i = j->list[k], ie = j->list[k + 1], n = 0;
-        for (size_t x = j->fresh[k]; x < j->fresh[k + 1]; ++x) {
-            for (; i < ie && c[i].cost <= f[x].cost; ++i)
-                if (candidate_current(s, c[i]))
-                    out[n++] = c[i];
-            out[n++] = f[x];
-        }
-        for (; i < ie; ++i)
-            if (candidate_current(s, c[i]))
-                out[n++] = c[i];
-        j->written[k] = n;
-    }
-    return 0;
-}
-
 /* The list for the next pass: the current candidates keep their places (their ends' quadrics and flags, hence
- * their costs, are the same); those planned during the pass are sorted and merged in. The list is cut into parts
- * at fixed places, and each fresh candidate goes to the part of the last candidate not more costly: the result
- * is the same for any thread count. Returns 0 when out of memory. */
+ * their costs, are the same); those planned during the pass are sorted and merged in. Returns 0 when out of
+ * memory. */
 static int refresh_candidates(simplifier *s)
 {
+    size_t n = 0;
+    for (size_t i = 0; i < s->cand_count; ++i)
+        if (candidate_current(s, s->cand[i]))
+            s->cand[n++] = s->cand[i];
+    s->cand_count = n;
     size_t m = 0;
     for (size_t i = 0; i < s->fresh_count; ++i)
         if (candidate_current(s, s->fresh[i]))
             s->fresh[m++] = s->fresh[i];
-    s->fresh_count = 0;
-    size_t n = s->cand_count;
     if (!reserve_candidates(s, n + m))
         return 0;
-    sort_candidates_threads(s, s->fresh, m);
-    merge_job j = {.s = s, .m = m};
-    size_t parts = n >= MERGE_MIN ? MERGE_PARTS : 1;
-    for (size_t k = 0; k <= parts; ++k) {
-        j.list[k] = k == parts ? n : n / parts * k;
-        if (k == 0 || k == parts) {
-            j.fresh[k] = k ? m : 0;
-            continue;
-        }
-        /* the first fresh candidate at least as costly as the part's first candidate */
-        float first = s->cand[j.list[k]].cost;
-        size_t lo = j.fresh[k - 1], hi = m;
-        while (lo < hi) {
-            size_t mid = lo + (hi - lo) / 2;
-            if (s->fresh[mid].cost < first)
-                lo = mid + 1;
-            else
-                hi = mid;
-        }
-        j.fresh[k] = lo;
+    sort_candidates(s->fresh, m, 24);
+    s->fresh_count = 0;
+    const candidate *f = s->fresh;
+    /* merge from the back; on equal costs the older candidate comes first */
+    size_t i = n, j = m, k = n + m;
+    while (j > 0) {
+        if (i > 0 && s->cand[i - 1].cost > f[j - 1].cost)
+            s->cand[--k] = s->cand[--i];
+        else
+            s->cand[--k] = f[--j];
     }
-    unsigned threads = parts > 1 ? s->threads : 1;
-    resurfi_parallel_for(parts, 1, threads, merge_block, &j);
-    /* close the gaps the stale candidates left */
-    size_t count = 0;
-    for (size_t k = 0; k < parts; ++k) {
-        candidate *from = s->spare + j.list[k] + j.fresh[k];
-        if (from != s->spare + count && j.written[k])
-            memmove(s->spare + count, from, j.written[k] * sizeof *from);
-        count += j.written[k];
-    }
-    candidate *old = s->cand;
-    s->cand = s->spare;
-    s->spare = old;
-    s->cand_count = count;
+    s->cand_count = n + m;
     return 1;
 }
 
@@ -1404,7 +1215,7 @@ static int seed_block(void *ctx, size_t begin, size_t end, unsigned worker)
         candidate *slot = s->cand + j->offset[a];
         size_t room = j->offset[a + 1] - j->offset[a], used = 0;
         if (!(s->P[a].flags & POS_DEAD)) {
-            if (!gather_fan(s, (uint32_t)a, &sc->fan))
+            if (!gather_fan(s, (uint32_t)a, &sc->fan, 0))
                 return 1;
             size_t n = fan_pairs(s, &sc->fan, sc);
             if (n == SIZE_MAX)
@@ -1461,7 +1272,7 @@ static resurf_status seed_candidates(simplifier *s, scratch *scratch, const uint
     for (size_t i = 0; i < total; ++i)
         if (s->cand[i].a != NONE)
             s->cand[n++] = s->cand[i];
-    sort_candidates_threads(s, s->cand, n);
+    sort_candidates(s->cand, n, 24);
     s->cand_count = n;
     return RESURF_OK;
 }
@@ -1634,15 +1445,13 @@ static int apply_collapse(simplifier *s, lane *L, uint32_t keep, uint32_t gone, 
     for (int k = 0; k < maps; ++k) {
         uint32_t t = pl->shared[k];
         for (int i = 0; i < 3; ++i)
-            if (TV(3 * t + i) != keep && TV(3 * t + i) != gone) {
+            if (TV(3 * t + i) != keep && TV(3 * t + i) != gone)
                 opposite[k] = TV(3 * t + i);
-                drop_corner(s, opposite[k], 3 * t + (uint32_t)i); /* in the star: this collapse's to write */
-            }
         s->tri[t].dead = 1;
     }
     L->dead_tris += (size_t)maps;
-    /* Re-label gone's live corners. keep's fan after the collapse: gone's live corners, then keep's (the order a
-     * list would have after splicing gone's in front of keep's). */
+    /* Re-label gone's live corners. keep's list becomes its fan after the collapse, gone's live corners first
+     * (the order of splicing gone's list in front of keep's), without the dead corners either list held. */
     L->fan_c.count = 0;
     const u32vec *fans[2] = {fan_gone, fan_keep};
     for (int side = 0; side < 2; ++side)
@@ -1658,12 +1467,10 @@ static int apply_collapse(simplifier *s, lane *L, uint32_t keep, uint32_t gone, 
             if (!vec_push(s->alloc, &L->fan_c, c))
                 return 0;
         }
-    size_t n = L->fan_c.count, at = atomic_fetch_add_explicit(&s->fans_used, n, memory_order_relaxed);
-    if (n)
-        memcpy(s->fans + at, L->fan_c.data, n * sizeof *s->fans); /* make_room left room */
-    s->P[keep].fan = (uint32_t)at;
-    s->P[keep].fan_count = (uint32_t)n;
-    s->P[gone].fan_count = 0;
+    for (size_t i = 0; i < L->fan_c.count; ++i)
+        TNEXT(L->fan_c.data[i]) = i + 1 < L->fan_c.count ? L->fan_c.data[i + 1] : NONE;
+    s->P[keep].head = L->fan_c.count ? L->fan_c.data[0] : NONE;
+    s->P[gone].head = NONE;
     s->P[keep].p = p;
     resurfi_quadric_add(&s->P[keep].q, &s->P[gone].q);
     /* Only wedges can change a position's flags here: the link condition keeps the mesh a manifold, a border vertex
@@ -1732,7 +1539,7 @@ static int restore_chunk_block(void *ctx, size_t begin, size_t end, unsigned wor
         pending *q = &s->pend[i];
         candidate c = s->cand[q->index];
         q->restore = 0;
-        if (!gather_fan(s, c.a, &sc->fan))
+        if (!gather_fan(s, c.a, &sc->fan, 0))
             return 1;
         plan pl;
         plan_collapse(s, c.a, c.b, &sc->fan, &pl);
@@ -1771,7 +1578,7 @@ static int try_candidate(simplifier *s, pending *q, lane *L, scratch *sc, int de
         view_b = (u32vec){words + w->na, w->nb, w->nb};
         fa = &view_a;
         fb = &view_b;
-    } else if (!gather_fan(s, a, &L->fan_a) || !gather_fan(s, b, &L->fan_b)) {
+    } else if (!gather_fan(s, a, &L->fan_a, 1) || !gather_fan(s, b, &L->fan_b, 1)) {
         return 0;
     }
     prefetch_ring(s, L, fa);
@@ -1891,7 +1698,7 @@ static int try_candidate(simplifier *s, pending *q, lane *L, scratch *sc, int de
     for (size_t i = 0; i < renew; ++i) {
         uint32_t x = L->touched.data[i];
         s->P[x].flags &= (uint8_t)~POS_RENEW;
-        if (ok && !(gather_fan(s, x, &L->fan_b) && push_edges(s, L, x, &L->fan_b, keep)))
+        if (ok && !(gather_fan(s, x, &L->fan_b, 1) && push_edges(s, L, x, &L->fan_b, keep)))
             ok = 0;
     }
     return ok;
@@ -2004,7 +1811,7 @@ static int star_block(void *ctx, size_t begin, size_t end, unsigned worker)
         e->count = 0;
         if (c.a == NONE || ((s->gen[c.a] | s->gen[c.b]) & TAKEN) || !candidate_current(s, c))
             continue;
-        if (!gather_fan(j->s, c.a, &sc->fan) || !gather_fan(j->s, c.b, &L->fan_c))
+        if (!gather_fan(j->s, c.a, &sc->fan, 0) || !gather_fan(j->s, c.b, &L->fan_c, 0))
             return 1;
         e->na = (uint32_t)sc->fan.count;
         e->nb = (uint32_t)L->fan_c.count;
@@ -2027,7 +1834,7 @@ static int claim_candidate(simplifier *s, size_t k)
     size_t n = e->count;
     if (e->count == STAR_OVERFLOW) { /* a vertex of high valence: gathered here */
         lane *L = &s->lanes[0];
-        if (!gather_fan(s, c.a, &L->fan_a) || !gather_fan(s, c.b, &L->fan_b))
+        if (!gather_fan(s, c.a, &L->fan_a, 0) || !gather_fan(s, c.b, &L->fan_b, 0))
             return -1;
         L->touched.count = 0;
         const u32vec *fans[2] = {&L->fan_a, &L->fan_b};
@@ -2212,7 +2019,7 @@ static int finish_parallel_chunk(simplifier *s)
         for (size_t i = q->renew_begin; i < q->renew_end; ++i) {
             uint32_t x = L->renew.data[i];
             s->P[x].flags &= (uint8_t)~POS_RENEW;
-            if (ok && !(gather_fan(s, x, &L0->fan_b) && push_edges(s, L0, x, &L0->fan_b, q->keep)))
+            if (ok && !(gather_fan(s, x, &L0->fan_b, 1) && push_edges(s, L0, x, &L0->fan_b, q->keep)))
                 ok = 0;
         }
     }
@@ -2255,8 +2062,7 @@ static resurf_status collapse_until(simplifier *s, size_t target, scratch *sc, r
                 PREFETCH(&s->P[ahead.a]);
                 PREFETCH(&s->P[ahead.b]);
             }
-            if (!make_room(s, fan_need(s, s->cand[s->pend[k].index])) || !try_candidate(s, &s->pend[k], L0, sc, 0) ||
-                !merge_lane(s, L0))
+            if (!try_candidate(s, &s->pend[k], L0, sc, 0) || !merge_lane(s, L0))
                 goto oom;
             if (s->pend_next == s->pend_count) {
                 double done = start > target ? (double)(start - s->alive_tris) / (double)(start - target) : 1;
@@ -2277,11 +2083,6 @@ static resurf_status collapse_until(simplifier *s, size_t target, scratch *sc, r
             goto oom;
         if (star_pass(s) && s->pend_count && s->alive_tris > target + 2 * s->pend_count) {
             /* each collapse removes at most two triangles: the whole chunk stays above the target */
-            size_t need = 0;
-            for (size_t k = 0; k < s->pend_count; ++k)
-                need += fan_need(s, s->cand[s->pend[k].index]);
-            if (!make_room(s, need))
-                goto oom;
             if (resurfi_parallel_for(s->pend_count, s->chunk / 64 + 1, chunk_threads(s), apply_block, &job))
                 goto oom;
             if (!finish_parallel_chunk(s))
@@ -2867,11 +2668,9 @@ static void simplifier_free(simplifier *s)
     resurfi_free(s->alloc, s->src);
     resurfi_free(s->alloc, s->P_mem);
     resurfi_free(s->alloc, s->mark);
-    resurfi_free(s->alloc, s->fans);
     resurfi_free(s->alloc, s->chart_of_input_tri);
     resurfi_free(s->alloc, s->chart_of_wedge);
     resurfi_free(s->alloc, s->cand);
-    resurfi_free(s->alloc, s->spare);
     resurfi_free(s->alloc, s->fresh);
     resurfi_free(s->alloc, s->taken.data);
     resurfi_free(s->alloc, s->gen);
@@ -2938,7 +2737,7 @@ static resurf_status start(simplifier *s, scratch *scratch, resurf_error *error)
         if (!(s->home = resurfi_alloc(s->alloc, s->pos_count, sizeof *s->home)))
             return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
         for (size_t p = 0; p < s->pos_count; ++p) /* the input triangle of its first corner */
-            s->home[p] = s->P[p].fan_count ? s->src[s->fans[s->P[p].fan] / 3] : NONE;
+            s->home[p] = s->P[p].head != NONE ? s->src[s->P[p].head / 3] : NONE;
     }
     if (has_attributes(s->in) || s->opt.measure_samples) {
         st = resurfi_bvh_build_threads(s->alloc, s->in->positions, s->in->vertex_count, s->in->indices,
@@ -3023,9 +2822,8 @@ static resurf_status simplify_levels(const resurf_mesh *in, const resurf_simplif
         if (i + 1 == count) { /* no more collapses: the queue's memory goes before the output's comes */
             s.last_level = 1;
             resurfi_free(s.alloc, s.cand);
-            resurfi_free(s.alloc, s.spare);
             resurfi_free(s.alloc, s.fresh);
-            s.cand = s.spare = s.fresh = NULL;
+            s.cand = s.fresh = NULL;
             s.cand_count = s.cand_cap = s.fresh_count = s.fresh_cap = 0;
         }
         resurf_simplify_report rep;
