@@ -807,7 +807,9 @@ typedef struct resurf_simplify_report {
     size_t blocked_min_angle;        /* min_angle_deg */
     size_t blocked_distance;         /* deferred (re-queued at a much higher cost): an end's old position would lie
                                         farther from its new triangles than a quarter of the edge's length and twice
-                                        the quadric error (a thin spike's tip, which quadrics let shrink) */
+                                        the quadric error (a thin spike's tip, which quadrics let shrink); or, with
+                                        restoration, the midpoint of a new edge over 6 of the original's local edges
+                                        long would lie that far from the original (an edge bridging a notch) */
     size_t blocked_border;           /* a border vertex would leave its border, or lock_border */
     size_t blocked_seam;             /* a seam vertex would leave its seam */
     size_t blocked_nonmanifold;      /* an end is a non-manifold vertex of the input, or the edge has > 2 triangles */
