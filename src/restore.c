@@ -83,6 +83,7 @@ struct resurfi_restorer {
     double *tangent;        /* 3 per position with two feature edges, at its first slot: the unit feature-curve
                                tangent, or 0 at a corner (so a position's tangent costs memory only on curves) */
     uint8_t *usable;        /* per triangle: has area and three corner normals (a root on it means something) */
+    uint8_t *quiet;         /* per triangle: its corners' fans are closed discs turning gently (walk_closest) */
 };
 
 /* ---- options ------------------------------------------------------------------------------------------------- */
@@ -270,6 +271,7 @@ typedef struct setup_job {
     size_t max_degree;    /* split_fans: the most faces of a position */
     uint32_t *fan_scratch; /* split_fans: 2 max_degree per worker */
     uint32_t *fan_base;   /* split_fans: per position, its fan count, then its first fan id */
+    uint8_t *quiet_position; /* mark_usable: per position, quiet_position_block */
 } setup_job;
 
 static unsigned setup_threads(const resurfi_restorer *r) { return resurfi_thread_count(r->opt.threads); }
@@ -664,13 +666,78 @@ static int usable_block(void *ctx, size_t begin, size_t end, unsigned worker)
     return 0;
 }
 
+/* Quiet positions, for walk_closest's shortcut: the faces around form one closed fan (a disc: one fan of
+ * split_fans, every neighbour in exactly two of its faces) whose unit face normals all lie within QUIET_DEG of
+ * their mean. Then any two of them are less than 2 QUIET_DEG < 90° apart, so projected onto the plane of one face,
+ * every face keeps its orientation; and an embedded closed fan whose faces all keep their orientation winds once
+ * around its vertex (two sheets over the same direction would have to swap heights somewhere on the way round, and
+ * there they would cross), so the other faces' projections lie outside that face. */
+static const double QUIET_DEG = 39;
+
+static int quiet_position_block(void *ctx, size_t begin, size_t end, unsigned worker)
+{
+    (void)worker;
+    const setup_job *j = ctx;
+    const resurfi_restorer *r = j->r;
+    const double cos_quiet = cos(QUIET_DEG * (M_PI / 180.0));
+    for (size_t v = begin; v < end; ++v) {
+        const uint32_t *faces = r->adj.vertex_faces + r->adj.vertex_face_offset[v];
+        uint32_t n = r->adj.vertex_face_offset[v + 1] - r->adj.vertex_face_offset[v];
+        int ok = n >= 3;
+        vec3 mean = v3(0, 0, 0);
+        uint32_t split = UINT32_MAX;
+        for (uint32_t i = 0; i < n && ok; ++i) {
+            const uint32_t *t = r->tris + 3 * (size_t)faces[i];
+            int k = corner_of(r, faces[i], (uint32_t)v);
+            if (k < 0)
+                break;
+            uint32_t id = r->corner_split[3 * (size_t)faces[i] + (uint32_t)k];
+            ok = i == 0 || id == split; /* one fan */
+            split = id;
+            /* each neighbour in exactly two faces: every edge at v has two faces */
+            for (int side = 1; side <= 2 && ok; ++side) {
+                uint32_t x = t[(k + side) % 3], count = 0;
+                for (uint32_t m = 0; m < n; ++m)
+                    count += corner_of(r, faces[m], x) >= 0;
+                ok = count == 2;
+            }
+            vec3 fn = face_normal(r, faces[i]);
+            ok = ok && v3_len2(fn) > 0;
+            mean = v3_add(mean, fn);
+        }
+        double len = v3_len(mean);
+        for (uint32_t i = 0; i < n && ok; ++i)
+            ok = v3_dot(face_normal(r, faces[i]), mean) >= cos_quiet * len;
+        j->quiet_position[v] = (uint8_t)ok;
+    }
+    return 0;
+}
+
+static int quiet_triangle_block(void *ctx, size_t begin, size_t end, unsigned worker)
+{
+    (void)worker;
+    const setup_job *j = ctx;
+    const resurfi_restorer *r = j->r;
+    for (size_t t = begin; t < end; ++t) {
+        const uint32_t *i = r->tris + 3 * t;
+        r->quiet[t] = (uint8_t)(j->quiet_position[i[0]] && j->quiet_position[i[1]] && j->quiet_position[i[2]]);
+    }
+    return 0;
+}
+
 static resurf_status mark_usable(resurfi_restorer *r, resurf_error *error)
 {
     r->usable = resurfi_alloc(&r->alloc, r->triangle_count, 1);
-    if (!r->usable)
+    r->quiet = resurfi_alloc(&r->alloc, r->triangle_count, 1);
+    setup_job j = {.r = r, .quiet_position = resurfi_alloc(&r->alloc, r->position_count, 1)};
+    if (!r->usable || !r->quiet || !j.quiet_position) {
+        resurfi_free(&r->alloc, j.quiet_position);
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory marking triangles");
-    setup_job j = {.r = r};
+    }
     resurfi_parallel_for(r->triangle_count, BLOCK_SETUP, setup_threads(r), usable_block, &j);
+    resurfi_parallel_for(r->position_count, BLOCK_SETUP, setup_threads(r), quiet_position_block, &j);
+    resurfi_parallel_for(r->triangle_count, BLOCK_SETUP, setup_threads(r), quiet_triangle_block, &j);
+    resurfi_free(&r->alloc, j.quiet_position);
     return RESURF_OK;
 }
 
@@ -696,6 +763,7 @@ void resurfi_restorer_free(resurfi_restorer *r)
     resurfi_free(&alloc, r->side_kind);
     resurfi_free(&alloc, r->tangent);
     resurfi_free(&alloc, r->usable);
+    resurfi_free(&alloc, r->quiet);
     resurfi_free(&alloc, r);
 }
 
@@ -1038,8 +1106,23 @@ static uint32_t walk_closest(const resurfi_restorer *r, vec3 p, uint32_t start, 
         for (int k = 0; k < 3; ++k) /* signed areas of the projection's sub-triangles (p's height drops out) */
             lambda[k] = v3_dot(n, v3_cross(v3_sub(c[(k + 1) % 3], p), v3_sub(c[(k + 2) % 3], p)));
         int k = lambda[0] <= lambda[1] && lambda[0] <= lambda[2] ? 0 : lambda[1] <= lambda[2] ? 1 : 2;
-        if (lambda[k] >= 0)
-            break; /* the projection is inside t */
+        if (lambda[k] >= 0) {
+            /* The projection q is inside t. With t quiet, every other triangle around projects outside t
+             * (quiet_position_block), so lies at least q's distance to t's sides from p: when that beats p's
+             * height over t, t is the nearest and the descent would only confirm it. λ_k / |n| is twice the area
+             * of q's sub-triangle, so q's distance to side k is λ_k / (|n| |side k|), its height |n·(p − c0)| / |n|. */
+            if (r->quiet[t]) {
+                double height = fabs(v3_dot(n, v3_sub(p, c[0]))) * (1 + 1e-9);
+                int clear = 1;
+                for (int j = 0; j < 3 && clear; ++j)
+                    clear = height * v3_dist(c[(j + 1) % 3], c[(j + 2) % 3]) < lambda[j];
+                if (clear) {
+                    *dist2 = v3_dist2(p, resurfi_closest_on_triangle(p, c[0], c[1], c[2], bary));
+                    return t;
+                }
+            }
+            break;
+        }
         uint32_t v1 = tri[(k + 1) % 3], v2 = tri[(k + 2) % 3], next = UINT32_MAX;
         const uint32_t *faces = r->adj.vertex_faces + r->adj.vertex_face_offset[v1];
         uint32_t nf = r->adj.vertex_face_offset[v1 + 1] - r->adj.vertex_face_offset[v1];
