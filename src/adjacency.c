@@ -135,8 +135,7 @@ uint32_t resurfi_adjacency_find_edge(const resurfi_adjacency *adj, uint32_t a, u
 
 /* ---- build, in phase order ----------------------------------------------------------------------------------- */
 
-/* Phase 1: vertex → faces, each list in increasing face order: a counting sort of the corners. The sides of
- * ignored triangles get UINT32_MAX in face → edges here; phase 2 sets every side of a valid one. */
+/* Phase 1: vertex → faces, each list in increasing face order. */
 static resurf_status build_vertex_faces(resurfi_adjacency *adj, const uint32_t *indices, uint32_t *cursor)
 {
     const size_t nv = adj->vertex_count, nt = adj->triangle_count;
@@ -146,10 +145,8 @@ static resurf_status build_vertex_faces(resurfi_adjacency *adj, const uint32_t *
     size_t total = 0;
     for (size_t t = 0; t < nt; ++t) {
         const uint32_t *tri = indices + 3 * t;
-        if (!triangle_valid(tri, nv)) {
-            adj->face_edges[3 * t] = adj->face_edges[3 * t + 1] = adj->face_edges[3 * t + 2] = UINT32_MAX;
+        if (!triangle_valid(tri, nv))
             continue;
-        }
         for (int i = 0; i < 3; ++i)
             offset[tri[i] + 1]++;
         total += 3;
@@ -168,114 +165,82 @@ static resurf_status build_vertex_faces(resurfi_adjacency *adj, const uint32_t *
     return RESURF_OK;
 }
 
-/* The sides of face f whose lower end is its corner a: side j runs from a to the next corner, side j − 1 from the
- * previous corner to a. Writes their far ends and side slots (3 f + side); returns how many, 0 to 2. */
-static int lower_sides(const uint32_t *indices, uint32_t f, uint32_t a, uint32_t far[2], uint32_t slot[2])
+/* Phase 2: the unique edges (a, b), a < b, sorted: for each a in turn, the neighbours b > a found in a's faces.
+ * Each such neighbour is the far end of one side of the face (a is a corner of it), so the same pass gives every
+ * side its edge id: the face → edges table costs no edge look-up. scratch holds (b, side slot 3 f + i) pairs with b
+ * in the high half, so sorting them groups the sides of each edge. */
+static resurf_status build_edges(resurfi_adjacency *adj, const uint32_t *indices, uint64_t *scratch)
 {
-    const uint32_t *tri = indices + 3 * (size_t)f;
-    int j = tri[0] == a ? 0 : tri[1] == a ? 1 : 2;
-    int next = j == 2 ? 0 : j + 1, prev = j == 0 ? 2 : j - 1, n = 0;
-    if (tri[next] > a) {
-        far[n] = tri[next];
-        slot[n++] = 3 * f + (uint32_t)j;
-    }
-    if (tri[prev] > a) {
-        far[n] = tri[prev];
-        slot[n++] = 3 * f + (uint32_t)prev;
-    }
-    return n;
-}
-
-/* The sides whose lower end is a as (far end << 32 | slot), sorted: grouped by edge, each group in face order. */
-static size_t sorted_sides(const resurfi_adjacency *adj, const uint32_t *indices, uint32_t a, uint64_t *pairs)
-{
-    size_t n = 0;
-    for (uint32_t k = adj->vertex_face_offset[a]; k < adj->vertex_face_offset[a + 1]; ++k) {
-        uint32_t far[2], slot[2];
-        int m = lower_sides(indices, adj->vertex_faces[k], a, far, slot);
-        for (int i = 0; i < m; ++i)
-            pairs[n++] = (uint64_t)far[i] << 32 | slot[i];
-    }
-    sort_u64(pairs, n);
-    return n;
-}
-
-/* Writes a's edges from its n sorted sides: edge ids from *edge, edge → faces from entry *side; advances both. */
-static void emit_edges(resurfi_adjacency *adj, uint32_t a, const uint64_t *pairs, size_t n, uint32_t *edge,
-                       uint32_t *side)
-{
-    uint32_t e = *edge, s = *side;
-    for (size_t i = 0; i < n; ++i, ++s) {
-        uint32_t b = (uint32_t)(pairs[i] >> 32), slot = (uint32_t)pairs[i];
-        if (i == 0 || b != (uint32_t)(pairs[i - 1] >> 32)) {
-            adj->edge_vertices[2 * (size_t)e] = a;
-            adj->edge_vertices[2 * (size_t)e + 1] = b;
-            adj->edge_face_offset[e++] = s;
-        }
-        adj->face_edges[slot] = e - 1;
-        adj->edge_faces[s] = slot / 3;
-    }
-    *edge = e;
-    *side = s;
-}
-
-/* Phases 2 and 3: the unique edges (a, b), a < b, sorted: for each a in turn, the neighbours b > a found in a's
- * faces. Each such neighbour is the far end of one side of the face, so the same pass gives every side its edge id
- * (face → edges costs no edge look-up) and every edge its faces: a's sorted sides are its edges' face lists in
- * turn, each in increasing face order, so edge → faces is those sides read out in order. */
-static resurf_status build_edges(resurfi_adjacency *adj, const uint32_t *indices, uint64_t *pairs)
-{
-    const size_t nv = adj->vertex_count;
-    const size_t sides = adj->vertex_face_offset[nv]; /* 3 per valid triangle, each with one lower end */
-    /* every edge has at least one side, so `sides` bounds the edge count until the real one is known */
+    const size_t nv = adj->vertex_count, nt = adj->triangle_count;
+    const uint32_t *offset = adj->vertex_face_offset;
+    size_t bound = offset[nv]; /* 3 per valid triangle: every edge has at least one face */
     uint32_t *edge_offset = adj->vertex_edge_offset = resurfi_alloc(&adj->alloc, nv + 1, sizeof *edge_offset);
-    uint32_t *ev = adj->edge_vertices = resurfi_alloc(&adj->alloc, sides, 2 * sizeof *ev);
-    uint32_t *ef_offset = adj->edge_face_offset = resurfi_alloc(&adj->alloc, sides + 1, sizeof *ef_offset);
-    uint32_t *ef = adj->edge_faces = resurfi_alloc(&adj->alloc, sides, sizeof *ef);
-    if (!edge_offset || !ev || !ef_offset || !ef)
+    uint32_t *ev = adj->edge_vertices = resurfi_alloc(&adj->alloc, bound, 2 * sizeof *ev);
+    uint32_t *fe = adj->face_edges = resurfi_alloc(&adj->alloc, nt, 3 * sizeof *fe);
+    if (!edge_offset || !ev || !fe)
         return RESURF_ERR_OUT_OF_MEMORY;
-    uint32_t count = 0, s = 0;
+    /* sides of ignored triangles keep UINT32_MAX; every side of a valid one is set below */
+    for (size_t t = 0; t < nt; ++t)
+        if (!triangle_valid(indices + 3 * t, nv))
+            fe[3 * t] = fe[3 * t + 1] = fe[3 * t + 2] = UINT32_MAX;
+    size_t count = 0;
     for (size_t a = 0; a < nv; ++a) {
-        edge_offset[a] = count;
-        size_t n = sorted_sides(adj, indices, (uint32_t)a, pairs);
-        emit_edges(adj, (uint32_t)a, pairs, n, &count, &s);
+        edge_offset[a] = (uint32_t)count;
+        size_t n = 0;
+        for (uint32_t k = offset[a]; k < offset[a + 1]; ++k) {
+            const uint32_t f = adj->vertex_faces[k];
+            const uint32_t *tri = indices + 3 * (size_t)f;
+            int j = tri[0] == a ? 0 : tri[1] == a ? 1 : 2;
+            int next = j == 2 ? 0 : j + 1, prev = j == 0 ? 2 : j - 1;
+            /* side j runs from a to the next corner, side prev from the previous corner to a */
+            if (tri[next] > a)
+                scratch[n++] = (uint64_t)tri[next] << 32 | (3 * f + (uint32_t)j);
+            if (tri[prev] > a)
+                scratch[n++] = (uint64_t)tri[prev] << 32 | (3 * f + (uint32_t)prev);
+        }
+        sort_u64(scratch, n);
+        for (size_t i = 0; i < n; ++i) {
+            uint32_t b = (uint32_t)(scratch[i] >> 32);
+            if (i == 0 || b != (uint32_t)(scratch[i - 1] >> 32)) {
+                ev[2 * count] = (uint32_t)a;
+                ev[2 * count + 1] = b;
+                ++count;
+            }
+            fe[(uint32_t)scratch[i]] = (uint32_t)(count - 1);
+        }
     }
-    edge_offset[nv] = count;
-    ef_offset[count] = s;
+    edge_offset[nv] = (uint32_t)count;
     adj->edge_count = count;
-    /* a failed shrink leaves the larger block, which is still correct */
     uint32_t *shrunk = resurfi_realloc(&adj->alloc, ev, count, 2 * sizeof *ev);
-    if (shrunk)
+    if (shrunk) /* a failed shrink leaves the larger block, which is still correct */
         adj->edge_vertices = shrunk;
-    if ((shrunk = resurfi_realloc(&adj->alloc, ef_offset, count + 1, sizeof *ef_offset)))
-        adj->edge_face_offset = shrunk;
     return RESURF_OK;
 }
 
-/* Phases 1 to 3. *out_max_degree: the most faces of a vertex. */
-static resurf_status build_serial(resurfi_adjacency *adj, const uint32_t *indices, size_t *out_max_degree)
+/* Phase 3: edge → faces (each list in increasing face order), a counting sort of the face → edges table. */
+static resurf_status build_edge_faces(resurfi_adjacency *adj)
 {
-    const size_t nv = adj->vertex_count;
-    uint32_t *cursor = resurfi_alloc(&adj->alloc, nv, sizeof *cursor);
-    if (!cursor)
+    const size_t nt = adj->triangle_count, ne = adj->edge_count;
+    const uint32_t *fe = adj->face_edges;
+    uint32_t *offset = adj->edge_face_offset = resurfi_calloc(&adj->alloc, ne + 1, sizeof *offset);
+    if (!offset)
         return RESURF_ERR_OUT_OF_MEMORY;
-    resurf_status status = build_vertex_faces(adj, indices, cursor);
-    resurfi_free(&adj->alloc, cursor);
-    if (status != RESURF_OK)
-        return status;
-    /* Phase 2 needs 2 pairs per face of the busiest vertex. */
-    size_t max_degree = 0;
-    for (size_t v = 0; v < nv; ++v) {
-        size_t d = adj->vertex_face_offset[v + 1] - adj->vertex_face_offset[v];
-        max_degree = d > max_degree ? d : max_degree;
+    for (size_t k = 0; k < 3 * nt; ++k)
+        if (fe[k] != UINT32_MAX)
+            offset[fe[k] + 1]++;
+    for (size_t e = 0; e < ne; ++e)
+        offset[e + 1] += offset[e];
+    uint32_t *cursor = resurfi_alloc(&adj->alloc, ne, sizeof *cursor);
+    if (!cursor || !(adj->edge_faces = resurfi_alloc(&adj->alloc, offset[ne], sizeof *adj->edge_faces))) {
+        resurfi_free(&adj->alloc, cursor);
+        return RESURF_ERR_OUT_OF_MEMORY;
     }
-    *out_max_degree = max_degree;
-    uint64_t *pairs = resurfi_alloc(&adj->alloc, 2 * max_degree + 1, sizeof *pairs);
-    if (!pairs)
-        return RESURF_ERR_OUT_OF_MEMORY;
-    status = build_edges(adj, indices, pairs);
-    resurfi_free(&adj->alloc, pairs);
-    return status;
+    memcpy(cursor, offset, ne * sizeof *cursor);
+    for (size_t k = 0; k < 3 * nt; ++k)
+        if (fe[k] != UINT32_MAX)
+            adj->edge_faces[cursor[fe[k]]++] = (uint32_t)(k / 3);
+    resurfi_free(&adj->alloc, cursor);
+    return RESURF_OK;
 }
 
 /* The face across manifold edge e from face f, or UINT32_MAX when e is not manifold. */
@@ -393,18 +358,33 @@ static resurf_status build(const resurf_allocator *alloc, const uint32_t *indice
     out->vertex_count = vertex_count;
     out->triangle_count = triangle_count;
     uint32_t *scratch = NULL, *fan = NULL;
+    uint64_t *pairs = NULL;
     resurf_status status = RESURF_ERR_OUT_OF_MEMORY;
-    if (!(out->face_edges = resurfi_alloc(&out->alloc, triangle_count, 3 * sizeof *out->face_edges)))
+    if (!(scratch = resurfi_alloc(&out->alloc, vertex_count, sizeof *scratch)))
         goto fail;
+    if ((status = build_vertex_faces(out, indices, scratch)) != RESURF_OK)
+        goto fail;
+    /* Phase 2 needs 2 pairs per face of the busiest vertex, phase 4 one entry. */
     size_t max_degree = 0;
-    status = build_serial(out, indices, &max_degree);
-    if (status != RESURF_OK)
+    for (size_t v = 0; v < vertex_count; ++v) {
+        size_t d = out->vertex_face_offset[v + 1] - out->vertex_face_offset[v];
+        max_degree = d > max_degree ? d : max_degree;
+    }
+    resurfi_free(&out->alloc, scratch);
+    status = RESURF_ERR_OUT_OF_MEMORY;
+    scratch = NULL;
+    if (!(pairs = resurfi_alloc(&out->alloc, 2 * max_degree + 1, sizeof *pairs)))
+        goto fail;
+    if ((status = build_edges(out, indices, pairs)) != RESURF_OK)
+        goto fail;
+    resurfi_free(&out->alloc, pairs);
+    pairs = NULL;
+    if ((status = build_edge_faces(out)) != RESURF_OK)
         goto fail;
     if (!classify)
         return RESURF_OK;
     status = RESURF_ERR_OUT_OF_MEMORY;
     size_t fan_count = 0;
-    /* phase 4 needs one entry per face of the busiest vertex */
     scratch = resurfi_alloc(&out->alloc, max_degree + 1, sizeof *scratch);
     out->vertex_flags = resurfi_calloc(&out->alloc, vertex_count, sizeof *out->vertex_flags);
     fan = resurfi_alloc(&out->alloc, out->vertex_face_offset[vertex_count], sizeof *fan);
@@ -418,6 +398,7 @@ static resurf_status build(const resurf_allocator *alloc, const uint32_t *indice
     return RESURF_OK;
 fail:
     resurfi_free(&out->alloc, scratch);
+    resurfi_free(&out->alloc, pairs);
     resurfi_free(&out->alloc, fan);
     resurfi_adjacency_free(out);
     return status;
