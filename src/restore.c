@@ -689,8 +689,10 @@ static int quiet_position_block(void *ctx, size_t begin, size_t end, unsigned wo
         for (uint32_t i = 0; i < n && ok; ++i) {
             const uint32_t *t = r->tris + 3 * (size_t)faces[i];
             int k = corner_of(r, faces[i], (uint32_t)v);
-            if (k < 0)
+            if (k < 0) { /* (v is a corner of each of its faces) */
+                ok = 0;
                 break;
+            }
             uint32_t id = r->corner_split[3 * (size_t)faces[i] + (uint32_t)k];
             ok = i == 0 || id == split; /* one fan */
             split = id;
