@@ -75,3 +75,140 @@ int resurfi_parallel_for(size_t count, size_t block_size, unsigned threads,
         pthread_join(tid[w], NULL);
     return atomic_load(&j.failed);
 }
+
+/* ---- a call's own team ------------------------------------------------------------------------------------- */
+
+enum { POOL_SPIN = 4000 }; /* pauses (about 0.1 ms) before a waiting worker sleeps, or the caller waits to */
+
+typedef struct pool_member {
+    struct resurfi_pool *pool;
+    unsigned worker;
+} pool_member;
+
+struct resurfi_pool {
+    const resurf_allocator *alloc;
+    unsigned threads; /* the creating thread included */
+    pthread_mutex_t lock;
+    pthread_cond_t wake, done;
+    atomic_uint_fast64_t round; /* bumped for each loop handed out */
+    atomic_uint busy;           /* workers still in the current loop */
+    atomic_int stop;
+    job *job;
+    pthread_t tid[256];
+    pool_member members[256];
+};
+
+static void relax(void)
+{
+#if defined(__x86_64__) || defined(__i386__)
+    __builtin_ia32_pause();
+#endif
+}
+
+static void *pool_worker(void *p)
+{
+    const pool_member *me = p;
+    resurfi_pool *pool = me->pool;
+    uint_fast64_t seen = 0;
+    for (;;) {
+        for (int i = 0; i < POOL_SPIN && atomic_load(&pool->round) == seen && !atomic_load(&pool->stop); ++i)
+            relax();
+        if (atomic_load(&pool->round) == seen && !atomic_load(&pool->stop)) {
+            pthread_mutex_lock(&pool->lock);
+            while (atomic_load(&pool->round) == seen && !atomic_load(&pool->stop))
+                pthread_cond_wait(&pool->wake, &pool->lock);
+            pthread_mutex_unlock(&pool->lock);
+        }
+        if (atomic_load(&pool->stop))
+            return NULL;
+        seen = atomic_load(&pool->round);
+        worker_arg mine = {pool->job, me->worker};
+        run_blocks(&mine);
+        if (atomic_fetch_sub(&pool->busy, 1) == 1) {
+            pthread_mutex_lock(&pool->lock);
+            pthread_cond_signal(&pool->done);
+            pthread_mutex_unlock(&pool->lock);
+        }
+    }
+}
+
+resurf_status resurfi_pool_create(const resurf_allocator *alloc, unsigned threads, resurfi_pool **out)
+{
+    *out = NULL;
+    if (threads > 256)
+        threads = 256;
+    if (threads < 2)
+        return RESURF_OK;
+    resurfi_pool *pool = resurfi_calloc(alloc, 1, sizeof *pool);
+    if (!pool)
+        return RESURF_ERR_OUT_OF_MEMORY;
+    pool->alloc = alloc;
+    pthread_mutex_init(&pool->lock, NULL);
+    pthread_cond_init(&pool->wake, NULL);
+    pthread_cond_init(&pool->done, NULL);
+    atomic_init(&pool->round, 0);
+    atomic_init(&pool->busy, 0);
+    atomic_init(&pool->stop, 0);
+    pool->threads = 1;
+    for (unsigned w = 1; w < threads; ++w) {
+        pool->members[w] = (pool_member){pool, w};
+        if (pthread_create(&pool->tid[w], NULL, pool_worker, &pool->members[w]) != 0)
+            break;
+        pool->threads = w + 1;
+    }
+    if (pool->threads < 2) {
+        resurfi_pool_free(pool);
+        return RESURF_OK;
+    }
+    *out = pool;
+    return RESURF_OK;
+}
+
+void resurfi_pool_free(resurfi_pool *pool)
+{
+    if (!pool)
+        return;
+    pthread_mutex_lock(&pool->lock);
+    atomic_store(&pool->stop, 1);
+    pthread_cond_broadcast(&pool->wake);
+    pthread_mutex_unlock(&pool->lock);
+    for (unsigned w = 1; w < pool->threads; ++w)
+        pthread_join(pool->tid[w], NULL);
+    pthread_cond_destroy(&pool->wake);
+    pthread_cond_destroy(&pool->done);
+    pthread_mutex_destroy(&pool->lock);
+    resurfi_free(pool->alloc, pool);
+}
+
+int resurfi_pool_for(resurfi_pool *pool, size_t count, size_t block_size,
+                     int (*fn)(void *ctx, size_t begin, size_t end, unsigned worker), void *ctx)
+{
+    if (count == 0)
+        return 0;
+    if (block_size == 0)
+        block_size = 1;
+    job j = {.count = count, .block_size = block_size, .fn = fn, .ctx = ctx};
+    atomic_init(&j.next_block, 0);
+    atomic_init(&j.failed, 0);
+    worker_arg self = {&j, 0};
+    if (!pool || count <= block_size) { /* one block: no one to wake */
+        run_blocks(&self);
+        return atomic_load(&j.failed);
+    }
+    pool->job = &j;
+    atomic_store(&pool->busy, pool->threads - 1);
+    pthread_mutex_lock(&pool->lock); /* a worker between its last check and its wait cannot miss the round */
+    atomic_fetch_add(&pool->round, 1);
+    pthread_cond_broadcast(&pool->wake);
+    pthread_mutex_unlock(&pool->lock);
+    run_blocks(&self);
+    for (int i = 0; i < POOL_SPIN && atomic_load(&pool->busy) != 0; ++i)
+        relax();
+    if (atomic_load(&pool->busy) != 0) {
+        pthread_mutex_lock(&pool->lock);
+        while (atomic_load(&pool->busy) != 0)
+            pthread_cond_wait(&pool->done, &pool->lock);
+        pthread_mutex_unlock(&pool->lock);
+    }
+    return atomic_load(&j.failed);
+}

@@ -228,6 +228,7 @@ typedef struct simplifier {
     resurf_simplify_options opt;
     const resurf_allocator *alloc; /* the call's (options, else the input's): temporaries and the output */
     unsigned threads;
+    resurfi_pool *pool;  /* threads - 1 workers waiting for the call's parallel loops (NULL with one thread) */
     double diagonal, max_error;
     double area_floor;   /* AREA_FLOOR × the mean triangle area */
     vec3 origin;         /* the bounding box's centre: quadrics are built around it, where their expanded form
@@ -1256,7 +1257,7 @@ static resurf_status seed_candidates(simplifier *s, scratch *scratch, const uint
         return RESURF_ERR_OUT_OF_MEMORY;
     }
     seed_job job = {s, scratch, offset};
-    if (resurfi_parallel_for(s->pos_count, BLOCK_POSITIONS, s->threads, seed_block, &job)) {
+    if (resurfi_pool_for(s->pool, s->pos_count, BLOCK_POSITIONS, seed_block, &job)) {
         resurfi_free(s->alloc, offset);
         return RESURF_ERR_OUT_OF_MEMORY;
     }
@@ -1784,8 +1785,10 @@ static int merge_lane(simplifier *s, lane *L)
     return ok;
 }
 
-/* Threads for a chunk's parallel steps (the result is the same for any number). */
+/* Threads for a chunk's parallel steps (the result is the same for any number), and their pool (NULL: the calling
+ * thread alone). */
 static unsigned chunk_threads(const simplifier *s) { return s->chunk >= CHUNK_THREADS ? s->threads : 1; }
+static resurfi_pool *chunk_pool(const simplifier *s) { return chunk_threads(s) > 1 ? s->pool : NULL; }
 
 /* Whether this pass's chunks are of disjoint stars, applied in parallel. Chunks too small to be worth threads are
  * applied one collapse after the other, which needs no stars (gathering them was 7% of the time on a 20k sphere,
@@ -1943,7 +1946,7 @@ static int take_chunk(simplifier *s, scratch *sc)
             s->win[n++].index = i;
         }
         chunk_job job = {s, sc};
-        if (resurfi_parallel_for(n, 64, chunk_threads(s), star_block, &job))
+        if (resurfi_pool_for(chunk_pool(s), n, 64, star_block, &job))
             return 0;
         s->skip_count = 0;
         size_t k = 0;
@@ -2130,7 +2133,7 @@ static resurf_status collapse_until(simplifier *s, size_t target, scratch *sc, r
             goto oom;
         if (star_pass(s) && s->pend_count && s->alive_tris > target + 2 * s->pend_count) {
             /* each collapse removes at most two triangles: the whole chunk stays above the target */
-            if (resurfi_parallel_for(s->pend_count, s->chunk / 64 + 1, chunk_threads(s), apply_block, &job))
+            if (resurfi_pool_for(chunk_pool(s), s->pend_count, s->chunk / 64 + 1, apply_block, &job))
                 goto oom;
             if (!finish_parallel_chunk(s))
                 goto oom;
@@ -2141,7 +2144,7 @@ static resurf_status collapse_until(simplifier *s, size_t target, scratch *sc, r
             continue;
         }
         if (batched && chunk_threads(s) > 1 &&
-            resurfi_parallel_for(s->pend_count, s->chunk / 16 + 1, chunk_threads(s), restore_chunk_block, &job))
+            resurfi_pool_for(chunk_pool(s), s->pend_count, s->chunk / 16 + 1, restore_chunk_block, &job))
             goto oom;
     }
     return RESURF_OK;
@@ -2492,7 +2495,7 @@ static resurf_status place_output(simplifier *s, output *o)
     if (s->opt.restore == RESURF_RESTORE_POST && s->restorer) {
         if (!(o->outcome = resurfi_alloc(s->alloc, nu, 1)))
             return RESURF_ERR_OUT_OF_MEMORY;
-        resurfi_parallel_for(nu, BLOCK_POSITIONS, s->threads, post_restore_block, &job);
+        resurfi_pool_for(s->pool, nu, BLOCK_POSITIONS, post_restore_block, &job);
         s->rep.restored += nu;
         for (size_t u = 0; u < nu; ++u)
             s->rep.restore_left += o->outcome[u];
@@ -2504,7 +2507,7 @@ static resurf_status place_output(simplifier *s, output *o)
         o->sag_count = resurfi_calloc(s->alloc, nu, sizeof *o->sag_count);
         if (!o->normal || !o->sag_sum || !o->sag_count)
             return RESURF_ERR_OUT_OF_MEMORY;
-        resurfi_parallel_for(nu, BLOCK_POSITIONS, s->threads, normal_block, &job);
+        resurfi_pool_for(s->pool, nu, BLOCK_POSITIONS, normal_block, &job);
     }
     if (s->opt.restore == RESURF_RESTORE_POST && s->restorer)
         measure_edges(o);
@@ -2558,7 +2561,7 @@ static resurf_status measure_output(simplifier *s, output *o, resurf_simplify_re
     if (!o->block_max || !o->block_sum)
         return RESURF_ERR_OUT_OF_MEMORY;
     output_job job = {s, o, NULL};
-    resurfi_parallel_for(total, BLOCK_SAMPLES, s->threads, measure_block, &job);
+    resurfi_pool_for(s->pool, total, BLOCK_SAMPLES, measure_block, &job);
     double mx = 0, sum = 0;
     for (size_t b = 0; b < blocks; ++b) {
         mx = o->block_max[b] > mx ? o->block_max[b] : mx;
@@ -2642,7 +2645,7 @@ static resurf_status build_output(simplifier *s, resurf_mesh **out, resurf_simpl
                 m->triangle_groups[i] = s->in->triangle_groups[s->src[o.tris[i]]];
         if (has_attributes(s->in) && s->bvh) {
             output_job job = {s, &o, m};
-            resurfi_parallel_for(o.nv, BLOCK_POSITIONS, s->threads, attribute_block, &job);
+            resurfi_pool_for(s->pool, o.nv, BLOCK_POSITIONS, attribute_block, &job);
         }
         *rep = s->rep;
         rep->triangles = o.nt;
@@ -2742,6 +2745,7 @@ static void simplifier_free(simplifier *s)
     resurfi_free(s->alloc, s->pend);
     resurfi_restorer_free(s->restorer);
     resurfi_bvh_free(s->own_bvh);
+    resurfi_pool_free(s->pool);
 }
 
 /* Everything up to the first candidate: input checks, the working mesh, the restorer or a BVH, flags, quadrics,
@@ -2801,7 +2805,7 @@ static resurf_status start(simplifier *s, scratch *scratch, resurf_error *error)
     s->area_floor = AREA_FLOOR * area / (double)s->tri_count;
     uint32_t *up = resurfi_alloc(s->alloc, s->pos_count, sizeof *up);
     analyse_job aj = {s, scratch, up};
-    if (!up || resurfi_parallel_for(s->pos_count, BLOCK_POSITIONS, s->threads, analyse_block, &aj)) {
+    if (!up || resurfi_pool_for(s->pool, s->pos_count, BLOCK_POSITIONS, analyse_block, &aj)) {
         resurfi_free(s->alloc, up);
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory analysing the mesh");
     }
@@ -2854,8 +2858,10 @@ static resurf_status simplify_levels(const resurf_mesh *in, const resurf_simplif
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory starting the simplification");
     for (unsigned w = 0; w < s.threads; ++w)
         sc[w].alloc = s.alloc;
-    resurf_status st = RESURF_OK;
-    if (resurfi_progress(&s.opt.progress, "prepare", 0))
+    resurf_status st = resurfi_pool_create(s.alloc, s.threads, &s.pool);
+    if (st != RESURF_OK)
+        st = resurfi_error(error, st, "out of memory starting the simplification");
+    else if (resurfi_progress(&s.opt.progress, "prepare", 0))
         st = resurfi_error(error, RESURF_ERR_CANCELLED, "simplification cancelled");
     if (st == RESURF_OK)
         st = start(&s, sc, error);

@@ -1,5 +1,5 @@
 /* src/parallel.c: every index visited exactly once in well-formed blocks for any count, block size and thread
- * count, and an early stop once a block fails. */
+ * count, and an early stop once a block fails; the same of a pool, loop after loop. */
 #include <stdatomic.h>
 #include <string.h>
 
@@ -138,6 +138,63 @@ START_TEST(parallel_results_independent_of_threads)
 }
 END_TEST
 
+/* A pool runs loop after loop, each index of each once, in well-formed blocks, with worker ids below its size; a
+ * failing block stops its loop and not the next; a pool of one thread is none (NULL) and still runs loops. */
+START_TEST(pool_runs_many_loops)
+{
+    const unsigned threads[] = {1, 2, 3, 8};
+    for (size_t t = 0; t < sizeof threads / sizeof *threads; ++t) {
+        resurfi_pool *pool = (resurfi_pool *)1;
+        ck_assert_int_eq(resurfi_pool_create(NULL, threads[t], &pool), RESURF_OK);
+        ck_assert(threads[t] > 1 ? pool != NULL : pool == NULL);
+        for (int round = 0; round < 3000; ++round) {
+            visit_ctx c;
+            memset(&c, 0, sizeof c);
+            c.count = (size_t)(round % 7 == 0 ? 1 : round % 500);
+            c.block_size = (size_t)(1 + round % 13);
+            c.threads = threads[t];
+            c.fail_at = round % 11 == 5 ? c.count / 2 : SIZE_MAX;
+            c.visits = calloc(c.count + 1, sizeof *c.visits);
+            int failed = resurfi_pool_for(pool, c.count, c.block_size, visit, &c);
+            ck_assert_int_eq(failed, c.fail_at < c.count);
+            for (size_t i = 0; i < c.count && c.fail_at == SIZE_MAX; ++i)
+                ck_assert_msg(atomic_load(&c.visits[i]) == 1, "threads %u round %d: index %zu seen %d times",
+                              threads[t], round, i, atomic_load(&c.visits[i]));
+            ck_assert_int_eq(atomic_load(&c.bad_block), 0);
+            ck_assert_int_eq(atomic_load(&c.bad_worker), 0);
+            free(c.visits);
+        }
+        resurfi_pool_free(pool);
+    }
+}
+END_TEST
+
+/* Per-block results are the same on a pool as on one thread. */
+START_TEST(pool_results_independent_of_threads)
+{
+    const size_t n = 100003, bs = 97, nb = (n + bs - 1) / bs;
+    double *x = malloc(n * sizeof *x), *ref = malloc(nb * sizeof *ref), *got = malloc(nb * sizeof *got);
+    uint64_t state = 7;
+    for (size_t i = 0; i < n; ++i)
+        x[i] = shape_rand_unit(&state) - 0.5;
+    sum_ctx c = {x, ref, bs};
+    ck_assert_int_eq(resurfi_pool_for(NULL, n, bs, sum_block, &c), 0);
+    resurfi_pool *pool;
+    ck_assert_int_eq(resurfi_pool_create(NULL, 4, &pool), RESURF_OK);
+    c.block_sum = got;
+    for (int round = 0; round < 20; ++round) {
+        memset(got, 0, nb * sizeof *got);
+        ck_assert_int_eq(resurfi_pool_for(pool, n, bs, sum_block, &c), 0);
+        ck_assert(memcmp(got, ref, nb * sizeof *got) == 0);
+    }
+    resurfi_pool_free(pool);
+    resurfi_pool_free(NULL);
+    free(x);
+    free(ref);
+    free(got);
+}
+END_TEST
+
 START_TEST(parallel_thread_count)
 {
     ck_assert_uint_ge(resurfi_thread_count(0), 1);
@@ -156,6 +213,8 @@ Suite *make_suite(void)
     tcase_add_test(tc, parallel_stops_after_failure_single_thread);
     tcase_add_test(tc, parallel_stops_after_failure_many_threads);
     tcase_add_test(tc, parallel_results_independent_of_threads);
+    tcase_add_test(tc, pool_runs_many_loops);
+    tcase_add_test(tc, pool_results_independent_of_threads);
     tcase_add_test(tc, parallel_thread_count);
     suite_add_tcase(s, tc);
     return s;
