@@ -470,6 +470,84 @@ static resurf_status split_fans(resurfi_restorer *r, resurf_error *error)
     return RESURF_OK;
 }
 
+/* Quiet positions, for walk_closest's shortcut: the faces around form one closed fan (a disc: one fan of
+ * split_fans, every neighbour in exactly two of its faces) whose unit face normals all lie within QUIET_DEG of
+ * their mean. Then any two of them are less than 2 QUIET_DEG < 90° apart, so projected onto the plane of one face,
+ * every face keeps its orientation; and an embedded closed fan whose faces all keep their orientation winds once
+ * around its vertex (two sheets over the same direction would have to swap heights somewhere on the way round, and
+ * there they would cross), so the other faces' projections lie outside that face. */
+static const double QUIET_DEG = 39;
+
+static int quiet_position_block(void *ctx, size_t begin, size_t end, unsigned worker)
+{
+    (void)worker;
+    const setup_job *j = ctx;
+    const resurfi_restorer *r = j->r;
+    const resurfi_adjacency *adj = &r->adj;
+    const double cos_quiet = cos(QUIET_DEG * (M_PI / 180.0));
+    enum { KEEP = 32 }; /* face normals kept for the second look; a position with more computes them again */
+    vec3 normal[KEEP];
+    for (size_t v = begin; v < end; ++v) {
+        const uint32_t *faces = adj->vertex_faces + adj->vertex_face_offset[v];
+        uint32_t n = adj->vertex_face_offset[v + 1] - adj->vertex_face_offset[v];
+        int ok = n >= 3;
+        vec3 mean = v3(0, 0, 0);
+        uint32_t split = UINT32_MAX;
+        for (uint32_t i = 0; i < n && ok; ++i) {
+            size_t f = faces[i];
+            int k = corner_of(r, faces[i], (uint32_t)v);
+            if (k < 0) { /* (v is a corner of each of its faces) */
+                ok = 0;
+                break;
+            }
+            uint32_t id = r->corner_split[3 * f + (uint32_t)k];
+            ok = i == 0 || id == split; /* one fan */
+            split = id;
+            /* every neighbour in exactly two faces: both edges of f at v have two faces */
+            uint32_t e0 = adj->face_edges[3 * f + (uint32_t)k], e1 = adj->face_edges[3 * f + (uint32_t)(k + 2) % 3];
+            ok = ok && e0 != UINT32_MAX && e1 != UINT32_MAX && resurfi_edge_face_count(adj, e0) == 2 &&
+                 resurfi_edge_face_count(adj, e1) == 2;
+            vec3 fn = face_normal(r, f);
+            ok = ok && v3_len2(fn) > 0;
+            if (i < KEEP)
+                normal[i] = fn;
+            mean = v3_add(mean, fn);
+        }
+        double len = v3_len(mean);
+        for (uint32_t i = 0; i < n && ok; ++i)
+            ok = v3_dot(i < KEEP ? normal[i] : face_normal(r, faces[i]), mean) >= cos_quiet * len;
+        j->quiet_position[v] = (uint8_t)ok;
+    }
+    return 0;
+}
+
+static int quiet_triangle_block(void *ctx, size_t begin, size_t end, unsigned worker)
+{
+    (void)worker;
+    const setup_job *j = ctx;
+    const resurfi_restorer *r = j->r;
+    for (size_t t = begin; t < end; ++t) {
+        const uint32_t *i = r->tris + 3 * t;
+        r->quiet[t] = (uint8_t)(j->quiet_position[i[0]] && j->quiet_position[i[1]] && j->quiet_position[i[2]]);
+    }
+    return 0;
+}
+
+/* Phase 3 (with the edges still there): the quiet triangles, those whose corners are all quiet positions. */
+static resurf_status mark_quiet(resurfi_restorer *r, resurf_error *error)
+{
+    r->quiet = resurfi_alloc(&r->alloc, r->triangle_count ? r->triangle_count : 1, 1);
+    setup_job j = {.r = r, .quiet_position = resurfi_alloc(&r->alloc, r->position_count ? r->position_count : 1, 1)};
+    if (!r->quiet || !j.quiet_position) {
+        resurfi_free(&r->alloc, j.quiet_position);
+        return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory marking quiet triangles");
+    }
+    resurfi_parallel_for(r->position_count, BLOCK_SETUP, setup_threads(r), quiet_position_block, &j);
+    resurfi_parallel_for(r->triangle_count, BLOCK_SETUP, setup_threads(r), quiet_triangle_block, &j);
+    resurfi_free(&r->alloc, j.quiet_position);
+    return RESURF_OK;
+}
+
 /* With use_input_normals = 2: each fan's normal is the sum of the input normals of its corners (a fan never mixes
  * different ones: a split marks a crease), normalised; fans whose input normals are all zero or not finite keep
  * the estimated normal. */
@@ -650,7 +728,7 @@ static int usable_block(void *ctx, size_t begin, size_t end, unsigned worker)
     for (size_t t = begin; t < end; ++t) {
         const uint32_t *i = r->tris + 3 * t;
         vec3 a = position(r, i[0]), b = position(r, i[1]), c = position(r, i[2]);
-        double longest2 = fmax(fmax(v3_dist2(a, b), v3_dist2(b, c)), v3_dist2(c, a));
+        double longest2 = dmax(dmax(v3_dist2(a, b), v3_dist2(b, c)), v3_dist2(c, a));
         int ok = v3_len2(v3_tri_cross(a, b, c)) > 1e-24 * longest2 * longest2;
         vec3 n[3];
         for (int k = 0; k < 3 && ok; ++k) {
@@ -666,80 +744,13 @@ static int usable_block(void *ctx, size_t begin, size_t end, unsigned worker)
     return 0;
 }
 
-/* Quiet positions, for walk_closest's shortcut: the faces around form one closed fan (a disc: one fan of
- * split_fans, every neighbour in exactly two of its faces) whose unit face normals all lie within QUIET_DEG of
- * their mean. Then any two of them are less than 2 QUIET_DEG < 90° apart, so projected onto the plane of one face,
- * every face keeps its orientation; and an embedded closed fan whose faces all keep their orientation winds once
- * around its vertex (two sheets over the same direction would have to swap heights somewhere on the way round, and
- * there they would cross), so the other faces' projections lie outside that face. */
-static const double QUIET_DEG = 39;
-
-static int quiet_position_block(void *ctx, size_t begin, size_t end, unsigned worker)
-{
-    (void)worker;
-    const setup_job *j = ctx;
-    const resurfi_restorer *r = j->r;
-    const double cos_quiet = cos(QUIET_DEG * (M_PI / 180.0));
-    for (size_t v = begin; v < end; ++v) {
-        const uint32_t *faces = r->adj.vertex_faces + r->adj.vertex_face_offset[v];
-        uint32_t n = r->adj.vertex_face_offset[v + 1] - r->adj.vertex_face_offset[v];
-        int ok = n >= 3;
-        vec3 mean = v3(0, 0, 0);
-        uint32_t split = UINT32_MAX;
-        for (uint32_t i = 0; i < n && ok; ++i) {
-            const uint32_t *t = r->tris + 3 * (size_t)faces[i];
-            int k = corner_of(r, faces[i], (uint32_t)v);
-            if (k < 0) { /* (v is a corner of each of its faces) */
-                ok = 0;
-                break;
-            }
-            uint32_t id = r->corner_split[3 * (size_t)faces[i] + (uint32_t)k];
-            ok = i == 0 || id == split; /* one fan */
-            split = id;
-            /* each neighbour in exactly two faces: every edge at v has two faces */
-            for (int side = 1; side <= 2 && ok; ++side) {
-                uint32_t x = t[(k + side) % 3], count = 0;
-                for (uint32_t m = 0; m < n; ++m)
-                    count += corner_of(r, faces[m], x) >= 0;
-                ok = count == 2;
-            }
-            vec3 fn = face_normal(r, faces[i]);
-            ok = ok && v3_len2(fn) > 0;
-            mean = v3_add(mean, fn);
-        }
-        double len = v3_len(mean);
-        for (uint32_t i = 0; i < n && ok; ++i)
-            ok = v3_dot(face_normal(r, faces[i]), mean) >= cos_quiet * len;
-        j->quiet_position[v] = (uint8_t)ok;
-    }
-    return 0;
-}
-
-static int quiet_triangle_block(void *ctx, size_t begin, size_t end, unsigned worker)
-{
-    (void)worker;
-    const setup_job *j = ctx;
-    const resurfi_restorer *r = j->r;
-    for (size_t t = begin; t < end; ++t) {
-        const uint32_t *i = r->tris + 3 * t;
-        r->quiet[t] = (uint8_t)(j->quiet_position[i[0]] && j->quiet_position[i[1]] && j->quiet_position[i[2]]);
-    }
-    return 0;
-}
-
 static resurf_status mark_usable(resurfi_restorer *r, resurf_error *error)
 {
     r->usable = resurfi_alloc(&r->alloc, r->triangle_count, 1);
-    r->quiet = resurfi_alloc(&r->alloc, r->triangle_count, 1);
-    setup_job j = {.r = r, .quiet_position = resurfi_alloc(&r->alloc, r->position_count, 1)};
-    if (!r->usable || !r->quiet || !j.quiet_position) {
-        resurfi_free(&r->alloc, j.quiet_position);
+    if (!r->usable)
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory marking triangles");
-    }
+    setup_job j = {.r = r};
     resurfi_parallel_for(r->triangle_count, BLOCK_SETUP, setup_threads(r), usable_block, &j);
-    resurfi_parallel_for(r->position_count, BLOCK_SETUP, setup_threads(r), quiet_position_block, &j);
-    resurfi_parallel_for(r->triangle_count, BLOCK_SETUP, setup_threads(r), quiet_triangle_block, &j);
-    resurfi_free(&r->alloc, j.quiet_position);
     return RESURF_OK;
 }
 
@@ -794,7 +805,8 @@ resurf_status resurfi_restorer_create_ex(const resurf_mesh *original, const resu
         r->alloc = *alloc;
     r->opt = options ? *options : resurf_restore_options_default();
     if ((s = weld_original(r, original, error)) == RESURF_OK && (s = classify_edges(r, original, error)) == RESURF_OK &&
-        (s = split_fans(r, error)) == RESURF_OK && (s = estimate_normals(r, original, error)) == RESURF_OK &&
+        (s = split_fans(r, error)) == RESURF_OK && (s = mark_quiet(r, error)) == RESURF_OK &&
+        (s = estimate_normals(r, original, error)) == RESURF_OK &&
         (s = trace_features(r, error)) == RESURF_OK && (s = mark_usable(r, error)) == RESURF_OK && with_tree) {
         s = resurfi_bvh_build_threads(&r->alloc, r->positions, r->position_count, r->tris, r->triangle_count,
                                       r->opt.threads, &r->bvh);
@@ -1086,6 +1098,59 @@ static uint32_t closest_around(const resurfi_restorer *r, vec3 p, uint32_t t, do
     return best;
 }
 
+/* The triangle across t's side (v1, v2): the one other face with both; UINT32_MAX when there is none or more. */
+static uint32_t across(const resurfi_restorer *r, uint32_t t, uint32_t v1, uint32_t v2)
+{
+    const uint32_t *faces = r->adj.vertex_faces + r->adj.vertex_face_offset[v1];
+    uint32_t nf = r->adj.vertex_face_offset[v1 + 1] - r->adj.vertex_face_offset[v1], next = UINT32_MAX;
+    int shared = 0;
+    for (uint32_t i = 0; i < nf; ++i)
+        if (faces[i] != t && corner_of(r, faces[i], v2) >= 0)
+            next = faces[i], ++shared;
+    return shared == 1 ? next : UINT32_MAX;
+}
+
+/* Quiet triangle t (corners c, normal n unscaled) holds the projection q of p, and only side j (opposite c_j) is
+ * nearer to q than p's height h over t. Around each corner the other faces project into the cone beside t's
+ * (quiet_position_block). Around c_j that cone lies beyond two far sides; around either end a of side j, beyond
+ * the face g across side j lies a cone bounded by the ray from a through g's third corner z (projected) and by t's
+ * far side at a. So when q is farther than h from both such rays, only g can be nearer than t. Returns t when it
+ * is the nearest (bary, dist2 as closest_around gives them), UINT32_MAX when that is not shown. */
+static uint32_t nearest_beside_one_side(const resurfi_restorer *r, vec3 p, uint32_t t, const vec3 c[3], vec3 n,
+                                        int j, double bary[3], double *dist2)
+{
+    const uint32_t *tri = r->tris + 3 * (size_t)t;
+    uint32_t g = across(r, t, tri[(j + 1) % 3], tri[(j + 2) % 3]);
+    if (g == UINT32_MAX)
+        return UINT32_MAX;
+    const uint32_t *gi = r->tris + 3 * (size_t)g;
+    uint32_t zi = gi[0] != tri[(j + 1) % 3] && gi[0] != tri[(j + 2) % 3] ? gi[0]
+                : gi[1] != tri[(j + 1) % 3] && gi[1] != tri[(j + 2) % 3] ? gi[1]
+                                                                         : gi[2];
+    double n2 = v3_len2(n);
+    vec3 q = v3_madd(p, n, -v3_dot(n, v3_sub(p, c[0])) / n2);
+    vec3 z = position(r, zi);
+    z = v3_madd(z, n, -v3_dot(n, v3_sub(z, c[0])) / n2);
+    double h2 = v3_dist2(p, q) * (1 + 1e-8);
+    for (int e = 1; e <= 2; ++e) {
+        vec3 a = c[(j + e) % 3], w = v3_sub(z, a), u = v3_sub(q, a);
+        double along = v3_dot(u, w), w2 = v3_len2(w);
+        double ray2 = along <= 0 || !(w2 > 0) ? v3_len2(u) : v3_len2(u) - along * (along / w2);
+        if (!(ray2 > h2))
+            return UINT32_MAX;
+    }
+    /* t against g, as closest_around compares them (ties to the lower index) */
+    double bt[3], bg[3];
+    double dt = v3_dist2(p, resurfi_closest_on_triangle(p, c[0], c[1], c[2], bt));
+    double dg = v3_dist2(p, resurfi_closest_on_triangle(p, position(r, gi[0]), position(r, gi[1]),
+                                                        position(r, gi[2]), bg));
+    if (!(dt < dg || (dt == dg && t < g)))
+        return UINT32_MAX;
+    memcpy(bary, bt, sizeof bt);
+    *dist2 = dt;
+    return t;
+}
+
 /* p's closest triangle found by walking M from `start` (a triangle near p) across the side opposite the most
  * negative barycentric of p's projection, to the triangle p projects on (where no triangle holds the projection,
  * at a convex vertex or a crease, the walk turns back; it also stops at a border, a non-manifold edge, a degenerate
@@ -1115,24 +1180,21 @@ static uint32_t walk_closest(const resurfi_restorer *r, vec3 p, uint32_t start, 
              * of q's sub-triangle, so q's distance to side k is λ_k / (|n| |side k|), its height |n·(p − c0)| / |n|. */
             if (r->quiet[t]) {
                 double height = fabs(v3_dot(n, v3_sub(p, c[0]))) * (1 + 1e-9);
-                int clear = 1;
-                for (int j = 0; j < 3 && clear; ++j)
-                    clear = height * v3_dist(c[(j + 1) % 3], c[(j + 2) % 3]) < lambda[j];
-                if (clear) {
+                int near = -1, near_count = 0;
+                for (int j = 0; j < 3; ++j)
+                    if (!(height * v3_dist(c[(j + 1) % 3], c[(j + 2) % 3]) < lambda[j]))
+                        near = j, ++near_count;
+                if (near_count == 0) {
                     *dist2 = v3_dist2(p, resurfi_closest_on_triangle(p, c[0], c[1], c[2], bary));
                     return t;
                 }
+                if (near_count == 1 && nearest_beside_one_side(r, p, t, c, n, near, bary, dist2) == t)
+                    return t;
             }
             break;
         }
-        uint32_t v1 = tri[(k + 1) % 3], v2 = tri[(k + 2) % 3], next = UINT32_MAX;
-        const uint32_t *faces = r->adj.vertex_faces + r->adj.vertex_face_offset[v1];
-        uint32_t nf = r->adj.vertex_face_offset[v1 + 1] - r->adj.vertex_face_offset[v1];
-        int shared = 0;
-        for (uint32_t i = 0; i < nf; ++i)
-            if (faces[i] != t && corner_of(r, faces[i], v2) >= 0)
-                next = faces[i], ++shared;
-        if (shared != 1 || next == prev)
+        uint32_t next = across(r, t, tri[(k + 1) % 3], tri[(k + 2) % 3]);
+        if (next == UINT32_MAX || next == prev)
             break;
         prev = t;
         t = next;
