@@ -139,9 +139,12 @@ typedef struct fan_pair {
     uint32_t slot; /* index of the corner in the fan, times 2, plus 1 when x precedes the position in the face */
 } fan_pair;
 
+enum { GATHER_GROUP = 4 }; /* candidates whose fans star_block gathers together */
+
 typedef struct scratch {
     const resurf_allocator *alloc; /* the call's */
     u32vec fan;
+    u32vec group[2 * GATHER_GROUP]; /* star_block: the fans of a group of candidates' ends */
     fan_pair *pairs;
     uint32_t *uf;
     size_t pairs_cap;
@@ -298,6 +301,8 @@ static int vec_push(const resurf_allocator *alloc, u32vec *v, uint32_t x)
 static void scratch_free(scratch *s)
 {
     resurfi_free(s->alloc, s->fan.data);
+    for (int i = 0; i < 2 * GATHER_GROUP; ++i)
+        resurfi_free(s->alloc, s->group[i].data);
     resurfi_free(s->alloc, s->pairs);
     resurfi_free(s->alloc, s->uf);
 }
@@ -348,6 +353,41 @@ static int gather_fan(simplifier *s, uint32_t v, u32vec *out, int unlink)
             prev = c;
         }
         c = next;
+    }
+    return 1;
+}
+
+/* gather_fan for n positions at once (distinct; n <= 2 GATHER_GROUP), their lists walked in step: each step of a
+ * list is a cache miss on a large mesh, and the misses of different lists then overlap instead of following one
+ * another. The fans are those gather_fan returns. Returns 0 when out of memory. */
+static int gather_fans(simplifier *s, const uint32_t *v, size_t n, u32vec *out, int unlink)
+{
+    uint32_t c[2 * GATHER_GROUP], prev[2 * GATHER_GROUP];
+    for (size_t i = 0; i < n; ++i) {
+        out[i].count = 0;
+        c[i] = s->P[v[i]].head;
+        prev[i] = NONE;
+    }
+    for (int live = 1; live;) {
+        live = 0;
+        for (size_t i = 0; i < n; ++i) {
+            uint32_t cur = c[i];
+            if (cur == NONE)
+                continue;
+            live = 1;
+            c[i] = TNEXT(cur);
+            if (!s->tri[cur / 3].dead) {
+                if (!vec_push(s->alloc, &out[i], cur))
+                    return 0;
+                prev[i] = cur;
+            } else if (!unlink) {
+                prev[i] = cur;
+            } else if (prev[i] == NONE) {
+                s->P[v[i]].head = c[i];
+            } else {
+                TNEXT(prev[i]) = c[i];
+            }
+        }
     }
     return 1;
 }
@@ -1623,8 +1663,14 @@ static int try_candidate(simplifier *s, pending *q, lane *L, scratch *sc, int de
         view_b = (u32vec){words + w->na, w->nb, w->nb};
         fa = &view_a;
         fb = &view_b;
-    } else if (!gather_fan(s, a, &L->fan_a, 1) || !gather_fan(s, b, &L->fan_b, 1)) {
-        return 0;
+    } else {
+        u32vec pair[2] = {L->fan_a, L->fan_b};
+        uint32_t ends[2] = {a, b};
+        int ok = gather_fans(s, ends, 2, pair, 1);
+        L->fan_a = pair[0];
+        L->fan_b = pair[1];
+        if (!ok)
+            return 0;
     }
     prefetch_ring(s, L, fa);
     prefetch_ring(s, L, fb);
@@ -1847,24 +1893,36 @@ static uint32_t gather_star(const simplifier *s, candidate c, const u32vec *fan_
     return n;
 }
 
-/* Gathers window entries [begin, end) (in parallel: nothing writes the mesh meanwhile). */
+/* Gathers window entries [begin, end) (in parallel: nothing writes the mesh meanwhile), GATHER_GROUP candidates'
+ * fans at a time. */
 static int star_block(void *ctx, size_t begin, size_t end, unsigned worker)
 {
     chunk_job *j = ctx;
-    const simplifier *s = j->s;
+    simplifier *s = j->s;
     scratch *sc = &j->scratch[worker];
-    lane *L = &j->s->lanes[worker];
-    for (size_t k = begin; k < end; ++k) {
-        window_entry *e = &s->win[k];
-        candidate c = s->cand[e->index];
-        e->count = 0;
-        if (c.a == NONE || ((s->gen[c.a] | s->gen[c.b]) & TAKEN) || !candidate_current(s, c))
-            continue;
-        if (!gather_fan(j->s, c.a, &sc->fan, 0) || !gather_fan(j->s, c.b, &L->fan_c, 0))
+    for (size_t k = begin; k < end;) {
+        size_t group[GATHER_GROUP], n = 0;
+        uint32_t ends[2 * GATHER_GROUP];
+        for (; k < end && n < GATHER_GROUP; ++k) {
+            window_entry *e = &s->win[k];
+            candidate c = s->cand[e->index];
+            e->count = 0;
+            if (c.a == NONE || ((s->gen[c.a] | s->gen[c.b]) & TAKEN) || !candidate_current(s, c))
+                continue;
+            ends[2 * n] = c.a;
+            ends[2 * n + 1] = c.b;
+            group[n++] = k;
+        }
+        if (!gather_fans(s, ends, 2 * n, sc->group, 0))
             return 1;
-        e->na = (uint32_t)sc->fan.count;
-        e->nb = (uint32_t)L->fan_c.count;
-        e->count = gather_star(s, c, &sc->fan, &L->fan_c, s->stars + k * STAR_MAX, STAR_MAX);
+        for (size_t i = 0; i < n; ++i) {
+            window_entry *e = &s->win[group[i]];
+            candidate c = s->cand[e->index];
+            const u32vec *fa = &sc->group[2 * i], *fb = &sc->group[2 * i + 1];
+            e->na = (uint32_t)fa->count;
+            e->nb = (uint32_t)fb->count;
+            e->count = gather_star(s, c, fa, fb, s->stars + group[i] * STAR_MAX, STAR_MAX);
+        }
     }
     return 0;
 }
