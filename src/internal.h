@@ -140,6 +140,14 @@ size_t resurfi_adjacency_components(const resurfi_adjacency *adj, const uint32_t
  * mesh this is the plain number of boundary curves. Computed by the build. */
 size_t resurfi_adjacency_boundary_loops(const resurfi_adjacency *adj);
 
+/* The loops that jump around arrays far larger than the caches: where the next address is known a little ahead,
+ * asking for it early overlaps the misses. */
+#if defined(__GNUC__) || defined(__clang__)
+#define PREFETCH(p) __builtin_prefetch(p)
+#else
+#define PREFETCH(p) ((void)(p))
+#endif
+
 /* ---- threads (parallel.c) ------------------------------------------------------------------------------------ */
 
 /* Number of worker threads for a `threads` option (0 = all online cores), at least 1. */
@@ -309,6 +317,10 @@ resurfi_restore_outcome resurfi_restorer_point_walk(const resurfi_restorer *r, v
 uint32_t resurfi_restorer_closest_walk(const resurfi_restorer *r, vec3 p, uint32_t start, double bary[3],
                                        double *dist2);
 
+/* Asks the cache for what a walk from triangle t reads first, for a caller that knows its next starts a few points
+ * ahead: stage 0 the corner ids, stage 1 (once those have arrived) the corners' positions, face lists and
+ * normals. Any t is accepted; an out-of-range one is ignored. */
+void resurfi_restorer_prefetch(const resurfi_restorer *r, uint32_t t, int stage);
 /* The interpolated smooth unit normal of M at barycentrics bary of triangle t (crease-aware). */
 vec3 resurfi_restorer_normal(const resurfi_restorer *r, uint32_t t, const double bary[3]);
 /* The BVH over M (for closest-point queries by callers that already hold a restorer). */

@@ -1210,6 +1210,22 @@ static uint32_t walk_closest(const resurfi_restorer *r, vec3 p, uint32_t start, 
     return t;
 }
 
+void resurfi_restorer_prefetch(const resurfi_restorer *r, uint32_t t, int stage)
+{
+    if (t >= r->triangle_count)
+        return;
+    const uint32_t *tri = r->tris + 3 * (size_t)t;
+    if (stage == 0) {
+        PREFETCH(tri);
+        return;
+    }
+    PREFETCH(r->corner_split + 3 * (size_t)t);
+    for (int k = 0; k < 3; ++k) {
+        PREFETCH(r->positions + 3 * (size_t)tri[k]);
+        PREFETCH(r->adj.vertex_face_offset + tri[k]);
+    }
+}
+
 uint32_t resurfi_restorer_closest_walk(const resurfi_restorer *r, vec3 p, uint32_t start, double bary[3],
                                        double *dist2)
 {

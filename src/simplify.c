@@ -33,14 +33,6 @@
 
 #define NONE UINT32_MAX
 
-/* The collapse loop jumps around arrays far larger than the caches; where the next address is known a
- * little ahead, asking for it early overlaps the misses. */
-#if defined(__GNUC__) || defined(__clang__)
-#define PREFETCH(p) __builtin_prefetch(p)
-#else
-#define PREFETCH(p) ((void)(p))
-#endif
-
 enum {
     PROGRESS_COLLAPSES = 1 << 13, /* collapses between two progress calls */
     BLOCK_POSITIONS = 1024,       /* parallel block sizes */
@@ -1608,6 +1600,16 @@ static int refresh_flags(simplifier *s, uint32_t v, scratch *sc, int *changed)
     return 1;
 }
 
+/* The start of the walk of a restoration `ahead` (1..3) places ahead in a loop, from position a's home: its home's
+ * entry three ahead, then the triangle's corner ids, then what they point to (resurfi_restorer_prefetch). */
+static void prefetch_walk(const simplifier *s, uint32_t a, size_t ahead)
+{
+    if (ahead >= 3)
+        PREFETCH(&s->home[a]);
+    else
+        resurfi_restorer_prefetch(s->restorer, s->home[a], ahead == 1);
+}
+
 typedef struct chunk_job {
     simplifier *s;
     scratch *scratch;
@@ -1623,6 +1625,8 @@ static int restore_chunk_block(void *ctx, size_t begin, size_t end, unsigned wor
     for (size_t i = begin; i < end; ++i) {
         pending *q = &s->pend[i];
         candidate c = s->cand[q->index];
+        for (size_t k = 1; k <= 3 && i + k < end; ++k)
+            prefetch_walk(s, s->cand[s->pend[i + k].index].a, k);
         q->restore = 0;
         if (!gather_fan(s, c.a, &sc->fan, 0))
             return 1;
@@ -2084,6 +2088,9 @@ static int apply_block(void *ctx, size_t begin, size_t end, unsigned worker)
             PREFETCH(&s->P[ahead.a]);
             PREFETCH(&s->P[ahead.b]);
         }
+        if (s->home && s->opt.restore == RESURF_RESTORE_INLINE)
+            for (size_t k = 1; k <= 3 && i + k < end; ++k)
+                prefetch_walk(s, s->cand[s->pend[i + k].index].a, k);
         q->worker = worker;
         q->fresh_begin = L->fresh_count;
         q->renew_begin = L->renew.count;
@@ -2267,6 +2274,8 @@ static int post_restore_block(void *ctx, size_t begin, size_t end, unsigned work
     (void)worker;
     output_job *j = ctx;
     for (size_t u = begin; u < end; ++u) {
+        for (size_t k = 1; k <= 3 && u + k < end; ++k)
+            prefetch_walk(j->s, j->o->upos[u + k], k);
         int left;
         uint32_t t;
         j->o->base[u] = restore_point(j->s, j->o->base[u], j->o->len[u], j->s->home[j->o->upos[u]], &left, &t);
@@ -2280,6 +2289,8 @@ static int normal_block(void *ctx, size_t begin, size_t end, unsigned worker)
     (void)worker;
     output_job *j = ctx;
     for (size_t u = begin; u < end; ++u) {
+        for (size_t k = 1; k <= 3 && u + k < end; ++k)
+            prefetch_walk(j->s, j->o->upos[u + k], k);
         double bary[3], d2;
         uint32_t t = resurfi_restorer_closest_walk(j->s->restorer, j->o->base[u], j->s->home[j->o->upos[u]], bary,
                                                    &d2);
