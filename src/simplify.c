@@ -1206,9 +1206,14 @@ static int push_edges(simplifier *s, lane *L, uint32_t a, const u32vec *fan, uin
 static int refresh_candidates(simplifier *s)
 {
     size_t n = 0;
-    for (size_t i = 0; i < s->cand_count; ++i)
+    for (size_t i = 0; i < s->cand_count; ++i) {
+        if (i + 16 < s->cand_count && s->cand[i + 16].a != NONE) {
+            PREFETCH(&s->gen[s->cand[i + 16].a]);
+            PREFETCH(&s->gen[s->cand[i + 16].b]);
+        }
         if (candidate_current(s, s->cand[i]))
             s->cand[n++] = s->cand[i];
+    }
     s->cand_count = n;
     size_t m = 0;
     for (size_t i = 0; i < s->fresh_count; ++i)
@@ -2019,6 +2024,12 @@ static int take_chunk(simplifier *s, scratch *sc)
                 candidate c = s->cand[s->win[k].index];
                 if (c.cost > s->pass_limit && (s->rep.collapses > s->pass_before || s->pend_count > 0))
                     break;
+            }
+            if (k + 4 < n) { /* the marks the claim four ahead will read */
+                const window_entry *ahead = &s->win[k + 4];
+                if (ahead->count != STAR_OVERFLOW)
+                    for (uint32_t i = 0; i < ahead->count; ++i)
+                        PREFETCH(&s->gen[s->stars[(k + 4) * STAR_MAX + ahead->na + ahead->nb + i]]);
             }
             int r = claim_candidate(s, k);
             if (r < 0)
