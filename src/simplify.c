@@ -42,7 +42,7 @@ enum {
     WINDOW = 1536,                /* candidates whose stars are gathered for a chunk, besides those put aside */
     CHUNK_MIN = 16,               /* a chunk's size is alive positions / CHUNK_SPREAD, within [CHUNK_MIN, CHUNK] */
     CHUNK_SPREAD = 64,
-    CHUNK_THREADS = 128,          /* smaller chunks run on one thread: starting threads would cost more than it saves */
+    CHUNK_THREADS = 32,           /* smaller chunks run on one thread: handing them out would cost more than it saves */
 };
 
 /* The tip guard (tip_excess): an end's old position may lie TIP_GUARD × the edge's length, or TIP_ERROR × the
