@@ -292,9 +292,12 @@ resurf_status resurfi_restorer_create(const resurf_mesh *original, const resurf_
                                       resurfi_restorer **out, resurf_error *error);
 /* The same, without the BVH when with_tree is 0: then only resurfi_restorer_point_walk and
  * resurfi_restorer_closest_walk find anything (the others leave every point, RESURFI_LEFT_FAR), and
- * resurfi_restorer_bvh returns NULL. About a third of the set-up's time and 60 bytes per triangle less. */
+ * resurfi_restorer_bvh returns NULL. About a third of the set-up's time and 60 bytes per triangle less. A caller
+ * that has welded M's positions already (resurfi_weld_exact: remap, `distinct` positions) passes the weld;
+ * remap NULL welds here. */
 resurf_status resurfi_restorer_create_ex(const resurf_mesh *original, const resurf_restore_options *options,
-                                         int with_tree, resurfi_restorer **out, resurf_error *error);
+                                         int with_tree, const uint32_t *remap, size_t distinct,
+                                         resurfi_restorer **out, resurf_error *error);
 void resurfi_restorer_free(resurfi_restorer *r); /* NULL is fine */
 
 /* Restores one point onto S with the restorer's options (iterations, step, policies). out_point receives the

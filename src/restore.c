@@ -182,7 +182,8 @@ static int reliable_normal(const resurfi_restorer *r, size_t t)
 }
 
 /* Phase 1: refuse what cannot be processed, weld exactly, index the triangles by position id. */
-static resurf_status weld_original(resurfi_restorer *r, const resurf_mesh *m, resurf_error *error)
+static resurf_status weld_original(resurfi_restorer *r, const resurf_mesh *m, const uint32_t *welded,
+                                   size_t welded_count, resurf_error *error)
 {
     if (m->triangle_count == 0)
         return resurfi_error(error, RESURF_ERR_INVALID_MESH, "the original mesh has no triangles");
@@ -196,14 +197,18 @@ static resurf_status weld_original(resurfi_restorer *r, const resurf_mesh *m, re
                 return resurfi_error(error, RESURF_ERR_INVALID_MESH, "original vertex %u has a non-finite position",
                                      v);
         }
-    uint32_t *remap = resurfi_alloc(&r->alloc, m->vertex_count, sizeof *remap);
-    if (!remap)
-        return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory welding the original mesh");
-    size_t distinct = 0;
-    resurf_status s = resurfi_weld_exact(&r->alloc, m->positions, m->vertex_count, remap, &distinct);
-    if (s != RESURF_OK) {
-        resurfi_free(&r->alloc, remap);
-        return resurfi_error(error, s, "cannot weld the original mesh");
+    uint32_t *own_remap = NULL;
+    const uint32_t *remap = welded;
+    size_t distinct = welded_count;
+    if (!welded) {
+        if (!(own_remap = resurfi_alloc(&r->alloc, m->vertex_count, sizeof *own_remap)))
+            return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory welding the original mesh");
+        resurf_status s = resurfi_weld_exact(&r->alloc, m->positions, m->vertex_count, own_remap, &distinct);
+        if (s != RESURF_OK) {
+            resurfi_free(&r->alloc, own_remap);
+            return resurfi_error(error, s, "cannot weld the original mesh");
+        }
+        remap = own_remap;
     }
     r->triangle_count = m->triangle_count;
     /* A position's id is its first vertex, so M's positions serve in place (M outlives the restorer) and only the
@@ -213,13 +218,13 @@ static resurf_status weld_original(resurfi_restorer *r, const resurf_mesh *m, re
     r->position_count = m->vertex_count;
     if (distinct == m->vertex_count) {
         r->tris = m->indices;
-        resurfi_free(&r->alloc, remap);
+        resurfi_free(&r->alloc, own_remap);
         return RESURF_OK;
     }
     uint32_t *first = resurfi_alloc(&r->alloc, distinct, sizeof *first);
     r->own_tris = resurfi_alloc(&r->alloc, m->triangle_count, 3 * sizeof(uint32_t));
     if (!first || !r->own_tris) {
-        resurfi_free(&r->alloc, remap);
+        resurfi_free(&r->alloc, own_remap);
         resurfi_free(&r->alloc, first);
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory welding the original mesh");
     }
@@ -228,7 +233,7 @@ static resurf_status weld_original(resurfi_restorer *r, const resurf_mesh *m, re
     for (size_t i = 0; i < 3 * m->triangle_count; ++i)
         r->own_tris[i] = first[remap[m->indices[i]]];
     r->tris = r->own_tris;
-    resurfi_free(&r->alloc, remap);
+    resurfi_free(&r->alloc, own_remap);
     resurfi_free(&r->alloc, first);
     return RESURF_OK;
 }
@@ -783,11 +788,12 @@ void resurfi_restorer_free(resurfi_restorer *r)
 resurf_status resurfi_restorer_create(const resurf_mesh *original, const resurf_restore_options *options,
                                       resurfi_restorer **out, resurf_error *error)
 {
-    return resurfi_restorer_create_ex(original, options, 1, out, error);
+    return resurfi_restorer_create_ex(original, options, 1, NULL, 0, out, error);
 }
 
 resurf_status resurfi_restorer_create_ex(const resurf_mesh *original, const resurf_restore_options *options,
-                                         int with_tree, resurfi_restorer **out, resurf_error *error)
+                                         int with_tree, const uint32_t *remap, size_t distinct,
+                                         resurfi_restorer **out, resurf_error *error)
 {
     if (!out)
         return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "out is NULL");
@@ -804,7 +810,7 @@ resurf_status resurfi_restorer_create_ex(const resurf_mesh *original, const resu
     if (alloc)
         r->alloc = *alloc;
     r->opt = options ? *options : resurf_restore_options_default();
-    if ((s = weld_original(r, original, error)) == RESURF_OK && (s = classify_edges(r, original, error)) == RESURF_OK &&
+    if ((s = weld_original(r, original, remap, distinct, error)) == RESURF_OK && (s = classify_edges(r, original, error)) == RESURF_OK &&
         (s = split_fans(r, error)) == RESURF_OK && (s = mark_quiet(r, error)) == RESURF_OK &&
         (s = estimate_normals(r, original, error)) == RESURF_OK &&
         (s = trace_features(r, error)) == RESURF_OK && (s = mark_usable(r, error)) == RESURF_OK && with_tree) {

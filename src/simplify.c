@@ -232,6 +232,7 @@ typedef struct simplifier {
     size_t tri_count, alive_tris;
     work_tri *tri;
     uint32_t *src;     /* input triangle of each working triangle */
+    uint32_t *remap;   /* while starting: position of each input vertex (resurfi_weld_exact) */
     size_t pos_count, alive_positions;
     work_pos *P;         /* inside P_mem, 64-byte aligned */
     void *P_mem;
@@ -611,6 +612,7 @@ static resurf_status prepare_mesh(simplifier *s, resurf_error *error)
         goto done;
     st = RESURF_ERR_OUT_OF_MEMORY;
     s->pos_count = pc;
+    s->remap = remap; /* for the restorer, which welds the same positions */
 
     /* Wedges: at each position, a vertex joins the lowest earlier vertex with equal attributes. Positions hold few
      * vertices, so the pairwise test is cheap. */
@@ -685,7 +687,8 @@ static resurf_status prepare_mesh(simplifier *s, resurf_error *error)
     memset(head, 0, pc * sizeof *head);
     st = RESURF_OK;
 done:
-    resurfi_free(s->alloc, remap);
+    if (s->remap != remap)
+        resurfi_free(s->alloc, remap);
     resurfi_free(s->alloc, rep);
     resurfi_free(s->alloc, first);
     resurfi_free(s->alloc, chain);
@@ -2794,6 +2797,7 @@ static resurf_status check_options(const resurf_simplify_options *o, resurf_erro
 
 static void simplifier_free(simplifier *s)
 {
+    resurfi_free(s->alloc, s->remap);
     resurfi_free(s->alloc, s->tri);
     resurfi_free(s->alloc, s->src);
     resurfi_free(s->alloc, s->P_mem);
@@ -2863,13 +2867,16 @@ static resurf_status start(simplifier *s, scratch *scratch, resurf_error *error)
         ro.progress = (resurf_progress){NULL, NULL};
         ro.allocator = s->alloc;
         /* Without its tree: every restored point has a triangle of M nearby to walk from (home). */
-        if ((st = resurfi_restorer_create_ex(s->in, &ro, 0, &s->restorer, error)) != RESURF_OK)
+        st = resurfi_restorer_create_ex(s->in, &ro, 0, s->remap, s->pos_count, &s->restorer, error);
+        if (st != RESURF_OK)
             return st;
         if (!(s->home = resurfi_alloc(s->alloc, s->pos_count, sizeof *s->home)))
             return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
         for (size_t p = 0; p < s->pos_count; ++p) /* the input triangle of its first corner */
             s->home[p] = s->P[p].head != NONE ? s->src[s->P[p].head / 3] : NONE;
     }
+    resurfi_free(s->alloc, s->remap);
+    s->remap = NULL;
     if (has_attributes(s->in) || s->opt.measure_samples) {
         st = resurfi_bvh_build_threads(s->alloc, s->in->positions, s->in->vertex_count, s->in->indices,
                                        s->in->triangle_count, s->opt.threads, &s->own_bvh);
