@@ -656,6 +656,7 @@ static resurf_status prepare_mesh(simplifier *s, resurf_error *error)
     if (!s->tri || !s->src || !s->P || !s->mark)
         goto done;
     nt = 0;
+    double area = 0; /* for the quadrics' area floor (the input's positions: those of the working mesh) */
     for (size_t t = 0; t < in->triangle_count; ++t) {
         const uint32_t *i = in->indices + 3 * t;
         uint32_t a = remap[i[0]], b = remap[i[1]], c = remap[i[2]];
@@ -665,8 +666,11 @@ static resurf_status prepare_mesh(simplifier *s, resurf_error *error)
             TV(3 * nt + k) = remap[i[k]];
             TW(3 * nt + k) = rep[i[k]];
         }
+        area += 0.5 * v3_len(v3_tri_cross(resurfi_position(in, i[0]), resurfi_position(in, i[1]),
+                                          resurfi_position(in, i[2])));
         s->src[nt++] = (uint32_t)t;
     }
+    s->area_floor = nt ? AREA_FLOOR * area / (double)nt : 0;
     for (size_t v = 0; v < nv; ++v)
         s->P[remap[v]].p = resurfi_position(in, (uint32_t)v);
     /* Lists in increasing triangle order: insert from the back. The heads are built in the (still unused) marks,
@@ -2886,10 +2890,6 @@ static resurf_status start(simplifier *s, scratch *scratch, resurf_error *error)
     }
     if (resurfi_progress(&s->opt.progress, "prepare", 0.5))
         return resurfi_error(error, RESURF_ERR_CANCELLED, "simplification cancelled");
-    double area = 0;
-    for (size_t t = 0; t < s->tri_count; ++t)
-        area += 0.5 * v3_len(v3_tri_cross(s->P[s->tri[t].v[0]].p, s->P[s->tri[t].v[1]].p, s->P[s->tri[t].v[2]].p));
-    s->area_floor = AREA_FLOOR * area / (double)s->tri_count;
     uint32_t *up = resurfi_alloc(s->alloc, s->pos_count, sizeof *up);
     analyse_job aj = {s, scratch, up};
     if (!up || resurfi_pool_for(s->pool, s->pos_count, BLOCK_POSITIONS, analyse_block, &aj)) {
