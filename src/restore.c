@@ -1276,6 +1276,11 @@ static resurfi_restore_outcome restore_from(const resurfi_restorer *r, vec3 p, u
     vec3 cur = p;
     uint32_t chosen = UINT32_MAX; /* the triangle of the previous step's root */
     double len = 0, t_guess = 0;
+    /* The normal section's glides with the whole mean step (1/3 of the sum of three) land where the next iteration
+     * would not move: the point moves along the root's line, so the root stays, and each glide drops by exactly the
+     * distance moved (its part across n_opt does not change). From a root inside its triangle, that check is
+     * skipped. */
+    int full_step_rule = o->displacement == RESURF_DISPLACEMENT_NORMAL_SECTION && 3 * o->step == 1;
     for (unsigned it = 0; it < o->iterations; ++it) {
         root_choice c = {.triangle = UINT32_MAX};
         resurfi_optdir_root roots[3];
@@ -1321,6 +1326,7 @@ static resurfi_restore_outcome restore_from(const resurfi_restorer *r, vec3 p, u
         }
         outcome = is_inside(&c.root) ? RESURFI_RESTORED : RESURFI_RESTORED_LEAST_OUTSIDE;
         chosen = is_inside(&c.root) ? c.triangle : UINT32_MAX;
+        int full_step = full_step_rule && chosen != UINT32_MAX;
         vec3 n_opt = resurfi_restorer_normal(r, c.triangle, c.root.bary);
         if (v3_len2(n_opt) == 0)
             break;
@@ -1345,7 +1351,7 @@ static resurfi_restore_outcome restore_from(const resurfi_restorer *r, vec3 p, u
             *out_triangle = c.triangle;
         if (out_bary)
             memcpy(out_bary, c.root.bary, sizeof c.root.bary);
-        if (fabs(step) < o->tolerance_rel * len)
+        if (fabs(step) < o->tolerance_rel * len || full_step)
             break;
     }
     /* A restored point near M moves by about the sag of M's facets, a fraction of the local edge length; one that
