@@ -78,7 +78,7 @@ int resurfi_parallel_for(size_t count, size_t block_size, unsigned threads,
 
 /* ---- a call's own team ------------------------------------------------------------------------------------- */
 
-enum { POOL_SPIN = 4000 }; /* pauses (about 0.1 ms) before a waiting worker sleeps, or the caller waits to */
+enum { POOL_SPIN = 4000 }; /* pauses (about 0.1 ms) that a waiting thread spins before it sleeps */
 
 typedef struct pool_member {
     struct resurfi_pool *pool;
@@ -102,6 +102,8 @@ static void relax(void)
 {
 #if defined(__x86_64__) || defined(__i386__)
     __builtin_ia32_pause();
+#elif defined(__aarch64__)
+    __asm__ __volatile__("yield");
 #endif
 }
 

@@ -276,7 +276,7 @@ typedef struct setup_job {
     size_t max_degree;    /* split_fans: the most faces of a position */
     uint32_t *fan_scratch; /* split_fans: 2 max_degree per worker */
     uint32_t *fan_base;   /* split_fans: per position, its fan count, then its first fan id */
-    uint8_t *quiet_position; /* mark_usable: per position, quiet_position_block */
+    uint8_t *quiet_position; /* mark_quiet: per position, quiet_position_block */
 } setup_job;
 
 static unsigned setup_threads(const resurfi_restorer *r) { return resurfi_thread_count(r->opt.threads); }

@@ -323,36 +323,10 @@ static void corner_others(const simplifier *s, uint32_t c, uint32_t xs[2])
     xs[1] = s->tri[t].v[k == 0 ? 2 : k - 1];
 }
 
-/* The corners of live triangles at position v, in list order. With unlink, dead triangles' corners are dropped
- * from the list on the way (only the sequential collapse loop may do that). Returns 0 when out of memory. */
-static int gather_fan(simplifier *s, uint32_t v, u32vec *out, int unlink)
-{
-    out->count = 0;
-    uint32_t prev = NONE;
-    for (uint32_t c = s->P[v].head; c != NONE;) {
-        uint32_t next = TNEXT(c);
-        if (s->tri[c / 3].dead) {
-            if (unlink) {
-                if (prev == NONE)
-                    s->P[v].head = next;
-                else
-                    TNEXT(prev) = next;
-            } else {
-                prev = c;
-            }
-        } else {
-            if (!vec_push(s->alloc, out, c))
-                return 0;
-            prev = c;
-        }
-        c = next;
-    }
-    return 1;
-}
-
-/* gather_fan for n positions at once (distinct; n <= 2 GATHER_GROUP), their lists walked in step: each step of a
- * list is a cache miss on a large mesh, and the misses of different lists then overlap instead of following one
- * another. The fans are those gather_fan returns. Returns 0 when out of memory. */
+/* The corners of live triangles at each of n distinct positions v[i] (n <= 2 GATHER_GROUP), in list order, into
+ * out[i]. With unlink, dead triangles' corners are dropped from the lists on the way (only the sequential collapse
+ * loop may do that). The lists are walked in step: each step of a list is a cache miss on a large mesh, and the
+ * misses of different lists then overlap instead of following one another. Returns 0 when out of memory. */
 static int gather_fans(simplifier *s, const uint32_t *v, size_t n, u32vec *out, int unlink)
 {
     uint32_t c[2 * GATHER_GROUP], prev[2 * GATHER_GROUP];
@@ -383,6 +357,12 @@ static int gather_fans(simplifier *s, const uint32_t *v, size_t n, u32vec *out, 
         }
     }
     return 1;
+}
+
+/* One position's fan (gather_fans). */
+static int gather_fan(simplifier *s, uint32_t v, u32vec *out, int unlink)
+{
+    return gather_fans(s, &v, 1, out, unlink);
 }
 
 static int pair_less(fan_pair p, fan_pair q) { return p.x < q.x || (p.x == q.x && p.slot < q.slot); }
@@ -1679,7 +1659,7 @@ static int try_candidate(simplifier *s, pending *q, lane *L, scratch *sc, int de
         view_b = (u32vec){words + w->na, w->nb, w->nb};
         fa = &view_a;
         fb = &view_b;
-    } else {
+    } else { /* the lane's two fans, gathered together */
         u32vec pair[2] = {L->fan_a, L->fan_b};
         uint32_t ends[2] = {a, b};
         int ok = gather_fans(s, ends, 2, pair, 1);
