@@ -1130,9 +1130,7 @@ static uint32_t nearest_beside_one_side(const resurfi_restorer *r, vec3 p, uint3
     if (g == UINT32_MAX)
         return UINT32_MAX;
     const uint32_t *gi = r->tris + 3 * (size_t)g;
-    uint32_t zi = gi[0] != tri[(j + 1) % 3] && gi[0] != tri[(j + 2) % 3] ? gi[0]
-                : gi[1] != tri[(j + 1) % 3] && gi[1] != tri[(j + 2) % 3] ? gi[1]
-                                                                         : gi[2];
+    uint32_t zi = gi[3 - corner_of(r, g, tri[(j + 1) % 3]) - corner_of(r, g, tri[(j + 2) % 3])]; /* g's far corner */
     double n2 = v3_len2(n);
     vec3 q = v3_madd(p, n, -v3_dot(n, v3_sub(p, c[0])) / n2);
     vec3 z = position(r, zi);
