@@ -246,6 +246,8 @@ typedef struct simplifier {
     size_t cand_count, cand_cap;
     candidate *fresh;       /* planned or requeued during a pass: merged into the list before the next */
     size_t fresh_count, fresh_cap;
+    candidate *sorted;      /* where the fresh ones are sorted to (sort_stable's second buffer) */
+    size_t sorted_cap;
     uint32_t *gen;          /* per position: bumped when it changes (its candidates then go stale); the top bit
                                marks an end of a candidate taken up by the current pass. Apart from the 128-byte
                                records: a pass reads it for every candidate. */
@@ -1061,11 +1063,11 @@ static uint32_t cost_key(float cost)
     return u & 0x80000000u ? ~u : u | 0x80000000u;
 }
 
-/* Sorts n candidates by cost, in place (a buffer as large as the list would be the simplifier's second largest
- * array): a radix sort from the most significant byte down, each bucket permuted in place (the "American flag"
- * sort), small buckets by insertion. Equal costs end in an order that depends on the input order only, never on
- * the thread count. */
-static void sort_candidates(candidate *c, size_t n, int shift)
+/* Sorts the first list of n candidates by cost, in place: a buffer as large as the list would be the simplifier's
+ * second largest array, at the time the restorer's memory is taken too. A radix sort from the most significant byte
+ * down, each bucket permuted in place (the "American flag" sort), small buckets by insertion. Equal costs end in an
+ * order that depends on the input order only, never on the thread count. */
+static void sort_in_place(candidate *c, size_t n, int shift)
 {
     if (n <= 32) {
         for (size_t i = 1; i < n; ++i) {
@@ -1102,7 +1104,40 @@ static void sort_candidates(candidate *c, size_t n, int shift)
     if (shift > 0)
         for (int b = 0; b < 256; ++b)
             if (count[b] > 1)
-                sort_candidates(c + end[b] - count[b], count[b], shift - 8);
+                sort_in_place(c + end[b] - count[b], count[b], shift - 8);
+}
+
+/* Sorts the n candidates of `from` by cost, stably, with `to` (n entries) as the second buffer: a radix sort from
+ * the least significant of three 11-bit digits of the cost's key up, a digit all keys share skipped. Returns the
+ * buffer that holds the result. Stable, so equal costs keep the order of the pass that planned them. */
+static candidate *sort_stable(candidate *from, candidate *to, size_t n)
+{
+    enum { BITS = 11, BUCKETS = 1 << BITS };
+    size_t count[3][BUCKETS];
+    memset(count, 0, sizeof count);
+    for (size_t i = 0; i < n; ++i) {
+        uint32_t k = cost_key(from[i].cost);
+        count[0][k & (BUCKETS - 1)]++;
+        count[1][(k >> BITS) & (BUCKETS - 1)]++;
+        count[2][k >> 2 * BITS]++;
+    }
+    for (int d = 0; d < 3 && n > 0; ++d) {
+        int shift = d * BITS;
+        if (count[d][(cost_key(from[0].cost) >> shift) & (BUCKETS - 1)] == n)
+            continue;
+        size_t sum = 0;
+        for (size_t b = 0; b < BUCKETS; ++b) {
+            size_t c = count[d][b];
+            count[d][b] = sum;
+            sum += c;
+        }
+        for (size_t i = 0; i < n; ++i)
+            to[count[d][(cost_key(from[i].cost) >> shift) & (BUCKETS - 1)]++] = from[i];
+        candidate *t = from;
+        from = to;
+        to = t;
+    }
+    return from;
 }
 
 /* Grows the list to hold n candidates; 0 when out of memory. */
@@ -1208,9 +1243,15 @@ static int refresh_candidates(simplifier *s)
             s->fresh[m++] = s->fresh[i];
     if (!reserve_candidates(s, n + m))
         return 0;
-    sort_candidates(s->fresh, m, 24);
+    if (m > s->sorted_cap) {
+        candidate *b = resurfi_realloc(s->alloc, s->sorted, s->fresh_cap, sizeof *b);
+        if (!b)
+            return 0;
+        s->sorted = b;
+        s->sorted_cap = s->fresh_cap;
+    }
+    const candidate *f = sort_stable(s->fresh, s->sorted, m);
     s->fresh_count = 0;
-    const candidate *f = s->fresh;
     /* merge from the back; on equal costs the older candidate comes first */
     size_t i = n, j = m, k = n + m;
     while (j > 0) {
@@ -1297,7 +1338,7 @@ static resurf_status seed_candidates(simplifier *s, scratch *scratch, const uint
     for (size_t i = 0; i < total; ++i)
         if (s->cand[i].a != NONE)
             s->cand[n++] = s->cand[i];
-    sort_candidates(s->cand, n, 24);
+    sort_in_place(s->cand, n, 24);
     s->cand_count = n;
     return RESURF_OK;
 }
@@ -2790,6 +2831,7 @@ static void simplifier_free(simplifier *s)
     resurfi_free(s->alloc, s->chart_of_wedge);
     resurfi_free(s->alloc, s->cand);
     resurfi_free(s->alloc, s->fresh);
+    resurfi_free(s->alloc, s->sorted);
     resurfi_free(s->alloc, s->taken.data);
     resurfi_free(s->alloc, s->gen);
     resurfi_free(s->alloc, s->home);
@@ -2943,8 +2985,9 @@ static resurf_status simplify_levels(const resurf_mesh *in, const resurf_simplif
             s.last_level = 1;
             resurfi_free(s.alloc, s.cand);
             resurfi_free(s.alloc, s.fresh);
-            s.cand = s.fresh = NULL;
-            s.cand_count = s.cand_cap = s.fresh_count = s.fresh_cap = 0;
+            resurfi_free(s.alloc, s.sorted);
+            s.cand = s.fresh = s.sorted = NULL;
+            s.cand_count = s.cand_cap = s.fresh_count = s.fresh_cap = s.sorted_cap = 0;
         }
         resurf_simplify_report rep;
         if (st == RESURF_OK)
