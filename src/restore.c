@@ -84,6 +84,9 @@ struct resurfi_restorer {
                                tangent, or 0 at a corner (so a position's tangent costs memory only on curves) */
     uint8_t *usable;        /* per triangle: has area and three corner normals (a root on it means something) */
     uint8_t *quiet;         /* per triangle: its corners' fans are closed discs turning gently (walk_closest) */
+    /* set-up only */
+    resurfi_pool *setup_pool; /* the caller's threads for the set-up loops, or NULL (threads of their own) */
+    double *face_normals;   /* 3 per triangle: unit face normals (classify_edges to mark_quiet) */
 };
 
 /* ---- options ------------------------------------------------------------------------------------------------- */
@@ -279,7 +282,20 @@ typedef struct setup_job {
     uint8_t *quiet_position; /* mark_quiet: per position, quiet_position_block */
 } setup_job;
 
-static unsigned setup_threads(const resurfi_restorer *r) { return resurfi_thread_count(r->opt.threads); }
+static unsigned setup_threads(const resurfi_restorer *r)
+{
+    return r->setup_pool ? resurfi_pool_threads(r->setup_pool) : resurfi_thread_count(r->opt.threads);
+}
+
+/* A set-up loop, on the caller's pool when it lent one. */
+static void setup_for(const resurfi_restorer *r, size_t count, int (*fn)(void *, size_t, size_t, unsigned),
+                      void *ctx)
+{
+    if (r->setup_pool)
+        resurfi_pool_for(r->setup_pool, count, BLOCK_SETUP, fn, ctx);
+    else
+        resurfi_parallel_for(count, BLOCK_SETUP, setup_threads(r), fn, ctx);
+}
 
 /* Each face's unit normal and reliability once, rather than once per side in the edge loop. */
 static int face_normals_block(void *ctx, size_t begin, size_t end, unsigned worker)
@@ -336,18 +352,15 @@ static resurf_status classify_edges(resurfi_restorer *r, const resurf_mesh *m, r
                    .crease_cos = cos(r->opt.crease_angle_deg * (M_PI / 180.0)),
                    .by_angle = r->opt.crease_angle_deg < 180,
                    .by_normals = r->opt.use_input_normals && m->normals};
-    if (j.by_angle) {
-        j.face_normals = resurfi_alloc(&r->alloc, r->triangle_count, 3 * sizeof(double));
-        j.reliable = resurfi_alloc(&r->alloc, r->triangle_count, 1);
-        if (!j.face_normals || !j.reliable) {
-            resurfi_free(&r->alloc, j.face_normals);
-            resurfi_free(&r->alloc, j.reliable);
-            return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory classifying edges");
-        }
-        resurfi_parallel_for(r->triangle_count, BLOCK_SETUP, setup_threads(r), face_normals_block, &j);
+    /* The face normals stay for mark_quiet. */
+    j.face_normals = r->face_normals = resurfi_alloc(&r->alloc, r->triangle_count, 3 * sizeof(double));
+    j.reliable = resurfi_alloc(&r->alloc, r->triangle_count, 1);
+    if (!j.face_normals || !j.reliable) {
+        resurfi_free(&r->alloc, j.reliable);
+        return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory classifying edges");
     }
-    resurfi_parallel_for(adj->edge_count, BLOCK_SETUP, setup_threads(r), classify_block, &j);
-    resurfi_free(&r->alloc, j.face_normals);
+    setup_for(r, r->triangle_count, face_normals_block, &j);
+    setup_for(r, adj->edge_count, classify_block, &j);
     resurfi_free(&r->alloc, j.reliable);
     return RESURF_OK;
 }
@@ -447,14 +460,14 @@ static resurf_status split_fans(resurfi_restorer *r, resurf_error *error)
     int ignored = adj->vertex_face_offset[nv] != 3 * nt;
     if (ignored)
         memset(r->corner_split, 0xff, nt * 3 * sizeof(uint32_t));
-    resurfi_parallel_for(nv, BLOCK_SETUP, threads, fans_block, &j);
+    setup_for(r, nv, fans_block, &j);
     uint32_t next = 0;
     for (size_t v = 0; v < nv; ++v) {
         uint32_t count = j.fan_base[v];
         j.fan_base[v] = next;
         next += count;
     }
-    resurfi_parallel_for(nt, BLOCK_SETUP, threads, fan_ids_block, &j);
+    setup_for(r, nt, fan_ids_block, &j);
     resurfi_free(&r->alloc, j.fan_scratch);
     resurfi_free(&r->alloc, j.fan_base);
     /* corners of ignored triangles, in triangle order */
@@ -490,8 +503,6 @@ static int quiet_position_block(void *ctx, size_t begin, size_t end, unsigned wo
     const resurfi_restorer *r = j->r;
     const resurfi_adjacency *adj = &r->adj;
     const double cos_quiet = cos(QUIET_DEG * (M_PI / 180.0));
-    enum { KEEP = 32 }; /* face normals kept for the second look; a position with more computes them again */
-    vec3 normal[KEEP];
     for (size_t v = begin; v < end; ++v) {
         const uint32_t *faces = adj->vertex_faces + adj->vertex_face_offset[v];
         uint32_t n = adj->vertex_face_offset[v + 1] - adj->vertex_face_offset[v];
@@ -512,15 +523,13 @@ static int quiet_position_block(void *ctx, size_t begin, size_t end, unsigned wo
             uint32_t e0 = adj->face_edges[3 * f + (uint32_t)k], e1 = adj->face_edges[3 * f + (uint32_t)(k + 2) % 3];
             ok = ok && e0 != UINT32_MAX && e1 != UINT32_MAX && resurfi_edge_face_count(adj, e0) == 2 &&
                  resurfi_edge_face_count(adj, e1) == 2;
-            vec3 fn = face_normal(r, f);
+            vec3 fn = v3_load(r->face_normals + 3 * f);
             ok = ok && v3_len2(fn) > 0;
-            if (i < KEEP)
-                normal[i] = fn;
             mean = v3_add(mean, fn);
         }
         double len = v3_len(mean);
         for (uint32_t i = 0; i < n && ok; ++i)
-            ok = v3_dot(i < KEEP ? normal[i] : face_normal(r, faces[i]), mean) >= cos_quiet * len;
+            ok = v3_dot(v3_load(r->face_normals + 3 * (size_t)faces[i]), mean) >= cos_quiet * len;
         j->quiet_position[v] = (uint8_t)ok;
     }
     return 0;
@@ -547,9 +556,11 @@ static resurf_status mark_quiet(resurfi_restorer *r, resurf_error *error)
         resurfi_free(&r->alloc, j.quiet_position);
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory marking quiet triangles");
     }
-    resurfi_parallel_for(r->position_count, BLOCK_SETUP, setup_threads(r), quiet_position_block, &j);
-    resurfi_parallel_for(r->triangle_count, BLOCK_SETUP, setup_threads(r), quiet_triangle_block, &j);
+    setup_for(r, r->position_count, quiet_position_block, &j);
+    setup_for(r, r->triangle_count, quiet_triangle_block, &j);
     resurfi_free(&r->alloc, j.quiet_position);
+    resurfi_free(&r->alloc, r->face_normals);
+    r->face_normals = NULL;
     return RESURF_OK;
 }
 
@@ -709,7 +720,7 @@ static resurf_status trace_features(resurfi_restorer *r, resurf_error *error)
     if (!r->side_kind)
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory tracing feature curves");
     setup_job j = {.r = r};
-    resurfi_parallel_for(r->triangle_count, BLOCK_SETUP, setup_threads(r), side_kind_block, &j);
+    setup_for(r, r->triangle_count, side_kind_block, &j);
     resurfi_adjacency_drop_edges(&r->adj);
     resurfi_free(&r->alloc, r->edge_kind);
     r->edge_kind = NULL;
@@ -755,7 +766,7 @@ static resurf_status mark_usable(resurfi_restorer *r, resurf_error *error)
     if (!r->usable)
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory marking triangles");
     setup_job j = {.r = r};
-    resurfi_parallel_for(r->triangle_count, BLOCK_SETUP, setup_threads(r), usable_block, &j);
+    setup_for(r, r->triangle_count, usable_block, &j);
     return RESURF_OK;
 }
 
@@ -782,18 +793,19 @@ void resurfi_restorer_free(resurfi_restorer *r)
     resurfi_free(&alloc, r->tangent);
     resurfi_free(&alloc, r->usable);
     resurfi_free(&alloc, r->quiet);
+    resurfi_free(&alloc, r->face_normals);
     resurfi_free(&alloc, r);
 }
 
 resurf_status resurfi_restorer_create(const resurf_mesh *original, const resurf_restore_options *options,
                                       resurfi_restorer **out, resurf_error *error)
 {
-    return resurfi_restorer_create_ex(original, options, 1, NULL, 0, out, error);
+    return resurfi_restorer_create_ex(original, options, 1, NULL, 0, NULL, out, error);
 }
 
 resurf_status resurfi_restorer_create_ex(const resurf_mesh *original, const resurf_restore_options *options,
                                          int with_tree, const uint32_t *remap, size_t distinct,
-                                         resurfi_restorer **out, resurf_error *error)
+                                         resurfi_pool *pool, resurfi_restorer **out, resurf_error *error)
 {
     if (!out)
         return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "out is NULL");
@@ -810,6 +822,7 @@ resurf_status resurfi_restorer_create_ex(const resurf_mesh *original, const resu
     if (alloc)
         r->alloc = *alloc;
     r->opt = options ? *options : resurf_restore_options_default();
+    r->setup_pool = pool;
     if ((s = weld_original(r, original, remap, distinct, error)) == RESURF_OK && (s = classify_edges(r, original, error)) == RESURF_OK &&
         (s = split_fans(r, error)) == RESURF_OK && (s = mark_quiet(r, error)) == RESURF_OK &&
         (s = estimate_normals(r, original, error)) == RESURF_OK &&
@@ -819,6 +832,7 @@ resurf_status resurfi_restorer_create_ex(const resurf_mesh *original, const resu
         if (s != RESURF_OK)
             resurfi_error(error, s, "cannot build the original mesh's BVH");
     }
+    r->setup_pool = NULL;
     if (s != RESURF_OK) {
         resurfi_restorer_free(r);
         return s;

@@ -2893,7 +2893,7 @@ static resurf_status start(simplifier *s, scratch *scratch, resurf_error *error)
         ro.progress = (resurf_progress){NULL, NULL};
         ro.allocator = s->alloc;
         /* Without its tree: every restored point has a triangle of M nearby to walk from (home). */
-        st = resurfi_restorer_create_ex(s->in, &ro, 0, s->remap, s->pos_count, &s->restorer, error);
+        st = resurfi_restorer_create_ex(s->in, &ro, 0, s->remap, s->pos_count, s->pool, &s->restorer, error);
         if (st != RESURF_OK)
             return st;
         if (!(s->home = resurfi_alloc(s->alloc, s->pos_count, sizeof *s->home)))
