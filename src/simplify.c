@@ -1900,8 +1900,10 @@ static int open_pass(simplifier *s)
     return 1;
 }
 
-/* Fills words[]: a's corners, b's corners, then the star's positions; returns the position count, or STAR_OVERFLOW
- * when they may not fit in max words. Reads the mesh only. */
+/* Fills words[]: a's corners, b's corners, then the star's positions (a, b and the other two corners of each
+ * corner's triangle: most positions twice, which costs the claims less than sorting them out here costs the
+ * gathering); returns the position count, or STAR_OVERFLOW when they may not fit in max words. Reads the mesh
+ * only. */
 static uint32_t gather_star(const simplifier *s, candidate c, const u32vec *fan_a, const u32vec *fan_b,
                             uint32_t *words, size_t max)
 {
@@ -1916,16 +1918,9 @@ static uint32_t gather_star(const simplifier *s, candidate c, const u32vec *fan_
     uint32_t n = 0;
     star[n++] = c.a;
     star[n++] = c.b;
-    for (size_t k = 0; k < na + nb; ++k) {
-        uint32_t xs[2];
-        corner_others(s, words[k], xs);
-        for (int j = 0; j < 2; ++j) {
-            uint32_t i = 0;
-            while (i < n && star[i] != xs[j])
-                ++i;
-            if (i == n)
-                star[n++] = xs[j];
-        }
+    for (size_t k = 0; k < na + nb; ++k) { /* claim_candidate marks each position once */
+        corner_others(s, words[k], star + n);
+        n += 2;
     }
     return n;
 }
