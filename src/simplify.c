@@ -1223,42 +1223,74 @@ static int push_edges(simplifier *s, lane *L, uint32_t a, const u32vec *fan, uin
 }
 
 /* The list for the next pass: the current candidates keep their places (their ends' quadrics and flags, hence
- * their costs, are the same); those planned during the pass are sorted and merged in. Returns 0 when out of
- * memory. */
+ * their costs, are the same); those planned during the pass are sorted and merged in. Three jobs, on the pool's
+ * threads: each half of the list keeps its current candidates at its front, and the fresh ones are filtered and
+ * sorted; then the second half's move down to meet the first's, and the sorted fresh ones are merged in from the
+ * back. */
+typedef struct refresh_job {
+    simplifier *s;
+    size_t half;         /* where the second half of the list starts */
+    size_t kept[2];      /* current candidates of each half */
+    size_t fresh_kept;
+    const candidate *sorted; /* the current fresh ones, sorted (in s->fresh or s->sorted) */
+} refresh_job;
+
+static int refresh_block(void *ctx, size_t begin, size_t end, unsigned worker)
+{
+    (void)worker;
+    refresh_job *j = ctx;
+    simplifier *s = j->s;
+    for (size_t job = begin; job < end; ++job) {
+        if (job == 2) {
+            size_t m = 0;
+            for (size_t i = 0; i < s->fresh_count; ++i)
+                if (candidate_current(s, s->fresh[i]))
+                    s->fresh[m++] = s->fresh[i];
+            j->fresh_kept = m;
+            j->sorted = sort_stable(s->fresh, s->sorted, m);
+            continue;
+        }
+        candidate *c = s->cand;
+        size_t lo = job == 0 ? 0 : j->half, hi = job == 0 ? j->half : s->cand_count, n = lo;
+        for (size_t i = lo; i < hi; ++i) {
+            if (i + 16 < hi && c[i + 16].a != NONE) {
+                PREFETCH(&s->gen[c[i + 16].a]);
+                PREFETCH(&s->gen[c[i + 16].b]);
+            }
+            if (candidate_current(s, c[i]))
+                c[n++] = c[i];
+        }
+        j->kept[job] = n - lo;
+    }
+    return 0;
+}
+
 static int refresh_candidates(simplifier *s)
 {
-    size_t n = 0;
-    for (size_t i = 0; i < s->cand_count; ++i) {
-        if (i + 16 < s->cand_count && s->cand[i + 16].a != NONE) {
-            PREFETCH(&s->gen[s->cand[i + 16].a]);
-            PREFETCH(&s->gen[s->cand[i + 16].b]);
-        }
-        if (candidate_current(s, s->cand[i]))
-            s->cand[n++] = s->cand[i];
-    }
-    s->cand_count = n;
-    size_t m = 0;
-    for (size_t i = 0; i < s->fresh_count; ++i)
-        if (candidate_current(s, s->fresh[i]))
-            s->fresh[m++] = s->fresh[i];
-    if (!reserve_candidates(s, n + m))
-        return 0;
-    if (m > s->sorted_cap) {
-        candidate *b = resurfi_realloc(s->alloc, s->sorted, s->fresh_cap, sizeof *b);
-        if (!b)
+    if (s->fresh_count > s->sorted_cap) {
+        candidate *buf = resurfi_realloc(s->alloc, s->sorted, s->fresh_cap, sizeof *buf);
+        if (!buf)
             return 0;
-        s->sorted = b;
+        s->sorted = buf;
         s->sorted_cap = s->fresh_cap;
     }
-    const candidate *f = sort_stable(s->fresh, s->sorted, m);
+    refresh_job j = {.s = s, .half = s->cand_count / 2};
+    resurfi_pool_for(s->pool, 3, 1, refresh_block, &j);
+    size_t n = j.kept[0] + j.kept[1], m = j.fresh_kept;
+    if (j.kept[1])
+        memmove(s->cand + j.kept[0], s->cand + j.half, j.kept[1] * sizeof *s->cand);
+    s->cand_count = n;
+    if (!reserve_candidates(s, n + m))
+        return 0;
+    const candidate *f = j.sorted;
     s->fresh_count = 0;
     /* merge from the back; on equal costs the older candidate comes first */
-    size_t i = n, j = m, k = n + m;
-    while (j > 0) {
-        if (i > 0 && s->cand[i - 1].cost > f[j - 1].cost)
+    size_t i = n, jf = m, k = n + m;
+    while (jf > 0) {
+        if (i > 0 && s->cand[i - 1].cost > f[jf - 1].cost)
             s->cand[--k] = s->cand[--i];
         else
-            s->cand[--k] = f[--j];
+            s->cand[--k] = f[--jf];
     }
     s->cand_count = n + m;
     return 1;
