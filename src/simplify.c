@@ -1265,6 +1265,62 @@ static int refresh_block(void *ctx, size_t begin, size_t end, unsigned worker)
     return 0;
 }
 
+/* The merge, in two jobs: the new list's first K candidates are the list's first I and the fresh ones' first
+ * K - I (merge_split). Each part merges from the back into its own places, in place. The lower part writes over
+ * [I, K) of the list, which the upper part reads: those go to a copy first (`spare`). */
+typedef struct merge_job {
+    candidate *list;
+    const candidate *fresh;
+    candidate *spare;
+    size_t n, m, i, k; /* list and fresh counts; the split */
+} merge_job;
+
+/* On equal costs the older candidate (the list's) comes first. */
+static size_t merge_split(const candidate *c, size_t n, const candidate *f, size_t m, size_t k)
+{
+    size_t lo = k > m ? k - m : 0, hi = k < n ? k : n; /* the largest i in [lo, hi] whose c[i - 1] goes before f[k - i] */
+    while (lo < hi) {
+        size_t mid = lo + (hi - lo + 1) / 2;
+        if (k - mid == m || c[mid - 1].cost <= f[k - mid].cost)
+            lo = mid;
+        else
+            hi = mid - 1;
+    }
+    return lo;
+}
+
+static int merge_block(void *ctx, size_t begin, size_t end, unsigned worker)
+{
+    (void)worker;
+    const merge_job *j = ctx;
+    candidate *c = j->list;
+    const candidate *f = j->fresh;
+    for (size_t part = begin; part < end; ++part) {
+        if (part == 0) { /* the lower part: c[0, i) and f[0, k - i) into [0, k) */
+            size_t i = j->i, jf = j->k - j->i, k = j->k;
+            while (jf > 0) {
+                if (i > 0 && c[i - 1].cost > f[jf - 1].cost)
+                    c[--k] = c[--i];
+                else
+                    c[--k] = f[--jf];
+            }
+            continue;
+        }
+        /* the upper part: c[i, n) (its [i, k) from the copy) and f[k - i, m) into [k, n + m) */
+        size_t i = j->n, jf = j->m, k = j->n + j->m, jend = j->k - j->i;
+        while (i > j->i) {
+            const candidate *x = i - 1 >= j->k ? &c[i - 1] : &j->spare[i - 1 - j->i];
+            if (jf > jend && f[jf - 1].cost >= x->cost)
+                c[--k] = f[--jf];
+            else
+                c[--k] = *x, --i;
+        }
+        while (jf > jend)
+            c[--k] = f[--jf];
+    }
+    return 0;
+}
+
 static int refresh_candidates(simplifier *s)
 {
     if (s->fresh_count > s->sorted_cap) {
@@ -1279,20 +1335,16 @@ static int refresh_candidates(simplifier *s)
     size_t n = j.kept[0] + j.kept[1], m = j.fresh_kept;
     if (j.kept[1])
         memmove(s->cand + j.kept[0], s->cand + j.half, j.kept[1] * sizeof *s->cand);
-    s->cand_count = n;
     if (!reserve_candidates(s, n + m))
         return 0;
-    const candidate *f = j.sorted;
-    s->fresh_count = 0;
-    /* merge from the back; on equal costs the older candidate comes first */
-    size_t i = n, jf = m, k = n + m;
-    while (jf > 0) {
-        if (i > 0 && s->cand[i - 1].cost > f[jf - 1].cost)
-            s->cand[--k] = s->cand[--i];
-        else
-            s->cand[--k] = f[--jf];
-    }
+    merge_job mj = {s->cand, j.sorted, j.sorted == s->fresh ? s->sorted : s->fresh, n, m, 0, (n + m) / 2};
+    mj.i = merge_split(s->cand, n, j.sorted, m, mj.k);
+    size_t copied = (mj.k < n ? mj.k : n) - mj.i; /* at most k - i <= m: the spare buffer holds as many as fresh */
+    if (copied)
+        memcpy(mj.spare, s->cand + mj.i, copied * sizeof *s->cand);
+    resurfi_pool_for(s->pool, 2, 1, merge_block, &mj);
     s->cand_count = n + m;
+    s->fresh_count = 0;
     return 1;
 }
 
