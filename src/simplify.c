@@ -578,6 +578,34 @@ oom:
     return RESURF_ERR_OUT_OF_MEMORY;
 }
 
+typedef struct zero_job {
+    unsigned char *base;
+    size_t bytes;
+} zero_job;
+
+enum { ZERO_BLOCK = 1 << 18 };
+
+static int zero_block(void *ctx, size_t begin, size_t end, unsigned worker)
+{
+    (void)worker;
+    const zero_job *j = ctx;
+    size_t from = begin * ZERO_BLOCK, to = end * ZERO_BLOCK < j->bytes ? end * ZERO_BLOCK : j->bytes;
+    memset(j->base + from, 0, to - from);
+    return 0;
+}
+
+/* resurfi_calloc(count, size) with the zeroing on the pool's threads: the first touch of a large block's pages is
+ * what costs, and the threads then share it. */
+static void *calloc_shared(const simplifier *s, size_t count, size_t size)
+{
+    if (count == 0 || size > SIZE_MAX / count)
+        return resurfi_calloc(s->alloc, count, size);
+    zero_job j = {resurfi_alloc(s->alloc, count, size), count * size};
+    if (j.base)
+        resurfi_pool_for(s->pool, (j.bytes + ZERO_BLOCK - 1) / ZERO_BLOCK, 1, zero_block, &j);
+    return j.base;
+}
+
 static resurf_status prepare_mesh(simplifier *s, resurf_error *error)
 {
     const resurf_mesh *in = s->in;
@@ -629,10 +657,10 @@ static resurf_status prepare_mesh(simplifier *s, resurf_error *error)
         nt += a != b && b != c && a != c && !(drop && drop[t] == FIN_DROP);
     }
     s->tri_count = s->alive_tris = nt;
-    s->tri = resurfi_calloc(s->alloc, nt, sizeof *s->tri);
+    s->tri = calloc_shared(s, nt, sizeof *s->tri);
     s->src = resurfi_alloc(s->alloc, nt, sizeof *s->src);
     /* the allocator promises malloc's alignment only: the block has room to align within */
-    if (pc <= (SIZE_MAX - 63) / sizeof *s->P && (s->P_mem = resurfi_calloc(s->alloc, pc * sizeof *s->P + 63, 1)))
+    if (pc <= (SIZE_MAX - 63) / sizeof *s->P && (s->P_mem = calloc_shared(s, pc * sizeof *s->P + 63, 1)))
         s->P = (work_pos *)(((uintptr_t)s->P_mem + 63) & ~(uintptr_t)63);
     s->mark = resurfi_calloc(s->alloc, pc, sizeof *s->mark);
     if (!s->tri || !s->src || !s->P || !s->mark)
