@@ -86,7 +86,6 @@ struct resurfi_restorer {
     uint8_t *quiet;         /* per triangle: its corners' fans are closed discs turning gently (walk_closest) */
     /* set-up only */
     resurfi_pool *setup_pool; /* the caller's threads for the set-up loops, or NULL (threads of their own) */
-    double *face_normals;   /* 3 per triangle: unit face normals (classify_edges to mark_quiet) */
 };
 
 /* ---- options ------------------------------------------------------------------------------------------------- */
@@ -352,15 +351,18 @@ static resurf_status classify_edges(resurfi_restorer *r, const resurf_mesh *m, r
                    .crease_cos = cos(r->opt.crease_angle_deg * (M_PI / 180.0)),
                    .by_angle = r->opt.crease_angle_deg < 180,
                    .by_normals = r->opt.use_input_normals && m->normals};
-    /* The face normals stay for mark_quiet. */
-    j.face_normals = r->face_normals = resurfi_alloc(&r->alloc, r->triangle_count, 3 * sizeof(double));
-    j.reliable = resurfi_alloc(&r->alloc, r->triangle_count, 1);
-    if (!j.face_normals || !j.reliable) {
-        resurfi_free(&r->alloc, j.reliable);
-        return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory classifying edges");
+    if (j.by_angle) {
+        j.face_normals = resurfi_alloc(&r->alloc, r->triangle_count, 3 * sizeof(double));
+        j.reliable = resurfi_alloc(&r->alloc, r->triangle_count, 1);
+        if (!j.face_normals || !j.reliable) {
+            resurfi_free(&r->alloc, j.face_normals);
+            resurfi_free(&r->alloc, j.reliable);
+            return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory classifying edges");
+        }
+        setup_for(r, r->triangle_count, face_normals_block, &j);
     }
-    setup_for(r, r->triangle_count, face_normals_block, &j);
     setup_for(r, adj->edge_count, classify_block, &j);
+    resurfi_free(&r->alloc, j.face_normals);
     resurfi_free(&r->alloc, j.reliable);
     return RESURF_OK;
 }
@@ -503,6 +505,8 @@ static int quiet_position_block(void *ctx, size_t begin, size_t end, unsigned wo
     const resurfi_restorer *r = j->r;
     const resurfi_adjacency *adj = &r->adj;
     const double cos_quiet = cos(QUIET_DEG * (M_PI / 180.0));
+    enum { KEEP = 32 }; /* face normals kept for the second look; a position with more computes them again */
+    vec3 normal[KEEP];
     for (size_t v = begin; v < end; ++v) {
         const uint32_t *faces = adj->vertex_faces + adj->vertex_face_offset[v];
         uint32_t n = adj->vertex_face_offset[v + 1] - adj->vertex_face_offset[v];
@@ -523,13 +527,15 @@ static int quiet_position_block(void *ctx, size_t begin, size_t end, unsigned wo
             uint32_t e0 = adj->face_edges[3 * f + (uint32_t)k], e1 = adj->face_edges[3 * f + (uint32_t)(k + 2) % 3];
             ok = ok && e0 != UINT32_MAX && e1 != UINT32_MAX && resurfi_edge_face_count(adj, e0) == 2 &&
                  resurfi_edge_face_count(adj, e1) == 2;
-            vec3 fn = v3_load(r->face_normals + 3 * f);
+            vec3 fn = face_normal(r, f);
             ok = ok && v3_len2(fn) > 0;
+            if (i < KEEP)
+                normal[i] = fn;
             mean = v3_add(mean, fn);
         }
         double len = v3_len(mean);
         for (uint32_t i = 0; i < n && ok; ++i)
-            ok = v3_dot(v3_load(r->face_normals + 3 * (size_t)faces[i]), mean) >= cos_quiet * len;
+            ok = v3_dot(i < KEEP ? normal[i] : face_normal(r, faces[i]), mean) >= cos_quiet * len;
         j->quiet_position[v] = (uint8_t)ok;
     }
     return 0;
@@ -559,8 +565,6 @@ static resurf_status mark_quiet(resurfi_restorer *r, resurf_error *error)
     setup_for(r, r->position_count, quiet_position_block, &j);
     setup_for(r, r->triangle_count, quiet_triangle_block, &j);
     resurfi_free(&r->alloc, j.quiet_position);
-    resurfi_free(&r->alloc, r->face_normals);
-    r->face_normals = NULL;
     return RESURF_OK;
 }
 
@@ -793,7 +797,6 @@ void resurfi_restorer_free(resurfi_restorer *r)
     resurfi_free(&alloc, r->tangent);
     resurfi_free(&alloc, r->usable);
     resurfi_free(&alloc, r->quiet);
-    resurfi_free(&alloc, r->face_normals);
     resurfi_free(&alloc, r);
 }
 

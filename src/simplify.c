@@ -1303,10 +1303,11 @@ typedef struct merge_job {
     size_t n, m, i, k; /* list and fresh counts; the split */
 } merge_job;
 
-/* On equal costs the older candidate (the list's) comes first. */
+/* The largest i in [k - m, k] (within [0, n]) whose c[i - 1] goes before f[k - i]: the merge's first k candidates
+ * are c[0, i) and f[0, k - i). On equal costs the older candidate (the list's) comes first. */
 static size_t merge_split(const candidate *c, size_t n, const candidate *f, size_t m, size_t k)
 {
-    size_t lo = k > m ? k - m : 0, hi = k < n ? k : n; /* the largest i in [lo, hi] whose c[i - 1] goes before f[k - i] */
+    size_t lo = k > m ? k - m : 0, hi = k < n ? k : n;
     while (lo < hi) {
         size_t mid = lo + (hi - lo + 1) / 2;
         if (k - mid == m || c[mid - 1].cost <= f[k - mid].cost)
