@@ -86,6 +86,7 @@ struct resurfi_restorer {
     uint8_t *quiet;         /* per triangle: its corners' fans are closed discs turning gently (walk_closest) */
     /* set-up only */
     resurfi_pool *setup_pool; /* the caller's threads for the set-up loops, or NULL (threads of their own) */
+    uint8_t *quiet_position;  /* per position: quiet_geometry_block's answer, for mark_quiet */
 };
 
 /* ---- options ------------------------------------------------------------------------------------------------- */
@@ -278,7 +279,6 @@ typedef struct setup_job {
     size_t max_degree;    /* split_fans: the most faces of a position */
     uint32_t *fan_scratch; /* split_fans: 2 max_degree per worker */
     uint32_t *fan_base;   /* split_fans: per position, its fan count, then its first fan id */
-    uint8_t *quiet_position; /* mark_quiet: per position, quiet_position_block */
 } setup_job;
 
 static unsigned setup_threads(const resurfi_restorer *r)
@@ -336,6 +336,52 @@ static int classify_block(void *ctx, size_t begin, size_t end, unsigned worker)
     return 0;
 }
 
+/* Quiet positions, for walk_closest's shortcut: the faces around form one closed fan (a disc: one fan of
+ * split_fans, every neighbour in exactly two of its faces) whose unit face normals all lie within QUIET_DEG of
+ * their mean. Then any two of them are less than 2 QUIET_DEG < 90° apart, so projected onto the plane of one face,
+ * every face keeps its orientation; and an embedded closed fan whose faces all keep their orientation winds once
+ * around its vertex (two sheets over the same direction would have to swap heights somewhere on the way round, and
+ * there they would cross), so the other faces' projections lie outside that face. */
+static const double QUIET_DEG = 39;
+
+/* The quiet test but for "one fan" (mark_quiet adds that once split_fans has run): every neighbour in exactly two
+ * faces, and the unit face normals within QUIET_DEG of their mean. Runs in classify_edges, while the face normals
+ * are at hand. */
+static int quiet_geometry_block(void *ctx, size_t begin, size_t end, unsigned worker)
+{
+    (void)worker;
+    const setup_job *j = ctx;
+    const resurfi_restorer *r = j->r;
+    const resurfi_adjacency *adj = &r->adj;
+    const double cos_quiet = cos(QUIET_DEG * (M_PI / 180.0));
+    for (size_t v = begin; v < end; ++v) {
+        const uint32_t *faces = adj->vertex_faces + adj->vertex_face_offset[v];
+        uint32_t n = adj->vertex_face_offset[v + 1] - adj->vertex_face_offset[v];
+        int ok = n >= 3;
+        vec3 mean = v3(0, 0, 0);
+        for (uint32_t i = 0; i < n && ok; ++i) {
+            size_t f = faces[i];
+            int k = corner_of(r, faces[i], (uint32_t)v);
+            if (k < 0) { /* (v is a corner of each of its faces) */
+                ok = 0;
+                break;
+            }
+            /* every neighbour in exactly two faces: both edges of f at v have two faces */
+            uint32_t e0 = adj->face_edges[3 * f + (uint32_t)k], e1 = adj->face_edges[3 * f + (uint32_t)(k + 2) % 3];
+            ok = e0 != UINT32_MAX && e1 != UINT32_MAX && resurfi_edge_face_count(adj, e0) == 2 &&
+                 resurfi_edge_face_count(adj, e1) == 2;
+            vec3 fn = v3_load(j->face_normals + 3 * f);
+            ok = ok && v3_len2(fn) > 0;
+            mean = v3_add(mean, fn);
+        }
+        double len = v3_len(mean);
+        for (uint32_t i = 0; i < n && ok; ++i)
+            ok = v3_dot(v3_load(j->face_normals + 3 * (size_t)faces[i]), mean) >= cos_quiet * len;
+        r->quiet_position[v] = (uint8_t)ok;
+    }
+    return 0;
+}
+
 /* Phase 2: topology, crease and boundary edges. */
 static resurf_status classify_edges(resurfi_restorer *r, const resurf_mesh *m, resurf_error *error)
 {
@@ -351,17 +397,18 @@ static resurf_status classify_edges(resurfi_restorer *r, const resurf_mesh *m, r
                    .crease_cos = cos(r->opt.crease_angle_deg * (M_PI / 180.0)),
                    .by_angle = r->opt.crease_angle_deg < 180,
                    .by_normals = r->opt.use_input_normals && m->normals};
-    if (j.by_angle) {
-        j.face_normals = resurfi_alloc(&r->alloc, r->triangle_count, 3 * sizeof(double));
-        j.reliable = resurfi_alloc(&r->alloc, r->triangle_count, 1);
-        if (!j.face_normals || !j.reliable) {
-            resurfi_free(&r->alloc, j.face_normals);
-            resurfi_free(&r->alloc, j.reliable);
-            return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory classifying edges");
-        }
-        setup_for(r, r->triangle_count, face_normals_block, &j);
+    /* The face normals serve the crease test and the quiet fans' (quiet_geometry_block) */
+    j.face_normals = resurfi_alloc(&r->alloc, r->triangle_count ? r->triangle_count : 1, 3 * sizeof(double));
+    j.reliable = resurfi_alloc(&r->alloc, r->triangle_count ? r->triangle_count : 1, 1);
+    r->quiet_position = resurfi_alloc(&r->alloc, r->position_count ? r->position_count : 1, 1);
+    if (!j.face_normals || !j.reliable || !r->quiet_position) {
+        resurfi_free(&r->alloc, j.face_normals);
+        resurfi_free(&r->alloc, j.reliable);
+        return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory classifying edges");
     }
+    setup_for(r, r->triangle_count, face_normals_block, &j);
     setup_for(r, adj->edge_count, classify_block, &j);
+    setup_for(r, r->position_count, quiet_geometry_block, &j);
     resurfi_free(&r->alloc, j.face_normals);
     resurfi_free(&r->alloc, j.reliable);
     return RESURF_OK;
@@ -490,53 +537,24 @@ static resurf_status split_fans(resurfi_restorer *r, resurf_error *error)
     return RESURF_OK;
 }
 
-/* Quiet positions, for walk_closest's shortcut: the faces around form one closed fan (a disc: one fan of
- * split_fans, every neighbour in exactly two of its faces) whose unit face normals all lie within QUIET_DEG of
- * their mean. Then any two of them are less than 2 QUIET_DEG < 90° apart, so projected onto the plane of one face,
- * every face keeps its orientation; and an embedded closed fan whose faces all keep their orientation winds once
- * around its vertex (two sheets over the same direction would have to swap heights somewhere on the way round, and
- * there they would cross), so the other faces' projections lie outside that face. */
-static const double QUIET_DEG = 39;
-
-static int quiet_position_block(void *ctx, size_t begin, size_t end, unsigned worker)
+/* A quiet position's faces must also form one fan of split_fans. */
+static int quiet_fan_block(void *ctx, size_t begin, size_t end, unsigned worker)
 {
     (void)worker;
     const setup_job *j = ctx;
     const resurfi_restorer *r = j->r;
     const resurfi_adjacency *adj = &r->adj;
-    const double cos_quiet = cos(QUIET_DEG * (M_PI / 180.0));
-    enum { KEEP = 32 }; /* face normals kept for the second look; a position with more computes them again */
-    vec3 normal[KEEP];
     for (size_t v = begin; v < end; ++v) {
+        if (!r->quiet_position[v])
+            continue;
         const uint32_t *faces = adj->vertex_faces + adj->vertex_face_offset[v];
         uint32_t n = adj->vertex_face_offset[v + 1] - adj->vertex_face_offset[v];
-        int ok = n >= 3;
-        vec3 mean = v3(0, 0, 0);
-        uint32_t split = UINT32_MAX;
-        for (uint32_t i = 0; i < n && ok; ++i) {
-            size_t f = faces[i];
-            int k = corner_of(r, faces[i], (uint32_t)v);
-            if (k < 0) { /* (v is a corner of each of its faces) */
-                ok = 0;
+        uint32_t split = r->corner_split[3 * (size_t)faces[0] + (uint32_t)corner_of(r, faces[0], (uint32_t)v)];
+        for (uint32_t i = 1; i < n; ++i)
+            if (r->corner_split[3 * (size_t)faces[i] + (uint32_t)corner_of(r, faces[i], (uint32_t)v)] != split) {
+                r->quiet_position[v] = 0;
                 break;
             }
-            uint32_t id = r->corner_split[3 * f + (uint32_t)k];
-            ok = i == 0 || id == split; /* one fan */
-            split = id;
-            /* every neighbour in exactly two faces: both edges of f at v have two faces */
-            uint32_t e0 = adj->face_edges[3 * f + (uint32_t)k], e1 = adj->face_edges[3 * f + (uint32_t)(k + 2) % 3];
-            ok = ok && e0 != UINT32_MAX && e1 != UINT32_MAX && resurfi_edge_face_count(adj, e0) == 2 &&
-                 resurfi_edge_face_count(adj, e1) == 2;
-            vec3 fn = face_normal(r, f);
-            ok = ok && v3_len2(fn) > 0;
-            if (i < KEEP)
-                normal[i] = fn;
-            mean = v3_add(mean, fn);
-        }
-        double len = v3_len(mean);
-        for (uint32_t i = 0; i < n && ok; ++i)
-            ok = v3_dot(i < KEEP ? normal[i] : face_normal(r, faces[i]), mean) >= cos_quiet * len;
-        j->quiet_position[v] = (uint8_t)ok;
     }
     return 0;
 }
@@ -548,7 +566,7 @@ static int quiet_triangle_block(void *ctx, size_t begin, size_t end, unsigned wo
     const resurfi_restorer *r = j->r;
     for (size_t t = begin; t < end; ++t) {
         const uint32_t *i = r->tris + 3 * t;
-        r->quiet[t] = (uint8_t)(j->quiet_position[i[0]] && j->quiet_position[i[1]] && j->quiet_position[i[2]]);
+        r->quiet[t] = (uint8_t)(r->quiet_position[i[0]] && r->quiet_position[i[1]] && r->quiet_position[i[2]]);
     }
     return 0;
 }
@@ -557,14 +575,13 @@ static int quiet_triangle_block(void *ctx, size_t begin, size_t end, unsigned wo
 static resurf_status mark_quiet(resurfi_restorer *r, resurf_error *error)
 {
     r->quiet = resurfi_alloc(&r->alloc, r->triangle_count ? r->triangle_count : 1, 1);
-    setup_job j = {.r = r, .quiet_position = resurfi_alloc(&r->alloc, r->position_count ? r->position_count : 1, 1)};
-    if (!r->quiet || !j.quiet_position) {
-        resurfi_free(&r->alloc, j.quiet_position);
+    if (!r->quiet)
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory marking quiet triangles");
-    }
-    setup_for(r, r->position_count, quiet_position_block, &j);
+    setup_job j = {.r = r};
+    setup_for(r, r->position_count, quiet_fan_block, &j);
     setup_for(r, r->triangle_count, quiet_triangle_block, &j);
-    resurfi_free(&r->alloc, j.quiet_position);
+    resurfi_free(&r->alloc, r->quiet_position);
+    r->quiet_position = NULL;
     return RESURF_OK;
 }
 
@@ -797,6 +814,7 @@ void resurfi_restorer_free(resurfi_restorer *r)
     resurfi_free(&alloc, r->tangent);
     resurfi_free(&alloc, r->usable);
     resurfi_free(&alloc, r->quiet);
+    resurfi_free(&alloc, r->quiet_position);
     resurfi_free(&alloc, r);
 }
 
@@ -1135,7 +1153,7 @@ static uint32_t across(const resurfi_restorer *r, uint32_t t, uint32_t v1, uint3
 
 /* Quiet triangle t (corners c, normal n unscaled) holds the projection q of p, and only side j (opposite c_j) is
  * nearer to q than p's height h over t. Around each corner the other faces project into the cone beside t's
- * (quiet_position_block). Around c_j that cone lies beyond two far sides; around either end a of side j, beyond
+ * (quiet_geometry_block). Around c_j that cone lies beyond two far sides; around either end a of side j, beyond
  * the face g across side j lies a cone bounded by the ray from a through g's third corner z (projected) and by t's
  * far side at a. So when q is farther than h from both such rays, only g can be nearer than t. Returns t when it
  * is the nearest (bary, dist2 as closest_around gives them), UINT32_MAX when that is not shown. */
@@ -1196,7 +1214,7 @@ static uint32_t walk_closest(const resurfi_restorer *r, vec3 p, uint32_t start, 
         int k = lambda[0] <= lambda[1] && lambda[0] <= lambda[2] ? 0 : lambda[1] <= lambda[2] ? 1 : 2;
         if (lambda[k] >= 0) {
             /* The projection q is inside t. With t quiet, every other triangle around projects outside t
-             * (quiet_position_block), so lies at least q's distance to t's sides from p: when that beats p's
+             * (quiet_geometry_block), so lies at least q's distance to t's sides from p: when that beats p's
              * height over t, t is the nearest and the descent would only confirm it. λ_k / |n| is twice the area
              * of q's sub-triangle, so q's distance to side k is λ_k / (|n| |side k|), its height |n·(p − c0)| / |n|. */
             if (r->quiet[t]) {
