@@ -1263,6 +1263,21 @@ typedef struct refresh_job {
     const candidate *sorted; /* the current fresh ones, sorted (in s->fresh or s->sorted) */
 } refresh_job;
 
+/* Moves the current ones of the n candidates of c to its front; returns how many. */
+static size_t keep_current(const simplifier *s, candidate *c, size_t n)
+{
+    size_t kept = 0;
+    for (size_t i = 0; i < n; ++i) {
+        if (i + 16 < n && c[i + 16].a != NONE) {
+            PREFETCH(&s->gen[c[i + 16].a]);
+            PREFETCH(&s->gen[c[i + 16].b]);
+        }
+        if (candidate_current(s, c[i]))
+            c[kept++] = c[i];
+    }
+    return kept;
+}
+
 static int refresh_block(void *ctx, size_t begin, size_t end, unsigned worker)
 {
     (void)worker;
@@ -1270,25 +1285,12 @@ static int refresh_block(void *ctx, size_t begin, size_t end, unsigned worker)
     simplifier *s = j->s;
     for (size_t job = begin; job < end; ++job) {
         if (job == 2) {
-            size_t m = 0;
-            for (size_t i = 0; i < s->fresh_count; ++i)
-                if (candidate_current(s, s->fresh[i]))
-                    s->fresh[m++] = s->fresh[i];
-            j->fresh_kept = m;
-            j->sorted = sort_stable(s->fresh, s->sorted, m);
-            continue;
+            j->fresh_kept = keep_current(s, s->fresh, s->fresh_count);
+            j->sorted = sort_stable(s->fresh, s->sorted, j->fresh_kept);
+        } else {
+            size_t lo = job == 0 ? 0 : j->half, hi = job == 0 ? j->half : s->cand_count;
+            j->kept[job] = keep_current(s, s->cand + lo, hi - lo);
         }
-        candidate *c = s->cand;
-        size_t lo = job == 0 ? 0 : j->half, hi = job == 0 ? j->half : s->cand_count, n = lo;
-        for (size_t i = lo; i < hi; ++i) {
-            if (i + 16 < hi && c[i + 16].a != NONE) {
-                PREFETCH(&s->gen[c[i + 16].a]);
-                PREFETCH(&s->gen[c[i + 16].b]);
-            }
-            if (candidate_current(s, c[i]))
-                c[n++] = c[i];
-        }
-        j->kept[job] = n - lo;
     }
     return 0;
 }
