@@ -170,8 +170,6 @@ void resurfi_pool_free(resurfi_pool *pool);
  * it. */
 int resurfi_pool_for(resurfi_pool *pool, size_t count, size_t block_size,
                      int (*fn)(void *ctx, size_t begin, size_t end, unsigned worker), void *ctx);
-/* The pool's threads, the creating one included (1 for NULL): the workers of its loops are 0 .. that - 1. */
-unsigned resurfi_pool_threads(const resurfi_pool *pool);
 
 /* ---- BVH over triangles (bvh.c) ------------------------------------------------------------------------------ */
 
@@ -296,10 +294,9 @@ resurf_status resurfi_restorer_create(const resurf_mesh *original, const resurf_
  * resurfi_restorer_closest_walk find anything (the others leave every point, RESURFI_LEFT_FAR), and
  * resurfi_restorer_bvh returns NULL. About a third of the set-up's time and 60 bytes per triangle less. A caller
  * that has welded M's positions already (resurfi_weld_exact: remap, `distinct` positions) passes the weld;
- * remap NULL welds here. A caller with a pool (resurfi_pool_create) lends it for the set-up's loops, which then
- * run on its threads instead of starting their own; NULL starts them. */
+ * remap NULL welds here. */
 resurf_status resurfi_restorer_create_ex(const resurf_mesh *original, const resurf_restore_options *options,
-                                         int with_tree, const uint32_t *remap, size_t distinct, resurfi_pool *pool,
+                                         int with_tree, const uint32_t *remap, size_t distinct,
                                          resurfi_restorer **out, resurf_error *error);
 void resurfi_restorer_free(resurfi_restorer *r); /* NULL is fine */
 

@@ -214,5 +214,3 @@ int resurfi_pool_for(resurfi_pool *pool, size_t count, size_t block_size,
     }
     return atomic_load(&j.failed);
 }
-
-unsigned resurfi_pool_threads(const resurfi_pool *pool) { return pool ? pool->threads : 1; }

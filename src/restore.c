@@ -85,7 +85,6 @@ struct resurfi_restorer {
     uint8_t *usable;        /* per triangle: has area and three corner normals (a root on it means something) */
     uint8_t *quiet;         /* per triangle: its corners' fans are closed discs turning gently (walk_closest) */
     /* set-up only */
-    resurfi_pool *setup_pool; /* the caller's threads for the set-up loops, or NULL (threads of their own) */
     uint8_t *quiet_position;  /* per position: quiet_geometry_block's answer, for mark_quiet */
 };
 
@@ -281,19 +280,12 @@ typedef struct setup_job {
     uint32_t *fan_base;   /* split_fans: per position, its fan count, then its first fan id */
 } setup_job;
 
-static unsigned setup_threads(const resurfi_restorer *r)
-{
-    return r->setup_pool ? resurfi_pool_threads(r->setup_pool) : resurfi_thread_count(r->opt.threads);
-}
+static unsigned setup_threads(const resurfi_restorer *r) { return resurfi_thread_count(r->opt.threads); }
 
-/* A set-up loop, on the caller's pool when it lent one. */
 static void setup_for(const resurfi_restorer *r, size_t count, int (*fn)(void *, size_t, size_t, unsigned),
                       void *ctx)
 {
-    if (r->setup_pool)
-        resurfi_pool_for(r->setup_pool, count, BLOCK_SETUP, fn, ctx);
-    else
-        resurfi_parallel_for(count, BLOCK_SETUP, setup_threads(r), fn, ctx);
+    resurfi_parallel_for(count, BLOCK_SETUP, setup_threads(r), fn, ctx);
 }
 
 /* Each face's unit normal and reliability once, rather than once per side in the edge loop. */
@@ -821,12 +813,12 @@ void resurfi_restorer_free(resurfi_restorer *r)
 resurf_status resurfi_restorer_create(const resurf_mesh *original, const resurf_restore_options *options,
                                       resurfi_restorer **out, resurf_error *error)
 {
-    return resurfi_restorer_create_ex(original, options, 1, NULL, 0, NULL, out, error);
+    return resurfi_restorer_create_ex(original, options, 1, NULL, 0, out, error);
 }
 
 resurf_status resurfi_restorer_create_ex(const resurf_mesh *original, const resurf_restore_options *options,
                                          int with_tree, const uint32_t *remap, size_t distinct,
-                                         resurfi_pool *pool, resurfi_restorer **out, resurf_error *error)
+                                         resurfi_restorer **out, resurf_error *error)
 {
     if (!out)
         return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "out is NULL");
@@ -843,7 +835,6 @@ resurf_status resurfi_restorer_create_ex(const resurf_mesh *original, const resu
     if (alloc)
         r->alloc = *alloc;
     r->opt = options ? *options : resurf_restore_options_default();
-    r->setup_pool = pool;
     if ((s = weld_original(r, original, remap, distinct, error)) == RESURF_OK && (s = classify_edges(r, original, error)) == RESURF_OK &&
         (s = split_fans(r, error)) == RESURF_OK && (s = mark_quiet(r, error)) == RESURF_OK &&
         (s = estimate_normals(r, original, error)) == RESURF_OK &&
@@ -853,7 +844,6 @@ resurf_status resurfi_restorer_create_ex(const resurf_mesh *original, const resu
         if (s != RESURF_OK)
             resurfi_error(error, s, "cannot build the original mesh's BVH");
     }
-    r->setup_pool = NULL;
     if (s != RESURF_OK) {
         resurfi_restorer_free(r);
         return s;

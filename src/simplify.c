@@ -834,27 +834,6 @@ static int analyse_position(simplifier *s, uint32_t a, scratch *sc, uint8_t *out
     return 1;
 }
 
-typedef struct analyse_job {
-    simplifier *s;
-    scratch *scratch; /* one per worker */
-    uint32_t *up;     /* per position: neighbours above it */
-} analyse_job;
-
-static int analyse_block(void *ctx, size_t begin, size_t end, unsigned worker)
-{
-    analyse_job *j = ctx;
-    simplifier *s = j->s;
-    for (size_t p = begin; p < end; ++p) {
-        if (s->P[p].flags & POS_DEAD)
-            continue;
-        uint8_t f;
-        if (!analyse_position(s, (uint32_t)p, &j->scratch[worker], &f, &s->P[p].q, &j->up[p]))
-            return 1;
-        s->P[p].flags = f;
-    }
-    return 0;
-}
-
 /* Charts: triangles connected across edges whose ends have the same wedges on both sides. A result vertex takes
  * its attributes from the closest input triangle of its wedge's chart, so texcoords never come from across a seam. */
 static resurf_status find_charts(simplifier *s, scratch *sc)
@@ -2970,6 +2949,46 @@ static void simplifier_free(simplifier *s)
 
 /* Everything up to the first candidate: input checks, the working mesh, the restorer or a BVH, flags, quadrics,
  * charts and the first candidates. */
+/* The analysis, BLOCK_POSITIONS positions a job, with the restorer's set-up beside it: the two share nothing, so the
+ * calling thread (worker 0) builds the restorer first, its loops on that thread alone, while the other threads
+ * analyse; then it joins them. */
+typedef struct setup_job {
+    simplifier *s;
+    scratch *scratch;  /* one per worker */
+    uint32_t *up;      /* per position: neighbours above it */
+    int build_restorer; /* still to be built */
+    resurf_restore_options restore_options;
+    resurf_status restorer_status;
+    resurf_error restorer_error;
+} setup_job;
+
+static int build_restorer(setup_job *j)
+{
+    simplifier *s = j->s;
+    j->build_restorer = 0;
+    /* Without its tree: every restored point has a triangle of M nearby to walk from (home). */
+    j->restorer_status = resurfi_restorer_create_ex(s->in, &j->restore_options, 0, s->remap, s->pos_count,
+                                                    &s->restorer, &j->restorer_error);
+    return j->restorer_status == RESURF_OK;
+}
+
+static int setup_block(void *ctx, size_t begin, size_t end, unsigned worker)
+{
+    setup_job *j = ctx;
+    simplifier *s = j->s;
+    if (worker == 0 && j->build_restorer && !build_restorer(j))
+        return 1;
+    for (size_t p = begin * BLOCK_POSITIONS; p < end * BLOCK_POSITIONS && p < s->pos_count; ++p) {
+        if (s->P[p].flags & POS_DEAD)
+            continue;
+        uint8_t f;
+        if (!analyse_position(s, (uint32_t)p, &j->scratch[worker], &f, &s->P[p].q, &j->up[p]))
+            return 1;
+        s->P[p].flags = f;
+    }
+    return 0;
+}
+
 static resurf_status start(simplifier *s, scratch *scratch, resurf_error *error)
 {
     resurf_status st = check_input(s->in, error);
@@ -2991,6 +3010,7 @@ static resurf_status start(simplifier *s, scratch *scratch, resurf_error *error)
     s->rep.diagonal = s->diagonal;
     if (s->tri_count == 0)
         return RESURF_OK;
+    setup_job sj = {.s = s, .scratch = scratch, .restorer_status = RESURF_OK};
     if (s->opt.restore != RESURF_RESTORE_NONE) {
         resurf_restore_options ro = resurf_restore_options_default();
         /* Max's normals, not the jet fit, unless asked: a LOD's distance to S is set by the chord sag, not by the
@@ -2999,15 +3019,33 @@ static resurf_status start(simplifier *s, scratch *scratch, resurf_error *error)
         ro.normals = RESURF_NORMALS_MAX;
         if (s->opt.restore_options)
             ro = *s->opt.restore_options;
-        ro.threads = s->opt.threads;
+        ro.threads = 1;
         ro.progress = (resurf_progress){NULL, NULL};
         ro.allocator = s->alloc;
-        /* Without its tree: every restored point has a triangle of M nearby to walk from (home). */
-        st = resurfi_restorer_create_ex(s->in, &ro, 0, s->remap, s->pos_count, s->pool, &s->restorer, error);
-        if (st != RESURF_OK)
-            return st;
-        if (!(s->home = resurfi_alloc(s->alloc, s->pos_count, sizeof *s->home)))
+        sj.restore_options = ro;
+        sj.build_restorer = 1;
+    }
+    if (resurfi_progress(&s->opt.progress, "prepare", 0.5))
+        return resurfi_error(error, RESURF_ERR_CANCELLED, "simplification cancelled");
+    uint32_t *up = resurfi_alloc(s->alloc, s->pos_count, sizeof *up);
+    sj.up = up;
+    size_t blocks = (s->pos_count + BLOCK_POSITIONS - 1) / BLOCK_POSITIONS;
+    int analysed = up && !resurfi_pool_for(s->pool, blocks, 1, setup_block, &sj);
+    if (analysed && sj.build_restorer) /* the other threads took every block */
+        build_restorer(&sj);
+    if (!analysed || sj.restorer_status != RESURF_OK) {
+        resurfi_free(s->alloc, up);
+        if (sj.restorer_status == RESURF_OK)
+            return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory analysing the mesh");
+        if (error)
+            *error = sj.restorer_error;
+        return sj.restorer_status;
+    }
+    if (s->restorer) {
+        if (!(s->home = resurfi_alloc(s->alloc, s->pos_count, sizeof *s->home))) {
+            resurfi_free(s->alloc, up);
             return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
+        }
         for (size_t p = 0; p < s->pos_count; ++p) /* the input triangle of its first corner */
             s->home[p] = s->P[p].head != NONE ? s->src[s->P[p].head / 3] : NONE;
     }
@@ -3016,17 +3054,11 @@ static resurf_status start(simplifier *s, scratch *scratch, resurf_error *error)
     if (has_attributes(s->in) || s->opt.measure_samples) {
         st = resurfi_bvh_build_threads(s->alloc, s->in->positions, s->in->vertex_count, s->in->indices,
                                        s->in->triangle_count, s->opt.threads, &s->own_bvh);
-        if (st != RESURF_OK)
+        if (st != RESURF_OK) {
+            resurfi_free(s->alloc, up);
             return resurfi_error(error, st, "cannot build the input's BVH");
+        }
         s->bvh = s->own_bvh;
-    }
-    if (resurfi_progress(&s->opt.progress, "prepare", 0.5))
-        return resurfi_error(error, RESURF_ERR_CANCELLED, "simplification cancelled");
-    uint32_t *up = resurfi_alloc(s->alloc, s->pos_count, sizeof *up);
-    analyse_job aj = {s, scratch, up};
-    if (!up || resurfi_pool_for(s->pool, s->pos_count, BLOCK_POSITIONS, analyse_block, &aj)) {
-        resurfi_free(s->alloc, up);
-        return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory analysing the mesh");
     }
     int seams = 0;
     for (size_t p = 0; p < s->pos_count && !seams; ++p)

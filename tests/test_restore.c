@@ -795,7 +795,7 @@ START_TEST(walk_finds_the_closest_triangle)
         o.normals = RESURF_NORMALS_MAX;
         resurfi_restorer *full = NULL, *bare = NULL;
         ck_assert_int_eq(resurfi_restorer_create(M, &o, &full, NULL), RESURF_OK);
-        ck_assert_int_eq(resurfi_restorer_create_ex(M, &o, 0, NULL, 0, NULL, &bare, NULL), RESURF_OK);
+        ck_assert_int_eq(resurfi_restorer_create_ex(M, &o, 0, NULL, 0, &bare, NULL), RESURF_OK);
         ck_assert_ptr_null(resurfi_restorer_bvh(bare));
         const resurfi_bvh *bvh = resurfi_restorer_bvh(full);
         double h = mean_edge(M);
