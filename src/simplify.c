@@ -169,7 +169,7 @@ typedef struct work_tri {
 typedef struct work_pos {
     vec3 p;
     uint32_t head;    /* first corner */
-    uint32_t unused;
+    uint32_t up;      /* while starting: its neighbours above it (its edges in the first list) */
     uint8_t flags;
     resurfi_quadric q;
 } work_pos;
@@ -1399,8 +1399,9 @@ static int seed_block(void *ctx, size_t begin, size_t end, unsigned worker)
     return 0;
 }
 
-/* up: per position, its neighbours above it (from analyse_position): the slots of its edges. */
-static resurf_status seed_candidates(simplifier *s, scratch *scratch, const uint32_t *up)
+/* The first list: each position's edges to the neighbours above it (P[].up of them, from analyse_position) in
+ * its own slots. */
+static resurf_status seed_candidates(simplifier *s, scratch *scratch)
 {
     size_t *offset = resurfi_alloc(s->alloc, s->pos_count + 1, sizeof *offset);
     if (!offset)
@@ -1408,7 +1409,7 @@ static resurf_status seed_candidates(simplifier *s, scratch *scratch, const uint
     size_t total = 0;
     for (size_t p = 0; p < s->pos_count; ++p) {
         offset[p] = total;
-        total += s->P[p].flags & POS_DEAD ? 0 : up[p];
+        total += s->P[p].flags & POS_DEAD ? 0 : s->P[p].up;
     }
     offset[s->pos_count] = total;
     if (!reserve_candidates(s, total)) {
@@ -2955,7 +2956,6 @@ static void simplifier_free(simplifier *s)
 typedef struct setup_job {
     simplifier *s;
     scratch *scratch;  /* one per worker */
-    uint32_t *up;      /* per position: neighbours above it */
     int build_restorer; /* still to be built */
     resurf_restore_options restore_options;
     resurf_status restorer_status;
@@ -2982,7 +2982,7 @@ static int setup_block(void *ctx, size_t begin, size_t end, unsigned worker)
         if (s->P[p].flags & POS_DEAD)
             continue;
         uint8_t f;
-        if (!analyse_position(s, (uint32_t)p, &j->scratch[worker], &f, &s->P[p].q, &j->up[p]))
+        if (!analyse_position(s, (uint32_t)p, &j->scratch[worker], &f, &s->P[p].q, &s->P[p].up))
             return 1;
         s->P[p].flags = f;
     }
@@ -3027,14 +3027,11 @@ static resurf_status start(simplifier *s, scratch *scratch, resurf_error *error)
     }
     if (resurfi_progress(&s->opt.progress, "prepare", 0.5))
         return resurfi_error(error, RESURF_ERR_CANCELLED, "simplification cancelled");
-    uint32_t *up = resurfi_alloc(s->alloc, s->pos_count, sizeof *up);
-    sj.up = up;
     size_t blocks = (s->pos_count + BLOCK_POSITIONS - 1) / BLOCK_POSITIONS;
-    int analysed = up && !resurfi_pool_for(s->pool, blocks, 1, setup_block, &sj);
+    int analysed = !resurfi_pool_for(s->pool, blocks, 1, setup_block, &sj);
     if (analysed && sj.build_restorer) /* the other threads took every block */
         build_restorer(&sj);
     if (!analysed || sj.restorer_status != RESURF_OK) {
-        resurfi_free(s->alloc, up);
         if (sj.restorer_status == RESURF_OK)
             return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory analysing the mesh");
         if (error)
@@ -3042,10 +3039,8 @@ static resurf_status start(simplifier *s, scratch *scratch, resurf_error *error)
         return sj.restorer_status;
     }
     if (s->restorer) {
-        if (!(s->home = resurfi_alloc(s->alloc, s->pos_count, sizeof *s->home))) {
-            resurfi_free(s->alloc, up);
+        if (!(s->home = resurfi_alloc(s->alloc, s->pos_count, sizeof *s->home)))
             return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
-        }
         for (size_t p = 0; p < s->pos_count; ++p) /* the input triangle of its first corner */
             s->home[p] = s->P[p].head != NONE ? s->src[s->P[p].head / 3] : NONE;
     }
@@ -3054,25 +3049,18 @@ static resurf_status start(simplifier *s, scratch *scratch, resurf_error *error)
     if (has_attributes(s->in) || s->opt.measure_samples) {
         st = resurfi_bvh_build_threads(s->alloc, s->in->positions, s->in->vertex_count, s->in->indices,
                                        s->in->triangle_count, s->opt.threads, &s->own_bvh);
-        if (st != RESURF_OK) {
-            resurfi_free(s->alloc, up);
+        if (st != RESURF_OK)
             return resurfi_error(error, st, "cannot build the input's BVH");
-        }
         s->bvh = s->own_bvh;
     }
     int seams = 0;
     for (size_t p = 0; p < s->pos_count && !seams; ++p)
         seams = (s->P[p].flags & (POS_SEAM | POS_COMPLEX)) != 0;
-    if (seams && has_attributes(s->in) && find_charts(s, &scratch[0]) != RESURF_OK) {
-        resurfi_free(s->alloc, up);
+    if (seams && has_attributes(s->in) && find_charts(s, &scratch[0]) != RESURF_OK)
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory finding attribute charts");
-    }
-    if (!(s->gen = resurfi_calloc(s->alloc, s->pos_count, sizeof *s->gen))) {
-        resurfi_free(s->alloc, up);
+    if (!(s->gen = resurfi_calloc(s->alloc, s->pos_count, sizeof *s->gen)))
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
-    }
-    st = seed_candidates(s, scratch, up);
-    resurfi_free(s->alloc, up);
+    st = seed_candidates(s, scratch);
     if (st != RESURF_OK)
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory queueing %zu edges",
                              3 * s->tri_count / 2);
