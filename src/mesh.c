@@ -1,13 +1,39 @@
 /* Mesh storage: creation, copies, extra attributes, bounds, and the checked allocation helpers through the call's
  * resurf_allocator (the library's only calls to malloc, calloc, realloc and free: the C-heap default). */
-#include <stdlib.h>
+#include <stdint.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
 
 #include "internal.h"
 
 /* The C heap is the allocator of a NULL pointer and of a zeroed struct (a mesh made without one). */
 static int is_heap(const resurf_allocator *a) { return !a || !a->allocate; }
+
+/* A C-heap block of at least a huge page asks for transparent huge pages on the whole 2 MiB pages inside it (so no
+ * page spans another block's memory), where the system leaves them to madvise, as Debian does by default. The
+ * simplifier and the restorer read their large arrays at random, and 4 KiB pages give a 1M-triangle working set a
+ * TLB reach of a few MiB. Alternating runs, 2 threads: 1M torus at 10% none 0.921 -> 0.899 s, 1M cubic at 50%
+ * inline 1.026 -> 0.960 s; 20k meshes unchanged; the same peak RSS. A hint: nothing depends on it being taken. */
+enum { HUGE_PAGE = 2u << 20 };
+
+static void *advise(void *p, size_t bytes)
+{
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+    if (p && bytes >= HUGE_PAGE) {
+        uintptr_t begin = ((uintptr_t)p + HUGE_PAGE - 1) & ~(uintptr_t)(HUGE_PAGE - 1);
+        uintptr_t end = ((uintptr_t)p + bytes) & ~(uintptr_t)(HUGE_PAGE - 1);
+        if (end > begin)
+            madvise((void *)begin, end - begin, MADV_HUGEPAGE);
+    }
+#else
+    (void)bytes;
+#endif
+    return p;
+}
 
 void *resurfi_alloc(const resurf_allocator *a, size_t count, size_t size)
 {
@@ -16,7 +42,7 @@ void *resurfi_alloc(const resurf_allocator *a, size_t count, size_t size)
     size_t bytes = count * size;
     if (!bytes)
         bytes = 1;
-    return is_heap(a) ? malloc(bytes) : a->allocate(a->user, bytes);
+    return is_heap(a) ? advise(malloc(bytes), bytes) : a->allocate(a->user, bytes);
 }
 
 void *resurfi_calloc(const resurf_allocator *a, size_t count, size_t size)
@@ -24,7 +50,7 @@ void *resurfi_calloc(const resurf_allocator *a, size_t count, size_t size)
     if (size && count > SIZE_MAX / size)
         return NULL;
     if (is_heap(a))
-        return calloc(count ? count : 1, size ? size : 1);
+        return advise(calloc(count ? count : 1, size ? size : 1), count * size);
     void *p = resurfi_alloc(a, count, size);
     if (p)
         memset(p, 0, count * size);
@@ -40,7 +66,7 @@ void *resurfi_realloc(const resurf_allocator *a, void *p, size_t count, size_t s
     size_t bytes = count * size;
     if (!bytes)
         bytes = 1;
-    return is_heap(a) ? realloc(p, bytes) : a->reallocate(a->user, p, bytes);
+    return is_heap(a) ? advise(realloc(p, bytes), bytes) : a->reallocate(a->user, p, bytes);
 }
 
 void resurfi_free(const resurf_allocator *a, void *p)
