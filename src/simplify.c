@@ -2948,8 +2948,6 @@ static void simplifier_free(simplifier *s)
     resurfi_pool_free(s->pool);
 }
 
-/* Everything up to the first candidate: input checks, the working mesh, the restorer or a BVH, flags, quadrics,
- * charts and the first candidates. */
 /* The analysis, BLOCK_POSITIONS positions a job, with the restorer's set-up beside it: the two share nothing, so the
  * calling thread (worker 0) builds the restorer first, its loops on that thread alone, while the other threads
  * analyse; then it joins them. */
@@ -2989,6 +2987,8 @@ static int setup_block(void *ctx, size_t begin, size_t end, unsigned worker)
     return 0;
 }
 
+/* Everything up to the first candidate: input checks, the working mesh, the restorer or a BVH, flags, quadrics,
+ * charts and the first candidates. */
 static resurf_status start(simplifier *s, scratch *scratch, resurf_error *error)
 {
     resurf_status st = check_input(s->in, error);
