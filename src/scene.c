@@ -7,19 +7,12 @@
  * decision about what is acceptable is taken here, before any byte is read through an index from the file.
  * Draco payloads are decoded by io/draco.cpp only after their bufferView and byte range were checked here, and their
  * attribute ids are checked against what the decoder found before any value is used. */
-#include <errno.h>
-#include <fcntl.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
+#include "file.h"
 #include "scene_internal.h"
-
-#ifndef O_CLOEXEC
-#define O_CLOEXEC 0
-#endif
 
 /* JSON nesting deeper than this is refused before any parser sees it (a glTF document needs about 10 levels;
  * extras may nest deeper, but not thousands of levels, which would exhaust a recursive parser's stack). */
@@ -64,49 +57,6 @@ static resurf_status add_warning(resurf_scene *s, const char *text)
     if (!(list[s->warning_count] = resurfi_strdup(&s->alloc, text)))
         return RESURF_ERR_OUT_OF_MEMORY;
     s->warning_count++;
-    return RESURF_OK;
-}
-
-/* Reads a whole regular file (at most max_bytes). */
-static resurf_status read_whole(const resurf_allocator *alloc, const char *path, uint64_t max_bytes,
-                                unsigned char **out, size_t *out_size, resurf_error *error)
-{
-    int fd = open(path, O_RDONLY | O_CLOEXEC);
-    if (fd < 0)
-        return resurfi_fail(error, RESURF_ERR_IO, path, 0, -1, "cannot open: %s", strerror(errno));
-    struct stat st;
-    if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
-        close(fd);
-        return resurfi_fail(error, RESURF_ERR_IO, path, 0, -1, "not a regular file");
-    }
-    if ((uint64_t)st.st_size > max_bytes) {
-        close(fd);
-        return resurfi_fail(error, RESURF_ERR_LIMIT, path, 0, -1, "the file is larger than %llu bytes",
-                            (unsigned long long)max_bytes);
-    }
-    size_t size = (size_t)st.st_size, done = 0;
-    unsigned char *data = resurfi_alloc(alloc, size + 1, 1);
-    if (!data) {
-        close(fd);
-        return resurfi_fail(error, RESURF_ERR_OUT_OF_MEMORY, path, 0, -1, "out of memory reading %zu bytes", size);
-    }
-    while (done < size) {
-        ssize_t n = read(fd, data + done, size - done);
-        if (n < 0 && errno == EINTR)
-            continue;
-        if (n <= 0) {
-            int e = n < 0 ? errno : 0;
-            resurfi_free(alloc, data);
-            close(fd);
-            return resurfi_fail(error, RESURF_ERR_IO, path, 0, -1, "cannot read: %s",
-                                e ? strerror(e) : "the file shrank while being read");
-        }
-        done += (size_t)n;
-    }
-    close(fd);
-    data[size] = 0;
-    *out = data;
-    *out_size = size;
     return RESURF_OK;
 }
 
@@ -1203,11 +1153,14 @@ resurf_status resurf_scene_load(const char *path, const resurf_load_options *opt
         return status;
     }
 
-    unsigned char *data = NULL;
+    char *bytes = NULL;
     size_t size = 0;
-    resurf_status status = read_whole(opts.allocator, path, (uint64_t)1 << 32, &data, &size, error);
+    resurf_status status =
+        resurfi_read_file(opts.allocator, path, (uint64_t)1 << 32, opts.max_triangles, &opts.progress, &bytes, &size,
+                          error);
     if (status != RESURF_OK)
         return status;
+    unsigned char *data = (unsigned char *)bytes;
     /* External files are relative to the document's folder. */
     const char *slash = strrchr(path, '/');
     size_t dir_len = slash ? (size_t)(slash - path) + 1 : 0;
