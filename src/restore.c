@@ -44,6 +44,9 @@
 
 #include "restore_internal.h"
 
+/* The services over M that a point reads (fans, normals, feature curves, quiet and usable triangles) are built once
+ * by restore_setup.c. */
+
 enum {
     CHUNK_VERTICES = 1 << 15, /* vertices between two progress reports */
     BLOCK_VERTICES = 256,     /* parallel block: small enough to balance, large enough to amortise the hand-out */
