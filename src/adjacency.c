@@ -25,6 +25,7 @@
 #include <string.h>
 
 #include "internal.h"
+#include "union_find.h"
 
 /* Is triangle t usable: every index in range and no index repeated? */
 static int triangle_valid(const uint32_t *t, size_t vertex_count)
@@ -67,26 +68,6 @@ static size_t find_sorted(const uint32_t *a, size_t n, uint32_t x)
             hi = mid;
     }
     return lo < n && a[lo] == x ? lo : n;
-}
-
-/* Union-find with path halving; the lower index becomes the root, so results never depend on visit order. */
-static uint32_t uf_find(uint32_t *parent, uint32_t x)
-{
-    while (parent[x] != x) {
-        parent[x] = parent[parent[x]];
-        x = parent[x];
-    }
-    return x;
-}
-
-static void uf_union(uint32_t *parent, uint32_t a, uint32_t b)
-{
-    a = uf_find(parent, a);
-    b = uf_find(parent, b);
-    if (a < b)
-        parent[b] = a;
-    else if (b < a)
-        parent[a] = b;
 }
 
 void resurfi_adjacency_free(resurfi_adjacency *adj)
@@ -287,13 +268,13 @@ static void classify_vertices(resurfi_adjacency *adj, const uint32_t *indices, u
                     continue;
                 size_t k = find_sorted(faces, deg, g);
                 if (k < deg)
-                    uf_union(local, (uint32_t)i, (uint32_t)k);
+                    resurfi_uf_union(local, (uint32_t)i, (uint32_t)k);
             }
         }
         /* Number the fans of v by their lowest face; roots are the lowest member, so one pass suffices. */
         size_t first = fans;
         for (size_t i = 0; i < deg; ++i) {
-            uint32_t r = uf_find(local, (uint32_t)i);
+            uint32_t r = resurfi_uf_find(local, (uint32_t)i);
             if (r == i)
                 fan[offset[v] + i] = (uint32_t)fans++;
             else
@@ -330,11 +311,11 @@ static resurf_status count_boundary_loops(resurfi_adjacency *adj, const uint32_t
             ends[s] = fan[offset[v] + k]; /* f is one of v's faces: k < deg */
             touched[ends[s]] = 1;
         }
-        uf_union(parent, ends[0], ends[1]);
+        resurfi_uf_union(parent, ends[0], ends[1]);
     }
     size_t loops = 0;
     for (size_t i = 0; i < fan_count; ++i)
-        loops += touched[i] && uf_find(parent, (uint32_t)i) == i;
+        loops += touched[i] && resurfi_uf_find(parent, (uint32_t)i) == i;
     adj->boundary_loop_count = loops;
     resurfi_free(&adj->alloc, parent);
     resurfi_free(&adj->alloc, touched);
@@ -430,14 +411,14 @@ size_t resurfi_adjacency_components(const resurfi_adjacency *adj, const uint32_t
             continue;
         for (int i = 0; i < 3; ++i) {
             uint32_t v = indices[3 * t + i];
-            uf_union(parent, (uint32_t)t, adj->vertex_faces[adj->vertex_face_offset[v]]);
+            resurfi_uf_union(parent, (uint32_t)t, adj->vertex_faces[adj->vertex_face_offset[v]]);
         }
     }
     /* Point every triangle straight at its root, the lowest triangle of its component. Numbering in triangle
      * order then reaches each root before its members, so labels can overwrite the links in place. */
     for (size_t t = 0; t < nt; ++t)
         if (parent[t] != UINT32_MAX)
-            parent[t] = uf_find(parent, (uint32_t)t);
+            parent[t] = resurfi_uf_find(parent, (uint32_t)t);
     size_t count = 0;
     for (size_t t = 0; t < nt; ++t) {
         if (parent[t] == UINT32_MAX)

@@ -269,7 +269,7 @@ int resurfi_optdir_near(vec3 p, const vec3 pj[3], const vec3 nj[3], double t_gue
 double resurfi_glide_paper(vec3 p, vec3 pj, vec3 nj, vec3 n_opt, int side);
 double resurfi_glide_normal_section(vec3 p, vec3 pj, vec3 nj, vec3 n_opt);
 
-/* ---- the restorer: M's geometry services, shared by restore.c and simplify.c (restore.c) --------------------- */
+/* ---- the restorer: M's geometry services, shared by restore.c and simplify.c (restore_setup.c, restore.c) ---- */
 
 typedef struct resurfi_restorer resurfi_restorer;
 

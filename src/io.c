@@ -1,24 +1,19 @@
-/* Loading and saving meshes: format choice (by extension, by name, by content), reading a whole file into memory,
- * dispatch to the format readers and writers (io_obj.c, io_ply.c, io_off.c, io_stl.c), and the atomic save
- * (a temporary file in the target's folder, renamed over the target only once it is completely written).
+/* Loading and saving meshes: format choice (by extension, by name, by content), dispatch to the format readers
+ * and writers (io_obj.c, io_ply.c, io_off.c, io_stl.c), and the save through a temporary file in the target's
+ * folder, renamed over the target only once it is completely written (file.c reads and writes the files; the
+ * readers' shared helpers are in io_common.c).
  *
  * Both directions run in the "C" locale for their duration (uselocale: per thread, restored before returning), so
  * that strtod and printf read and write '.' as the decimal point whatever the application's locale is. */
 #include <errno.h>
-#include <fcntl.h>
 #include <locale.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
-#include <time.h>
 #include <unistd.h>
 
+#include "file.h"
 #include "io_internal.h"
-
-#ifndef O_CLOEXEC
-#define O_CLOEXEC 0
-#endif
 
 /* ---- formats ------------------------------------------------------------------------------------------------- */
 
@@ -127,40 +122,6 @@ static void leave_c_locale(c_locale_scope *scope)
     freelocale(scope->c);
 }
 
-/* ---- helpers for the readers --------------------------------------------------------------------------------- */
-
-resurf_status resurfi_load_progress(resurfi_load *ld, const char *pos)
-{
-    double fraction = ld->size ? (double)(pos - ld->data) / (double)ld->size : 1.0;
-    if (resurfi_progress(ld->progress, "load", fraction))
-        return resurfi_fail(ld->error, RESURF_ERR_CANCELLED, ld->path, 0, -1, "cancelled by the progress callback");
-    return RESURF_OK;
-}
-
-resurf_status resurfi_check_triangle_limit(resurfi_load *ld, size_t triangle_count, long long line,
-                                           long long offset)
-{
-    if (ld->max_triangles == 0 || triangle_count <= ld->max_triangles)
-        return RESURF_OK;
-    return resurfi_fail(ld->error, RESURF_ERR_LIMIT, ld->path, line, line > 0 ? -1 : offset,
-                        "more than %zu triangles (the max_triangles limit)", ld->max_triangles);
-}
-
-resurf_status resurfi_parse_fail(resurfi_load *ld, long long line, long long offset, const char *fmt, ...)
-{
-    char message[sizeof ld->error->message];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(message, sizeof message, fmt, ap);
-    va_end(ap);
-    return resurfi_fail(ld->error, RESURF_ERR_PARSE, ld->path, line, line > 0 ? -1 : offset, "%s", message);
-}
-
-resurf_status resurfi_load_oom(resurfi_load *ld, const char *what)
-{
-    return resurfi_fail(ld->error, RESURF_ERR_OUT_OF_MEMORY, ld->path, 0, -1, "out of memory reading the %s", what);
-}
-
 /* ---- loading ------------------------------------------------------------------------------------------------- */
 
 resurf_load_options resurf_load_options_default(void)
@@ -238,109 +199,6 @@ resurf_status resurf_mesh_load_memory(const void *data, size_t size, resurf_form
     return load_bytes(data, size, format, name, &opts, out_mesh, error);
 }
 
-/* Bytes a stream (a pipe, or a file whose size the system does not know) may deliver before the load gives up:
- * 64 MiB plus 1 KiB per allowed triangle, far more than any format spends on a triangle (a text OBJ with normals
- * and texture coordinates needs about 150 bytes), so that an endless writer cannot eat all memory. */
-static size_t stream_limit(size_t max_triangles)
-{
-    const size_t base = (size_t)64 << 20, per_triangle = 1024;
-    if (max_triangles == 0 || max_triangles > (SIZE_MAX / 2 - base) / per_triangle)
-        return SIZE_MAX / 2;
-    return base + per_triangle * max_triangles;
-}
-
-/* Reads the whole file into one buffer (sized by fstat, so a regular file takes one read). Refuses folders,
- * devices and sockets; reads pipes up to stream_limit(). */
-static resurf_status read_file(const char *path, const resurf_load_options *opts, char **out_data, size_t *out_size,
-                               resurf_error *error)
-{
-    /* Look before opening: opening a device can have effects of its own (a tape rewinds, a tty becomes ours). */
-    struct stat st;
-    if (stat(path, &st) == 0) {
-        if (S_ISDIR(st.st_mode))
-            return resurfi_fail(error, RESURF_ERR_IO, path, 0, -1, "is a directory, not a mesh file");
-        if (!S_ISREG(st.st_mode) && !S_ISFIFO(st.st_mode))
-            return resurfi_fail(error, RESURF_ERR_IO, path, 0, -1, "is a device or socket, not a mesh file");
-    }
-    /* O_NONBLOCK: opening a FIFO that no process writes to would wait for a writer forever. Reads block again
-     * below, and a FIFO without a writer reads as the end of the file. */
-    int fd = open(path, O_RDONLY | O_CLOEXEC | O_NONBLOCK);
-    if (fd < 0)
-        return resurfi_fail(error, RESURF_ERR_IO, path, 0, -1, "cannot open: %s", strerror(errno));
-    int fl = fcntl(fd, F_GETFL);
-    if (fstat(fd, &st) != 0 || fl < 0 || fcntl(fd, F_SETFL, fl & ~O_NONBLOCK) != 0) {
-        int e = errno;
-        close(fd);
-        return resurfi_fail(error, RESURF_ERR_IO, path, 0, -1, "cannot read: %s", strerror(e));
-    }
-    if (S_ISDIR(st.st_mode)) {
-        close(fd);
-        return resurfi_fail(error, RESURF_ERR_IO, path, 0, -1, "is a directory, not a mesh file");
-    }
-    if (!S_ISREG(st.st_mode) && !S_ISFIFO(st.st_mode)) {
-        close(fd);
-        return resurfi_fail(error, RESURF_ERR_IO, path, 0, -1, "is a device or socket, not a mesh file");
-    }
-    if (S_ISREG(st.st_mode) && (uint64_t)st.st_size >= SIZE_MAX / 2) {
-        close(fd);
-        return resurfi_fail(error, RESURF_ERR_LIMIT, path, 0, -1, "the file is too large for this machine");
-    }
-    /* A regular file's size is known: the buffer it needs is justified by the file. Pipes (and files that report
-     * size 0, such as those of /proc) grow the buffer as data comes, up to a limit. */
-    const bool sized = S_ISREG(st.st_mode) && st.st_size > 0;
-    const size_t limit = sized ? SIZE_MAX / 2 : stream_limit(opts->max_triangles);
-    size_t cap = sized ? (size_t)st.st_size + 1 : 1 << 16, size = 0;
-    char *data = resurfi_alloc(opts->allocator, cap, 1);
-    if (!data) {
-        close(fd);
-        return resurfi_fail(error, RESURF_ERR_OUT_OF_MEMORY, path, 0, -1, "out of memory reading %zu bytes", cap);
-    }
-    resurf_status status = RESURF_OK;
-    for (;;) {
-        if (size == cap) {
-            if (size >= limit) {
-                status = resurfi_fail(error, RESURF_ERR_LIMIT, path, 0, -1,
-                                      "the stream goes on past %zu bytes, more than the max_triangles limit (%zu "
-                                      "triangles) can need",
-                                      limit, opts->max_triangles);
-                break;
-            }
-            size_t grown = cap < limit / 2 ? cap * 2 : limit;
-            char *bigger = resurfi_realloc(opts->allocator, data, grown, 1);
-            if (!bigger) {
-                status = resurfi_fail(error, RESURF_ERR_OUT_OF_MEMORY, path, 0, -1, "out of memory reading the file");
-                break;
-            }
-            data = bigger;
-            cap = grown;
-        }
-        ssize_t n = read(fd, data + size, cap - size);
-        if (n < 0 && errno == EINTR) {
-            /* A signal interrupted a read that waits on a pipe: the caller may want to stop. */
-            if (resurfi_progress(&opts->progress, "load", 0.0)) {
-                status = resurfi_fail(error, RESURF_ERR_CANCELLED, path, 0, -1, "cancelled by the progress callback");
-                break;
-            }
-            continue;
-        }
-        if (n < 0) {
-            status = resurfi_fail(error, RESURF_ERR_IO, path, 0, -1, "cannot read: %s", strerror(errno));
-            break;
-        }
-        if (n == 0)
-            break;
-        size += (size_t)n;
-    }
-    close(fd);
-    if (status != RESURF_OK) {
-        resurfi_free(opts->allocator, data);
-        return status;
-    }
-    *out_data = data;
-    *out_size = size;
-    return RESURF_OK;
-}
-
 resurf_status resurf_mesh_load(const char *path, const resurf_load_options *options, resurf_mesh **out_mesh,
                                resurf_error *error)
 {
@@ -356,7 +214,8 @@ resurf_status resurf_mesh_load(const char *path, const resurf_load_options *opti
     size_t size = 0;
     c_locale_scope scope; /* so that strerror speaks the "C" locale too, like every other message */
     enter_c_locale(&scope);
-    resurf_status status = read_file(path, &opts, &data, &size, error);
+    resurf_status status =
+        resurfi_read_file(opts.allocator, path, 0, opts.max_triangles, &opts.progress, &data, &size, error);
     leave_c_locale(&scope);
     if (status != RESURF_OK)
         return status;
@@ -395,46 +254,6 @@ static resurf_status check_mesh(const resurf_mesh *m, resurf_error *error)
     return RESURF_OK;
 }
 
-static uint64_t mix64(uint64_t h)
-{
-    h ^= h >> 31;
-    h *= 0x9e3779b97f4a7c15ull;
-    h ^= h >> 29;
-    h *= 0xbf58476d1ce4e5b9ull;
-    return h ^ (h >> 32);
-}
-
-/* Creates "<dir>/.<name>.tmp-XXXXXX" with O_EXCL (so the umask applies as for any new file; mkstemp would force
- * 0600) and returns its descriptor, or -1 with errno set. tmp receives the name. */
-static int create_temp(const char *path, char *tmp, size_t tmp_size)
-{
-    const char *slash = strrchr(path, '/');
-    int dir_len = slash ? (int)(slash - path) + 1 : 0; /* keeps the slash; "/x" stays in "/" */
-    const char *name = slash ? slash + 1 : path;
-    struct timespec now;
-    clock_gettime(CLOCK_REALTIME, &now);
-    uint64_t seed = mix64((uint64_t)now.tv_nsec ^ (uint64_t)now.tv_sec << 32 ^ (uint64_t)getpid() ^
-                          (uint64_t)(uintptr_t)&now);
-    static const char alphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789";
-    for (int attempt = 0; attempt < 100; ++attempt) {
-        uint64_t r = mix64(seed + (uint64_t)attempt * 0x9e3779b97f4a7c15ull);
-        char suffix[7];
-        for (int i = 0; i < 6; ++i, r /= 62)
-            suffix[i] = alphabet[r % 62];
-        suffix[6] = 0;
-        int n = snprintf(tmp, tmp_size, "%.*s.%s.tmp-%s", dir_len, path, name, suffix);
-        if (n < 0 || (size_t)n >= tmp_size) {
-            errno = ENAMETOOLONG;
-            return -1;
-        }
-        int fd = open(tmp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-        if (fd >= 0 || errno != EEXIST)
-            return fd;
-    }
-    errno = EEXIST;
-    return -1;
-}
-
 resurf_status resurf_mesh_save(const resurf_mesh *mesh, const char *path, const resurf_save_options *options,
                                resurf_error *error)
 {
@@ -458,26 +277,15 @@ resurf_status resurf_mesh_save(const resurf_mesh *mesh, const char *path, const 
     c_locale_scope scope;
     enter_c_locale(&scope);
     const resurf_allocator *alloc = resurfi_allocator_of(opts.allocator, mesh);
-    size_t tmp_size = strlen(path) + 32;
-    char *tmp = resurfi_alloc(alloc, tmp_size, 1);
+    char *tmp = NULL;
     resurfi_writer w = {.fd = -1, .cap = 1 << 18, .progress = &opts.progress};
     w.buf = resurfi_alloc(alloc, w.cap, 1);
-    if (!tmp || !w.buf) {
+    if (!w.buf) {
         status = resurfi_fail(error, RESURF_ERR_OUT_OF_MEMORY, path, 0, -1, "out of memory");
         goto done;
     }
-    w.fd = create_temp(path, tmp, tmp_size);
-    if (w.fd < 0) {
-        int e = errno;
-        int dir_len = slash ? (slash == path ? 1 : (int)(slash - path)) : 1;
-        status = resurfi_fail(error, RESURF_ERR_IO, path, 0, -1, "cannot create a temporary file in '%.*s': %s",
-                              dir_len, slash ? path : ".", strerror(e));
+    if ((status = resurfi_temp_create(alloc, path, &tmp, &w.fd, error)) != RESURF_OK)
         goto done;
-    }
-    /* An existing file keeps its permissions. */
-    struct stat st;
-    if (stat(path, &st) == 0 && S_ISREG(st.st_mode))
-        (void)fchmod(w.fd, st.st_mode & 07777);
 
     switch (format) {
     case RESURF_FORMAT_OBJ: status = resurfi_write_obj(&w, mesh, &opts); break;
@@ -500,17 +308,17 @@ resurf_status resurf_mesh_save(const resurf_mesh *mesh, const char *path, const 
         status = resurfi_fail(error, status, path, 0, -1, "internal error writing the file");
     else if (w.err)
         status = resurfi_fail(error, RESURF_ERR_IO, path, 0, -1, "cannot write: %s", strerror(w.err));
-    else if (rename(tmp, path) != 0)
-        status = resurfi_fail(error, RESURF_ERR_IO, path, 0, -1, "cannot replace the file: %s", strerror(errno));
-    if (status != RESURF_OK)
-        unlink(tmp);
-    else {
+    if (status == RESURF_OK) {
+        status = resurfi_temp_commit(alloc, tmp, path, error);
+        tmp = NULL;
+    }
+    if (status == RESURF_OK) {
         (void)resurfi_progress(&opts.progress, "save", 1.0); /* too late to cancel: the file is in place */
         resurfi_clear_error(error);
     }
 done:
+    resurfi_temp_discard(alloc, tmp); /* not renamed into place: removed */
     leave_c_locale(&scope);
-    resurfi_free(alloc, tmp);
     resurfi_free(alloc, w.buf);
     return status;
 }

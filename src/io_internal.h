@@ -1,6 +1,6 @@
-/* The I/O-only internal interface: what io.c (file handling, format choice, atomic save) shares with the format
- * parsers and writers (io_obj.c, io_ply.c, io_off.c, io_stl.c) and the text scanner (io_text.c).
- * Not installed, not used outside the io_*.c files. */
+/* The I/O-only internal interface: what io.c (format choice, dispatch, the save) and io_common.c (the readers'
+ * call-backs) share with the format parsers and writers (io_obj.c, io_ply.c, io_off.c, io_stl.c) and the text
+ * scanner (io_text.c). Not installed, not used outside the io*.c files. */
 #ifndef RESURF_IO_INTERNAL_H
 #define RESURF_IO_INTERNAL_H
 
@@ -30,6 +30,8 @@ resurf_status resurfi_read_obj(resurfi_load *ld, resurf_mesh **out);
 resurf_status resurfi_read_ply(resurfi_load *ld, resurf_mesh **out);
 resurf_status resurfi_read_off(resurfi_load *ld, resurf_mesh **out);
 resurf_status resurfi_read_stl(resurfi_load *ld, resurf_mesh **out);
+
+/* ---- the readers' call-backs (io_common.c) ------------------------------------------------------------------- */
 
 /* Reports progress every 2^16 calls (an element, a line); returns nonzero after filling ld->error when the
  * caller cancelled. pos is how far into the data the reader is. */

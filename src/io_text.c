@@ -8,7 +8,6 @@
  * conversion to double rounds correctly unless the long double result lies exactly halfway between two doubles
  * (the only case in which double rounding can differ; see the proof in parse_long_double). Anything else goes to
  * strtod, which the caller runs in the "C" locale (io.c switches the thread's locale for the duration of a call). */
-#include <errno.h>
 #include <float.h>
 #include <limits.h>
 #include <math.h>
@@ -16,8 +15,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
+#include "file.h"
 #include "io_internal.h"
 
 /* ---- scanner ------------------------------------------------------------------------------------------------- */
@@ -277,18 +276,8 @@ resurfi_num resurfi_scan_int(resurfi_scanner *s, long long *out)
 
 void resurfi_write_flush(resurfi_writer *w)
 {
-    size_t done = 0;
-    while (!w->err && done < w->len) {
-        ssize_t n = write(w->fd, w->buf + done, w->len - done);
-        if (n < 0) {
-            if (errno == EINTR)
-                continue;
-            w->err = errno ? errno : EIO;
-        } else if (n == 0)
-            w->err = EIO;
-        else
-            done += (size_t)n;
-    }
+    if (!w->err)
+        w->err = resurfi_write_all(w->fd, w->buf, w->len);
     w->len = 0;
 }
 

@@ -14,6 +14,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "hash.h"
 #include "internal.h"
 
 #define DEG_PER_RAD (180.0 / 3.14159265358979323846)
@@ -23,16 +24,10 @@
 
 /* ---- random points ------------------------------------------------------------------------------------------- */
 
-static const uint64_t golden_gamma = 0x9e3779b97f4a7c15ull;
-
-/* Output k of the splitmix64 stream that starts at state `seed` (Steele, Lea, Flood 2014). */
+/* Output k of the splitmix64 stream that starts at state `seed` (Steele, Lea, Flood 2014), in [0, 1). */
 static double splitmix_unit(uint64_t seed, uint64_t k)
 {
-    uint64_t z = seed + (k + 1) * golden_gamma;
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    z ^= z >> 31;
-    return (double)(z >> 11) * 0x1.0p-53;
+    return (double)(resurfi_mix64(seed + (k + 1) * RESURFI_GOLDEN_GAMMA) >> 11) * 0x1.0p-53;
 }
 
 /* One surface to sample and the other one's tree to measure against. */

@@ -1,5 +1,5 @@
-/* What scene.c (loading, checking, decoding, the public scene calls) shares with scene_save.c (writing). Not
- * installed, not used elsewhere. */
+/* What scene.c (loading, decoding, the public scene calls) shares with scene_check.c (checking a document) and
+ * scene_save.c (writing). Not installed, not used elsewhere. */
 #ifndef RESURF_SCENE_INTERNAL_H
 #define RESURF_SCENE_INTERNAL_H
 
@@ -42,6 +42,8 @@ struct resurf_scene {
                                (doc, view) lives on the C++ heap */
 };
 
+/* ---- levels and helpers -------------------------------------------------------------------------------------- */
+
 /* The effective mesh of primitive p at level k (its last level when it has fewer). */
 static inline const resurf_mesh *resurfi_scene_level_mesh(const resurfi_scene_prim *p, size_t level)
 {
@@ -55,5 +57,91 @@ int resurfi_ends_with_nocase(const char *s, const char *suffix);
 
 /* Bytes of one component of a glTF component type, 0 for an unknown type. */
 size_t resurfi_gltf_component_size(int component_type);
+
+/* ---- loading and checking (scene.c, scene_check.c) ----------------------------------------------------------- */
+
+/* JSON nesting deeper than this is refused before any parser sees it (a glTF document needs about 10 levels;
+ * extras may nest deeper, but not thousands of levels, which would exhaust a recursive parser's stack). */
+#define RESURFI_MAX_JSON_DEPTH 128
+
+/* One load: where errors go and the running totals. */
+typedef struct load_ctx {
+    const char *path;
+    resurf_error *error;
+    const resurfi_gltf_view *v;
+    size_t max_triangles, triangles;
+    uint64_t buffer_bytes;  /* all buffers together: what zero-filled accessors may claim at most */
+    const resurf_progress *progress;
+    const resurf_allocator *alloc; /* the call's: the scene, its meshes and the temporaries */
+} load_ctx;
+
+/* A parse error of the load, naming the file. */
+#define FAIL(ctx, ...) resurfi_fail((ctx)->error, RESURF_ERR_PARSE, (ctx)->path, 0, -1, __VA_ARGS__)
+
+/* Little-endian 32 bits, whatever the host. */
+static inline uint32_t resurfi_get_u32le(const unsigned char *p)
+{
+    return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
+}
+
+/* The byte layout of one accessor element: matrices of 1- and 2-byte components pad each column to 4 bytes. */
+typedef struct resurfi_gltf_element {
+    size_t component_size, columns, rows, column_stride, size;
+} resurfi_gltf_element;
+
+static inline resurfi_gltf_element resurfi_gltf_element_of(const resurfi_gltf_accessor *a)
+{
+    resurfi_gltf_element e;
+    e.component_size = resurfi_gltf_component_size(a->component_type);
+    if (a->matrix) {
+        e.columns = a->components == 4 ? 2 : a->components == 9 ? 3 : 4;
+        e.rows = e.columns;
+        e.column_stride = (e.rows * e.component_size + 3) & ~(size_t)3;
+    } else {
+        e.columns = 1;
+        e.rows = (size_t)a->components;
+        e.column_stride = e.rows * e.component_size;
+    }
+    e.size = e.columns * e.column_stride;
+    return e;
+}
+
+/* One component of an accessor element, as a double. */
+static inline double resurfi_gltf_read_component(const unsigned char *p, int type)
+{
+    switch (type) {
+    case RESURFI_GLTF_BYTE: return (double)(int8_t)p[0];
+    case RESURFI_GLTF_UNSIGNED_BYTE: return p[0];
+    case RESURFI_GLTF_SHORT: return (double)(int16_t)(uint16_t)(p[0] | p[1] << 8);
+    case RESURFI_GLTF_UNSIGNED_SHORT: return (double)(uint16_t)(p[0] | p[1] << 8);
+    case RESURFI_GLTF_UNSIGNED_INT: return (double)resurfi_get_u32le(p);
+    case RESURFI_GLTF_FLOAT: {
+        uint32_t bits = resurfi_get_u32le(p);
+        float f;
+        memcpy(&f, &bits, 4);
+        return f;
+    }
+    default: return 0;
+    }
+}
+
+/* Is the JSON nested deeper than RESURFI_MAX_JSON_DEPTH? Strings (with escapes) are skipped. Returns the byte
+ * offset of the first bracket too deep, or -1. */
+long long resurfi_json_too_deep(const char *p, size_t size);
+
+/* The checks of a parsed document (c->v) before any of its primitives is decoded: every number finite, every
+ * required extension known, every bufferView and accessor in range (sparse indices included), every reference the
+ * shim recorded in range. Sets c->buffer_bytes. */
+resurf_status resurfi_scene_check_document(load_ctx *c);
+/* The node graph: meshes, children and scene roots in range, one parent per node, no cycle, roots are roots; then
+ * each node's world matrix into s->world. */
+resurf_status resurfi_scene_check_nodes(load_ctx *c, resurf_scene *s);
+/* The checks of one primitive (named `where` in messages) before it is decoded: its mode, its accessors (attributes,
+ * morph targets, indices) and their counts, and its Draco extension's references. *out_count receives its vertex
+ * count. */
+resurf_status resurfi_scene_check_primitive(load_ctx *c, const resurfi_gltf_primitive *gp, const char *where,
+                                            uint64_t *out_count);
+/* Does the extension refer to no accessor or bufferView (so that the writer may renumber those freely)? */
+int resurfi_gltf_extension_known(const char *name);
 
 #endif

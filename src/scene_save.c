@@ -8,19 +8,13 @@
  * Microsoft MSFT_lod extension. Draco quantization: a float attribute of range R stored in b bits is within
  * R / (2^b - 1) of its input after decoding; that bound is what the decode check enforces for positions. */
 #include <errno.h>
-#include <fcntl.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
-#include <time.h>
 #include <unistd.h>
 
+#include "file.h"
 #include "scene_internal.h"
-
-#ifndef O_CLOEXEC
-#define O_CLOEXEC 0
-#endif
 
 resurf_scene_save_options resurf_scene_save_options_default(void)
 {
@@ -695,69 +689,25 @@ typedef struct pending_list {
     size_t count;
 } pending_list;
 
-static uint64_t mix64(uint64_t h)
-{
-    h ^= h >> 31;
-    h *= 0x9e3779b97f4a7c15ull;
-    h ^= h >> 29;
-    h *= 0xbf58476d1ce4e5b9ull;
-    return h ^ (h >> 32);
-}
-
-/* Writes data to a new temporary file beside path ("<dir>/.<name>.tmp-XXXXXX", O_EXCL) and records it. */
+/* Writes data to a new temporary file beside path (resurfi_temp_create) and records it. */
 static resurf_status write_temp(save_ctx *c, pending_list *list, const char *path, const void *data, size_t size)
 {
     if (list->count == sizeof list->items / sizeof *list->items)
         return resurfi_fail(c->error, RESURF_ERR_INTERNAL, path, 0, -1, "too many output files");
-    const char *slash = strrchr(path, '/');
-    int dir_len = slash ? (int)(slash - path) + 1 : 0;
-    size_t tmp_size = strlen(path) + 32;
-    char *tmp = resurfi_alloc(c->alloc, tmp_size, 1), *copy = resurfi_strdup(c->alloc, path);
-    if (!tmp || !copy) {
-        resurfi_free(c->alloc, tmp);
-        resurfi_free(c->alloc, copy);
-        return oom(c);
-    }
-    struct timespec now;
-    clock_gettime(CLOCK_REALTIME, &now);
-    uint64_t seed = mix64((uint64_t)now.tv_nsec ^ (uint64_t)now.tv_sec << 32 ^ (uint64_t)getpid() ^
-                          (uint64_t)(uintptr_t)tmp);
-    static const char alphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789";
+    char *copy = resurfi_strdup(c->alloc, path), *tmp = NULL;
     int fd = -1;
-    for (int attempt = 0; attempt < 100 && fd < 0; ++attempt) {
-        uint64_t r = mix64(seed + (uint64_t)attempt * 0x9e3779b97f4a7c15ull);
-        char suffix[7];
-        for (int i = 0; i < 6; ++i, r /= 62)
-            suffix[i] = alphabet[r % 62];
-        suffix[6] = 0;
-        snprintf(tmp, tmp_size, "%.*s.%s.tmp-%s", dir_len, path, path + dir_len, suffix);
-        fd = open(tmp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-        if (fd < 0 && errno != EEXIST)
-            break;
-    }
-    if (fd < 0) {
-        int e = errno;
-        resurfi_free(c->alloc, tmp);
+    if (!copy)
+        return oom(c);
+    resurf_status status = resurfi_temp_create(c->alloc, path, &tmp, &fd, c->error);
+    if (status != RESURF_OK) {
         resurfi_free(c->alloc, copy);
-        return resurfi_fail(c->error, RESURF_ERR_IO, path, 0, -1, "cannot create a temporary file: %s", strerror(e));
+        return status;
     }
-    const unsigned char *p = data;
-    size_t done = 0;
-    int err = 0;
-    while (done < size && !err) {
-        ssize_t w = write(fd, p + done, size - done);
-        if (w < 0 && errno == EINTR)
-            continue;
-        if (w <= 0)
-            err = w < 0 ? errno : EIO;
-        else
-            done += (size_t)w;
-    }
+    int err = resurfi_write_all(fd, data, size);
     if (close(fd) != 0 && !err)
         err = errno ? errno : EIO;
     if (err) {
-        unlink(tmp);
-        resurfi_free(c->alloc, tmp);
+        resurfi_temp_discard(c->alloc, tmp);
         resurfi_free(c->alloc, copy);
         return resurfi_fail(c->error, RESURF_ERR_IO, path, 0, -1, "cannot write: %s", strerror(err));
     }
@@ -773,16 +723,10 @@ static resurf_status finish_files(save_ctx *c, pending_list *list, int commit)
 {
     resurf_status status = RESURF_OK;
     for (size_t i = list->count; i-- > 0;) {
-        int renamed = 0;
-        if (commit && status == RESURF_OK) {
-            renamed = rename(list->items[i].tmp, list->items[i].path) == 0;
-            if (!renamed)
-                status = resurfi_fail(c->error, RESURF_ERR_IO, list->items[i].path, 0, -1,
-                                      "cannot replace the file: %s", strerror(errno));
-        }
-        if (!renamed)
-            unlink(list->items[i].tmp);
-        resurfi_free(c->alloc, list->items[i].tmp);
+        if (commit && status == RESURF_OK)
+            status = resurfi_temp_commit(c->alloc, list->items[i].tmp, list->items[i].path, c->error);
+        else
+            resurfi_temp_discard(c->alloc, list->items[i].tmp);
         resurfi_free(c->alloc, list->items[i].path);
     }
     list->count = 0;

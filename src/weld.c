@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "hash.h"
 #include "internal.h"
 
 /* The bits of a coordinate with −0.0 folded onto +0.0, so that the two zeros weld (they compare equal). */
@@ -22,21 +23,11 @@ static uint64_t coord_bits(double x)
     return u;
 }
 
-static uint64_t mix64(uint64_t h)
-{
-    h ^= h >> 33;
-    h *= 0xff51afd7ed558ccdull;
-    h ^= h >> 33;
-    h *= 0xc4ceb9fe1a85ec53ull;
-    h ^= h >> 33;
-    return h;
-}
-
 static uint64_t hash_position(const double *p)
 {
-    uint64_t h = mix64(coord_bits(p[0]) + 0x9e3779b97f4a7c15ull);
-    h = mix64(h ^ coord_bits(p[1]));
-    return mix64(h ^ coord_bits(p[2]) ^ 0x632be59bd9b4e019ull);
+    uint64_t h = resurfi_mix64(coord_bits(p[0]) + RESURFI_GOLDEN_GAMMA);
+    h = resurfi_mix64(h ^ coord_bits(p[1]));
+    return resurfi_mix64(h ^ coord_bits(p[2]) ^ 0x632be59bd9b4e019ull);
 }
 
 /* Do p and q hold the same position? Equal bits after folding the zeros: a NaN welds only with the same NaN. */

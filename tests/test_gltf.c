@@ -1,7 +1,7 @@
-/* Tests of src/scene.c, src/scene_save.c and the glTF/Draco shims (src/io/): round trips of analytic meshes
- * through .gltf/.glb/.drc with and without Draco, hand-written glTF documents whose decoded content is known by
- * construction (strips, fans, sparse accessors, normalized and quantized components, instancing, skins, morph
- * targets, points), the level-of-detail layouts, and hostile documents.
+/* Tests of src/scene.c, src/scene_check.c, src/scene_save.c and the glTF/Draco shims (src/io/): round trips of
+ * analytic meshes through .gltf/.glb/.drc with and without Draco, hand-written glTF documents whose decoded content
+ * is known by construction (strips, fans, sparse accessors, normalized and quantized components, instancing, skins,
+ * morph targets, points), the level-of-detail layouts, and hostile documents.
  *
  * Independent checks: the Khronos glTF validator (tools/validate-gltf.js, npm gltf-validator) on every file written,
  * Google's draco_decoder on Draco output, and small node scripts that read the written JSON for structure the

@@ -1,6 +1,6 @@
-/* src/io.c and src/io_text.c: format choice, whole-file loading and its failures, the atomic save, limits,
- * progress and cancel, the number scanner (against the C library's correctly rounded strtod) and locale
- * independence. Format details are in test_io_obj/ply/off/stl.c, malformed files in test_io_corpus.c. */
+/* src/io.c, src/file.c, src/io_common.c and src/io_text.c: format choice, whole-file loading and its failures, the
+ * atomic save, limits, progress and cancel, the number scanner (against the C library's correctly rounded strtod)
+ * and locale independence. Format details are in test_io_obj/ply/off/stl.c, malformed files in test_io_corpus.c. */
 #include <errno.h>
 #include <locale.h>
 #include <signal.h>

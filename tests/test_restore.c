@@ -1,10 +1,10 @@
-/* Tests for src/restore.c, the restoring projection, each against analytic truth (tools/shapes.h):
- * a sphere with exact normals lands exactly in one step of k = 1/3 (from inside and outside, each formula and
- * side rule); a plane (orthogonal projection); a cylinder; a saddle (the max/min choice matters: the curvature rule
- * and the normal section beat a forced wrong side); M onto itself and points of S onto M (stated bounds);
- * invariance under rigid motions and uniform scaling; points exactly on an edge or a vertex of M; degenerate
- * triangles in M; far points; open boundaries (cylinder rims, the cubic patch's sides); creases (a roof, a cube
- * with split normals); the same result for every thread count; cancel at every progress call; bad arguments. */
+/* Tests for src/restore.c and src/restore_setup.c, the restoring projection, each against analytic truth
+ * (tools/shapes.h): a sphere with exact normals lands exactly in one step of k = 1/3 (from inside and outside, each
+ * formula and side rule); a plane (orthogonal projection); a cylinder; a saddle (the max/min choice matters: the
+ * curvature rule and the normal section beat a forced wrong side); M onto itself and points of S onto M (stated
+ * bounds); invariance under rigid motions and uniform scaling; points exactly on an edge or a vertex of M;
+ * degenerate triangles in M; far points; open boundaries (cylinder rims, the cubic patch's sides); creases (a roof,
+ * a cube with split normals); the same result for every thread count; cancel at every progress call; bad arguments. */
 #include <math.h>
 #include <string.h>
 

@@ -7,7 +7,7 @@
 // regular files only and an image callback that keeps image bytes as they are.
 //
 // Nothing here judges the content: indices, ranges and references are copied into the view as the file gives
-// them, and scene.c checks them (the Khronos glTF 2.0 specification, sections 3.6-3.7 and 5).
+// them, and scene_check.c checks them (the Khronos glTF 2.0 specification, sections 3.6-3.7 and 5).
 #include <sys/stat.h>
 
 #include <cmath>

@@ -1,7 +1,7 @@
 /* The C interface over the C++ glTF and Draco code (gltf_read.cpp, gltf_write.cpp, draco.cpp). Only C types cross it:
  * no C++ type, exception or std::string. The C++ side parses, copies and serialises; it makes no accept/reject
- * decision about the content. scene.c checks every index, range and reference it gets here before anything uses
- * them (the reading side), and scene_save.c decides what is written (the writing side).
+ * decision about the content. scene_check.c checks every index, range and reference it gets here before anything
+ * uses them (the reading side), and scene_save.c decides what is written (the writing side).
  *
  * Every function catches every exception and turns it into a resurf_status with a message. */
 #ifndef RESURF_GLTF_SHIM_H
