@@ -72,7 +72,9 @@ static vec3 free_placement(const simplifier *s, const resurfi_quadric *q, vec3 p
  * x's kind and the edge seen from x. It is indexed by one end and the edge rather than by the two ends' kinds
  * because here the edge decides: a border vertex may go along its border but not across, a seam vertex along its
  * seam but not off it; the other end enters through the wedge map and the placement only. */
-enum { KIND_MANIFOLD, KIND_SEAM, KIND_COMPLEX, KIND_BORDER, KIND_BORDER_WEDGES, KIND_LOCKED_BORDER, KIND_LOCKED, KINDS };
+enum {
+    KIND_MANIFOLD, KIND_SEAM, KIND_COMPLEX, KIND_BORDER, KIND_BORDER_WEDGES, KIND_LOCKED_BORDER, KIND_LOCKED, KINDS
+};
 enum { EDGE_INTERIOR, EDGE_SEAM, EDGE_BORDER, EDGE_KINDS }; /* as seen from x: EDGE_SEAM when its wedges differ at x */
 
 static const uint8_t kHeld[KINDS][EDGE_KINDS] = {

@@ -1,17 +1,19 @@
 /* The guards of one collapse (guards.c), and the contract that lets the collapses of a chunk run in parallel.
  *
- * THE CONTRACT. A collapse of edge (a, b) applied inside a parallel chunk (schedule.c) may
- *   read   at most the 2-ring of its edge: the records, fans and triangles of a, b and their neighbours, and the
- *          positions of the neighbours' neighbours (the corners of the neighbours' triangles);
- *   write  only its closed star: the records (place, quadric, flags, list head), generations and homes of a, b and
- *          their neighbours, and the triangles with a corner at a or b (corners' positions, wedges, list links,
- *          the dead mark); everything else it produces goes to its worker's lane (new candidates, counters, marks,
- *          the neighbours to plan again), merged after the chunk in the chunk's order.
- * The scheduler claims the closed stars of a chunk's candidates only when they are pairwise disjoint, so no
- * collapse writes what another of the chunk reads: the neighbours' neighbours a collapse reads are positions of
- * other stars, whose places and flags a collapse never changes. Each collapse therefore sees the mesh as if it ran
- * alone, and the result does not depend on the thread count. Work that reaches further (the edges of renewed
- * neighbours, which end outside the star) is deferred to the lane and done after the chunk.
+ * THE CONTRACT. Call a collapse's closed star its ends a and b with their neighbours. A collapse of edge (a, b)
+ * applied inside a parallel chunk (schedule.c) may
+ *   read   at most the 2-ring of its edge: the records (place, quadric, flags, list head), generations and homes of
+ *          its star's positions, and the triangles around them (whose corners name the neighbours' neighbours:
+ *          their ids and wedges are read, never their records), besides M (read-only);
+ *   write  only its closed star: the records, generations and homes of its star's positions, and the triangles
+ *          with a corner at a or b (corners' positions, wedges, list links, the dead mark). Everything else it
+ *          produces goes to its worker's lane (new candidates, counters, marks, the neighbours to plan again) and
+ *          is merged after the chunk, in the chunk's order.
+ * The scheduler puts candidates in one chunk only when their closed stars are pairwise disjoint. Then what one
+ * collapse writes, another never reads: a triangle with a corner at an end has all its corners in that end's star,
+ * so it lies around no position of another star. Each collapse sees the mesh as if it ran alone, and the result
+ * does not depend on the thread count. Work that reaches further (the edges of renewed neighbours, which end
+ * outside the star) waits in the lane for after the chunk.
  * Debug builds (NDEBUG undefined) check the write side: the scheduler stamps each claimed star position with the
  * claiming entry (schedule.owner), and every write of a collapse asserts that it lands in its own star
  * (check_position_write, check_corner_write). */

@@ -34,12 +34,13 @@ static int restore_chunk_block(void *ctx, size_t begin, size_t end, unsigned wor
 {
     chunk_job *j = ctx;
     simplifier *s = j->s;
+    schedule *S = &s->sched;
     scratch *sc = &j->scratch[worker];
     for (size_t i = begin; i < end; ++i) {
-        pending *q = &s->sched.pend[i];
+        pending *q = &S->pend[i];
         candidate c = s->queue.list.data[q->index];
         for (size_t k = 1; k <= 3 && i + k < end; ++k)
-            prefetch_walk(s, s->queue.list.data[s->sched.pend[i + k].index].a, k);
+            prefetch_walk(s, s->queue.list.data[S->pend[i + k].index].a, k);
         q->restore = 0;
         if (!gather_fan(s, c.a, &sc->fan, 0))
             return 1;
@@ -103,21 +104,22 @@ static int star_pass(const simplifier *s) { return s->sched.chunk >= CHUNK_THREA
 /* Opens a pass: the list brought up to date and the pass's cost limit. Returns 0 when out of memory. */
 int open_pass(simplifier *s)
 {
+    schedule *S = &s->sched;
     if (!simp_queue_refresh(&s->queue, s->gen, s->pool))
         return 0;
-    s->sched.pass_open = s->queue.list.count > 0;
-    s->sched.pass_next = 0;
-    s->sched.pass_before = s->rep.collapses;
+    S->pass_open = s->queue.list.count > 0;
+    S->pass_next = 0;
+    S->pass_before = s->rep.collapses;
     /* Stars of a chunk must be disjoint: the more of the mesh a chunk would cover, the more of its window's stars
      * meet claimed ones and are gathered again for the next chunk (on 20k triangles, chunks of 1024 made gathering
      * stars a sixth of the time). The size depends on the counts only, as the result must. */
     size_t chunk = s->alive_positions / CHUNK_SPREAD;
-    s->sched.chunk = chunk < CHUNK_MIN ? CHUNK_MIN : chunk > CHUNK ? CHUNK : chunk;
-    s->sched.window = s->sched.chunk * WINDOW / CHUNK;
-    if (s->sched.pass_open) {
+    S->chunk = chunk < CHUNK_MIN ? CHUNK_MIN : chunk > CHUNK ? CHUNK : chunk;
+    S->window = S->chunk * WINDOW / CHUNK;
+    if (S->pass_open) {
         size_t nth = (size_t)((double)s->queue.list.count * PASS_SHARE);
         nth = nth < 1 ? 1 : nth;
-        s->sched.pass_limit = s->queue.list.data[nth - 1].cost;
+        S->pass_limit = s->queue.list.data[nth - 1].cost;
     }
     return 1;
 }
@@ -153,12 +155,13 @@ static int star_block(void *ctx, size_t begin, size_t end, unsigned worker)
 {
     chunk_job *j = ctx;
     simplifier *s = j->s;
+    schedule *S = &s->sched;
     scratch *sc = &j->scratch[worker];
     for (size_t k = begin; k < end;) {
         size_t group[GATHER_GROUP], n = 0;
         uint32_t ends[2 * GATHER_GROUP];
         for (; k < end && n < GATHER_GROUP; ++k) {
-            window_entry *e = &s->sched.win[k];
+            window_entry *e = &S->win[k];
             candidate c = s->queue.list.data[e->index];
             e->count = 0;
             if (c.a == NONE || ((s->gen[c.a] | s->gen[c.b]) & TAKEN) || !candidate_current(s, c))
@@ -170,12 +173,12 @@ static int star_block(void *ctx, size_t begin, size_t end, unsigned worker)
         if (!gather_fans(s, ends, 2 * n, sc->group, 0))
             return 1;
         for (size_t i = 0; i < n; ++i) {
-            window_entry *e = &s->sched.win[group[i]];
+            window_entry *e = &S->win[group[i]];
             candidate c = s->queue.list.data[e->index];
             const u32vec *fa = &sc->group[2 * i], *fb = &sc->group[2 * i + 1];
             e->na = (uint32_t)fa->count;
             e->nb = (uint32_t)fb->count;
-            e->count = gather_star(s, c, fa, fb, s->sched.stars + group[i] * STAR_MAX, STAR_MAX);
+            e->count = gather_star(s, c, fa, fb, S->stars + group[i] * STAR_MAX, STAR_MAX);
         }
     }
     return 0;
@@ -187,14 +190,15 @@ static int star_block(void *ctx, size_t begin, size_t end, unsigned worker)
  * of the pass may take it), -1 when out of memory. */
 static int claim_candidate(simplifier *s, size_t k)
 {
-    const window_entry *e = &s->sched.win[k];
+    schedule *S = &s->sched;
+    const window_entry *e = &S->win[k];
     candidate c = s->queue.list.data[e->index];
     if (e->count == 0 || ((s->gen[c.a] | s->gen[c.b]) & TAKEN))
         return 0;
     const uint32_t *star;
     size_t n = e->count;
     if (e->count == STAR_OVERFLOW) { /* a vertex of high valence: gathered here */
-        lane *L = &s->sched.lanes[0];
+        lane *L = &S->lanes[0];
         if (!gather_fan(s, c.a, &L->fan_a, 0) || !gather_fan(s, c.b, &L->fan_b, 0))
             return -1;
         L->touched.count = 0;
@@ -211,29 +215,29 @@ static int claim_candidate(simplifier *s, size_t k)
         star = L->touched.data;
         n = L->touched.count;
     } else {
-        star = s->sched.stars + k * STAR_MAX + e->na + e->nb;
+        star = S->stars + k * STAR_MAX + e->na + e->nb;
     }
     for (size_t i = 0; i < n; ++i)
         if (s->gen[star[i]] & CLAIMED)
             return 2;
     s->gen[c.a] |= TAKEN;
     s->gen[c.b] |= TAKEN;
-    if (!vec_push(s->alloc, &s->sched.taken, c.a) || !vec_push(s->alloc, &s->sched.taken, c.b))
+    if (!vec_push(s->alloc, &S->taken, c.a) || !vec_push(s->alloc, &S->taken, c.b))
         return -1;
     for (size_t i = 0; i < n; ++i) {
 #ifndef NDEBUG
-        s->sched.owner[star[i]] = (uint32_t)s->sched.pend_count; /* the contract's check (guards.h) */
+        S->owner[star[i]] = (uint32_t)S->pend_count; /* the contract's check (guards.h) */
 #endif
         if (!(s->gen[star[i]] & CLAIMED)) {
             s->gen[star[i]] |= CLAIMED;
-            if (!vec_push(s->alloc, &s->sched.claimed, star[i]))
+            if (!vec_push(s->alloc, &S->claimed, star[i]))
                 return -1;
         }
     }
-    pending *q = &s->sched.pend[s->sched.pend_count++];
+    pending *q = &S->pend[S->pend_count++];
     *q = (pending){.index = e->index};
     if (e->count != STAR_OVERFLOW) {
-        q->fans = s->sched.stars + k * STAR_MAX;
+        q->fans = S->stars + k * STAR_MAX;
         q->na = e->na;
         q->nb = e->nb;
     }
@@ -251,58 +255,59 @@ static void close_pass(simplifier *s);
 
 int take_chunk(simplifier *s, scratch *sc)
 {
+    schedule *S = &s->sched;
     if (!star_pass(s))
         return take_chunk_ends(s);
-    for (size_t t = 0; t < s->sched.claimed.count; ++t)
-        s->gen[s->sched.claimed.data[t]] &= ~CLAIMED;
-    s->sched.claimed.count = 0;
-    s->sched.pend_count = s->sched.pend_next = 0;
+    for (size_t t = 0; t < S->claimed.count; ++t)
+        s->gen[S->claimed.data[t]] &= ~CLAIMED;
+    S->claimed.count = 0;
+    S->pend_count = S->pend_next = 0;
     for (;;) {
         size_t n = 0;
-        for (size_t k = 0; k < s->sched.skip_count; ++k) /* in list order, all before pass_next */
-            s->sched.win[n++].index = s->sched.skip[k];
+        for (size_t k = 0; k < S->skip_count; ++k) /* in list order, all before pass_next */
+            S->win[n++].index = S->skip[k];
         size_t nskip = n;
-        for (size_t i = s->sched.pass_next; n < nskip + s->sched.window && i < s->queue.list.count; ++i) {
-            if (s->queue.list.data[i].cost > s->sched.pass_limit && s->rep.collapses > s->sched.pass_before)
+        for (size_t i = S->pass_next; n < nskip + S->window && i < s->queue.list.count; ++i) {
+            if (s->queue.list.data[i].cost > S->pass_limit && s->rep.collapses > S->pass_before)
                 break;
-            s->sched.win[n++].index = i;
+            S->win[n++].index = i;
         }
         chunk_job job = {s, sc};
         if (resurfi_pool_for(chunk_pool(s), n, 64, star_block, &job))
             return 0;
-        s->sched.skip_count = 0;
+        S->skip_count = 0;
         size_t k = 0;
-        for (; k < n && s->sched.pend_count < s->sched.chunk; ++k) {
+        for (; k < n && S->pend_count < S->chunk; ++k) {
             if (k >= nskip) {
-                if (s->sched.skip_count >= s->sched.chunk)
+                if (S->skip_count >= S->chunk)
                     break;
-                candidate c = s->queue.list.data[s->sched.win[k].index];
-                if (c.cost > s->sched.pass_limit && (s->rep.collapses > s->sched.pass_before || s->sched.pend_count > 0))
+                candidate c = s->queue.list.data[S->win[k].index];
+                if (c.cost > S->pass_limit && (s->rep.collapses > S->pass_before || S->pend_count > 0))
                     break;
             }
             if (k + 4 < n) { /* the marks the claim four ahead will read */
-                const window_entry *ahead = &s->sched.win[k + 4];
+                const window_entry *ahead = &S->win[k + 4];
                 if (ahead->count != STAR_OVERFLOW)
                     for (uint32_t i = 0; i < ahead->count; ++i)
-                        PREFETCH(&s->gen[s->sched.stars[(k + 4) * STAR_MAX + ahead->na + ahead->nb + i]]);
+                        PREFETCH(&s->gen[S->stars[(k + 4) * STAR_MAX + ahead->na + ahead->nb + i]]);
             }
             int r = claim_candidate(s, k);
             if (r < 0)
                 return 0;
             if (r == 2)
-                s->sched.skip[s->sched.skip_count++] = s->sched.win[k].index;
+                S->skip[S->skip_count++] = S->win[k].index;
         }
         if (k < nskip) {
             for (; k < nskip; ++k)
-                s->sched.skip[s->sched.skip_count++] = s->sched.win[k].index;
+                S->skip[S->skip_count++] = S->win[k].index;
         } else {
-            s->sched.pass_next = k < n ? s->sched.win[k].index : n > nskip ? s->sched.win[n - 1].index + 1 : s->sched.pass_next;
+            S->pass_next = k < n ? S->win[k].index : n > nskip ? S->win[n - 1].index + 1 : S->pass_next;
         }
         /* Nothing taken from a whole window that did not reach the limit: the next window. */
-        if (s->sched.pend_count > 0 || k < n || n == nskip || s->sched.pass_next >= s->queue.list.count)
+        if (S->pend_count > 0 || k < n || n == nskip || S->pass_next >= s->queue.list.count)
             break;
     }
-    if (s->sched.pend_count == 0)
+    if (S->pend_count == 0)
         close_pass(s);
     return 1;
 }
@@ -311,22 +316,23 @@ int take_chunk(simplifier *s, scratch *sc)
  * whose ends no earlier one of the pass took. Returns 0 when out of memory. */
 static int take_chunk_ends(simplifier *s)
 {
-    s->sched.pend_count = s->sched.pend_next = 0;
-    size_t i = s->sched.pass_next;
-    for (; s->sched.pend_count < s->sched.chunk && i < s->queue.list.count; ++i) {
+    schedule *S = &s->sched;
+    S->pend_count = S->pend_next = 0;
+    size_t i = S->pass_next;
+    for (; S->pend_count < S->chunk && i < s->queue.list.count; ++i) {
         candidate c = s->queue.list.data[i];
-        if (c.cost > s->sched.pass_limit && (s->rep.collapses > s->sched.pass_before || s->sched.pend_count > 0))
+        if (c.cost > S->pass_limit && (s->rep.collapses > S->pass_before || S->pend_count > 0))
             break;
         if (((s->gen[c.a] | s->gen[c.b]) & TAKEN) || !candidate_current(s, c))
             continue;
         s->gen[c.a] |= TAKEN;
         s->gen[c.b] |= TAKEN;
-        if (!vec_push(s->alloc, &s->sched.taken, c.a) || !vec_push(s->alloc, &s->sched.taken, c.b))
+        if (!vec_push(s->alloc, &S->taken, c.a) || !vec_push(s->alloc, &S->taken, c.b))
             return 0;
-        s->sched.pend[s->sched.pend_count++] = (pending){.index = i};
+        S->pend[S->pend_count++] = (pending){.index = i};
     }
-    s->sched.pass_next = i;
-    if (s->sched.pend_count == 0)
+    S->pass_next = i;
+    if (S->pend_count == 0)
         close_pass(s);
     return 1;
 }
@@ -334,11 +340,12 @@ static int take_chunk_ends(simplifier *s)
 /* Closes the pass: nothing left under its limit. Its ends are free again. */
 static void close_pass(simplifier *s)
 {
-    for (size_t t = 0; t < s->sched.taken.count; ++t)
-        s->gen[s->sched.taken.data[t]] &= ~TAKEN;
-    s->sched.taken.count = 0;
-    s->sched.skip_count = 0;
-    s->sched.pass_open = 0;
+    schedule *S = &s->sched;
+    for (size_t t = 0; t < S->taken.count; ++t)
+        s->gen[S->taken.data[t]] &= ~TAKEN;
+    S->taken.count = 0;
+    S->skip_count = 0;
+    S->pass_open = 0;
 }
 
 /* Applies the chunk's collapses [begin, end) on worker `worker`: each into its worker's lane, its results' places
@@ -347,17 +354,18 @@ static int apply_block(void *ctx, size_t begin, size_t end, unsigned worker)
 {
     chunk_job *j = ctx;
     simplifier *s = j->s;
-    lane *L = &s->sched.lanes[worker];
+    schedule *S = &s->sched;
+    lane *L = &S->lanes[worker];
     for (size_t i = begin; i < end; ++i) {
-        pending *q = &s->sched.pend[i];
+        pending *q = &S->pend[i];
         if (i + 2 < end) {
-            candidate ahead = s->queue.list.data[s->sched.pend[i + 2].index];
+            candidate ahead = s->queue.list.data[S->pend[i + 2].index];
             PREFETCH(&s->P[ahead.a]);
             PREFETCH(&s->P[ahead.b]);
         }
         if (s->home && s->opt.restore == RESURF_RESTORE_INLINE)
             for (size_t k = 1; k <= 3 && i + k < end; ++k)
-                prefetch_walk(s, s->queue.list.data[s->sched.pend[i + k].index].a, k);
+                prefetch_walk(s, s->queue.list.data[S->pend[i + k].index].a, k);
         q->worker = worker;
         q->fresh_begin = L->fresh.count;
         q->renew_begin = L->renew.count;
@@ -382,33 +390,34 @@ static int apply_block(void *ctx, size_t begin, size_t end, unsigned worker)
  * each edge between two renewed positions is planned by the later one. Returns 0 when out of memory. */
 static int finish_parallel_chunk(simplifier *s)
 {
-    for (size_t k = 0; k < s->sched.pend_count; ++k) {
-        const pending *q = &s->sched.pend[k];
-        const lane *L = &s->sched.lanes[q->worker];
+    schedule *S = &s->sched;
+    for (size_t k = 0; k < S->pend_count; ++k) {
+        const pending *q = &S->pend[k];
+        const lane *L = &S->lanes[q->worker];
         size_t n = q->fresh_end - q->fresh_begin;
         if (n && !simp_buf_append(s->alloc, &s->queue.fresh, L->fresh.data + q->fresh_begin, n))
             return 0; /* (n = 0 may come with an empty lane: no pointer arithmetic on its NULL buffer) */
     }
     for (unsigned w = 0; w < s->threads; ++w) {
-        s->sched.lanes[w].fresh.count = 0;
-        merge_lane_counts(s, &s->sched.lanes[w]);
+        S->lanes[w].fresh.count = 0;
+        merge_lane_counts(s, &S->lanes[w]);
     }
-    for (size_t k = 0; k < s->sched.pend_count; ++k) {
-        const pending *q = &s->sched.pend[k];
-        const lane *L = &s->sched.lanes[q->worker];
+    for (size_t k = 0; k < S->pend_count; ++k) {
+        const pending *q = &S->pend[k];
+        const lane *L = &S->lanes[q->worker];
         for (size_t i = q->renew_begin; i < q->renew_end; ++i)
             s->P[L->renew.data[i]].flags |= POS_RENEW;
     }
-    lane *L0 = &s->sched.lanes[0];
-    for (size_t k = 0; k < s->sched.pend_count; ++k) {
-        const pending *q = &s->sched.pend[k];
-        const lane *L = &s->sched.lanes[q->worker];
+    lane *L0 = &S->lanes[0];
+    for (size_t k = 0; k < S->pend_count; ++k) {
+        const pending *q = &S->pend[k];
+        const lane *L = &S->lanes[q->worker];
         for (size_t i = q->renew_begin; i < q->renew_end; ++i)
             if (!plan_renewed(s, L0, L->renew.data[i], q->keep))
                 return 0;
     }
     for (unsigned w = 0; w < s->threads; ++w)
-        s->sched.lanes[w].renew.count = 0;
+        S->lanes[w].renew.count = 0;
     return merge_lane(s, L0);
 }
 
@@ -416,18 +425,20 @@ static int finish_parallel_chunk(simplifier *s)
  * target (each collapse removes at most two triangles). */
 int chunk_in_parallel(const simplifier *s, size_t target)
 {
-    return star_pass(s) && s->sched.pend_count && s->alive_tris > target + 2 * s->sched.pend_count;
+    const schedule *S = &s->sched;
+    return star_pass(s) && S->pend_count && s->alive_tris > target + 2 * S->pend_count;
 }
 
 /* Applies the chunk on all threads, then merges the lanes in the chunk's order. Returns 0 when out of memory. */
 int apply_chunk_parallel(simplifier *s, scratch *sc)
 {
+    schedule *S = &s->sched;
     chunk_job job = {s, sc};
-    if (resurfi_pool_for(chunk_pool(s), s->sched.pend_count, s->sched.chunk / 64 + 1, apply_block, &job))
+    if (resurfi_pool_for(chunk_pool(s), S->pend_count, S->chunk / 64 + 1, apply_block, &job))
         return 0;
     if (!finish_parallel_chunk(s))
         return 0;
-    s->sched.pend_next = s->sched.pend_count;
+    S->pend_next = S->pend_count;
     return 1;
 }
 
@@ -435,11 +446,12 @@ int apply_chunk_parallel(simplifier *s, scratch *sc)
  * on all threads first (when it is worth threads). Returns 0 when out of memory. */
 int restore_chunk_ahead(simplifier *s, scratch *sc)
 {
+    schedule *S = &s->sched;
     int batched = s->opt.restore == RESURF_RESTORE_INLINE && s->restorer && s->threads > 1;
     if (!batched || chunk_threads(s) <= 1)
         return 1;
     chunk_job job = {s, sc};
-    return !resurfi_pool_for(chunk_pool(s), s->sched.pend_count, s->sched.chunk / 16 + 1, restore_chunk_block, &job);
+    return !resurfi_pool_for(chunk_pool(s), S->pend_count, S->chunk / 16 + 1, restore_chunk_block, &job);
 }
 
 /* Applies the chunk's next collapse alone, on the calling thread. Returns 0 when out of memory. */
@@ -483,11 +495,12 @@ resurf_status schedule_init(simplifier *s)
 /* The working mesh is going: the lanes' marks go with it. */
 void schedule_drop_marks(simplifier *s)
 {
-    if (s->sched.lanes)
+    schedule *S = &s->sched;
+    if (S->lanes)
         for (unsigned w = 0; w < s->threads; ++w) {
             if (w > 0)
-                resurfi_free(s->alloc, s->sched.lanes[w].mark);
-            s->sched.lanes[w].mark = NULL;
+                resurfi_free(s->alloc, S->lanes[w].mark);
+            S->lanes[w].mark = NULL;
         }
 }
 

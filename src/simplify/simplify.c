@@ -7,7 +7,7 @@
  * Shapes Based on Normals Analysis", §4.2, for restoring every new vertex onto S as an intermediate step
  * (notes/restoring.md §8–§9).
  *
- * A call runs three phases, once for a single target and once per level for a LOD chain:
+ * A call runs three phases: the first once, the other two for each target (one, or one per level of a LOD chain):
  *   simplify_start    (setup.c) the working mesh: positions welded exactly, attribute vertices with equal
  *                     attributes merged into wedges, fins and triangles with a repeated position dropped, each
  *                     position's corners threaded into a list; per position (in parallel) border, seam and
