@@ -269,7 +269,7 @@ int resurfi_optdir_near(vec3 p, const vec3 pj[3], const vec3 nj[3], double t_gue
 double resurfi_glide_paper(vec3 p, vec3 pj, vec3 nj, vec3 n_opt, int side);
 double resurfi_glide_normal_section(vec3 p, vec3 pj, vec3 nj, vec3 n_opt);
 
-/* ---- the restorer: M's geometry services, shared by restore.c and simplify.c (restore_setup.c, restore.c) ---- */
+/* ---- the restorer: M's geometry services, shared by restore.c and simplify/ (restore_setup.c, restore.c) ---- */
 
 typedef struct resurfi_restorer resurfi_restorer;
 
@@ -334,7 +334,7 @@ vec3 resurfi_restorer_limit_height(const resurfi_restorer *r, uint32_t t, vec3 q
 /* The local edge length of M at triangle t (the largest mean edge length of its corners); 0 for t out of range. */
 double resurfi_restorer_edge_length(const resurfi_restorer *r, uint32_t t);
 
-/* ---- error quadrics (quadric.c), for the simplifier (simplify.c) --------------------------------------------- */
+/* ---- error quadrics (quadric.c), for the simplifier (simplify/) ---------------------------------------------- */
 
 /* Garland–Heckbert quadric: Q(x) = xᵀ A x + 2 bᵀ x + c, a weighted sum of squared distances to planes, with the
  * total weight w (so sqrt(Q(x) / w) is an RMS distance). A is symmetric: a[0..5] = A00 A01 A02 A11 A12 A22. */

@@ -1,4 +1,4 @@
-/* Tests for src/simplify.c, the edge-collapse simplifier with restoration, against independent truth:
+/* Tests for src/simplify/, the edge-collapse simplifier with restoration, against independent truth:
  * hand-made meshes (a tetrahedron that cannot shrink, a cube, a planar grid whose border and area must stay, a
  * grid cut by a texture seam whose texcoords are a known linear function on each side), analytic shapes
  * (tools/shapes.h: every vertex of a restored sphere LOD on the unit sphere, targets reached on closed and open
@@ -814,7 +814,7 @@ END_TEST
  * by 45° per edge, and S, the smooth surface they describe, rises about 0.076 over the middle of a side, a tenth of
  * an edge, where the circle through the octagon would.
  * Where M's normals turn sharply, restored vertices stay near M: within 0.05 of M's local edge length of the plane
- * of the triangle they were restored on (the rise limit of src/simplify.c), although S rises a tenth of an edge
+ * of the triangle they were restored on (the rise limit of src/simplify/guards.c), although S rises a tenth of an edge
  * there. Midpoint placement puts new vertices on M's chords, so every one is restored; the straddling offset is off.
  * Asserted against the brute-force distance to M, with 10% to spare: at most 0.05 × 1.1 × the longest edge at a
  * corner of the closest triangle (0.77 on the tube, 1.12 at the cones). */

@@ -1,0 +1,232 @@
+/* Edge-collapse simplification with the new vertices restored onto the smooth surface of the ORIGINAL mesh.
+ *
+ * Sources: Garland & Heckbert, "Surface Simplification Using Quadric Error Metrics" (SIGGRAPH 1997) for the costs
+ * and the placement (quadric.c); Hoppe, "New quadric metric for simplifying meshes with appearance attributes"
+ * (1999) for wedges (attribute vertices that share a position); Dey, Edelsbrunner, Guha & Nekhayev, "Topology
+ * preserving edge contraction" (1999) for the link condition; Semenova, Savchenko & Hagiwara, "Reconstruction of
+ * Shapes Based on Normals Analysis", §4.2, for restoring every new vertex onto S as an intermediate step
+ * (notes/restoring.md §8–§9).
+ *
+ * A call runs three phases: the first once, the other two for each target (one, or one per level of a LOD chain):
+ *   simplify_start    (setup.c) the working mesh: positions welded exactly, attribute vertices with equal
+ *                     attributes merged into wedges, fins and triangles with a repeated position dropped, each
+ *                     position's corners threaded into a list; per position (in parallel) border, seam and
+ *                     non-manifold flags and the quadric (area-weighted triangle planes, plus planes through
+ *                     border and seam edges perpendicular to their triangles), beside the restorer's set-up; the
+ *                     attribute charts; every edge's candidate collapse and cost, sorted (collapse.c, queue.c);
+ *   collapse_until    (collapse.c) passes over the sorted candidates, each taking independent ones in cost order,
+ *                     in chunks (schedule.c): planned again, checked (guards.c: link condition, flips and folds,
+ *                     minimum angle, tip and bridge), restored, applied; at each level's target,
+ *   build_output      (output.c) the result: wedges become vertices, POST restoration, vertices straddle S by the
+ *                     sag offset, attributes are interpolated from the input, the distance to the input measured.
+ *
+ * The files of src/simplify/, one concern each:
+ *   simplify.c           this file: the public functions, the options and their checks, a call's life;
+ *   simplify_internal.h  the working mesh, the per-concern state the simplifier holds, the small inline helpers;
+ *   setup.c              weld, wedges, fins, corner lists, per-position analysis, charts, the set-up's order;
+ *   collapse.c           placement, cost, the vertex-kind rule (a table), applying a collapse, trying a candidate,
+ *                        the pass loop;
+ *   guards.h, guards.c   the guards of one collapse, and the contract of what a collapse in a parallel chunk may
+ *                        read and write (checked in debug builds);
+ *   queue.h, queue.c     the candidate queue: sorts, the refresh between passes and its parallel merge;
+ *   schedule.c           passes, chunks, windows, stars, claims, lanes, prefetch: the only file of the collapse
+ *                        loop that knows about threads;
+ *   output.c             numbering, post restoration, sag offset, attributes, measuring.
+ *
+ * Collapses work on welded positions. A triangle corner keeps its wedge (the id of an input attribute vertex); when
+ * a position disappears, each corner takes the wedge of the surviving position on its side of any seam, which is
+ * why a seam vertex may only collapse along its seam (the rule table is kHeld in collapse.c).
+ * Nothing here depends on the thread count: parallel phases write per-element results only, and the collapses
+ * applied in parallel are those of a chunk with disjoint stars (guards.h), whose results are merged in the chunk's
+ * order. */
+#include <math.h>
+
+#include "simplify_internal.h"
+
+static void scratch_free(scratch *s)
+{
+    resurfi_free(s->alloc, s->fan.data);
+    for (int i = 0; i < 2 * GATHER_GROUP; ++i)
+        resurfi_free(s->alloc, s->group[i].data);
+    resurfi_free(s->alloc, s->pairs);
+    resurfi_free(s->alloc, s->uf);
+}
+
+resurf_simplify_options resurf_simplify_options_default(void)
+{
+    resurf_simplify_options o;
+    memset(&o, 0, sizeof o);
+    o.struct_size = sizeof o;
+    o.target_ratio = 0.5;
+    o.placement = RESURF_PLACEMENT_QUADRIC;
+    o.restore = RESURF_RESTORE_INLINE;
+    o.sag_offset = 1.0;
+    o.max_normal_change_deg = 60;
+    o.border_weight = 1;
+    o.drop_fins = 1;
+    o.measure_samples = 100000;
+    return o;
+}
+
+static resurf_status check_options(const resurf_simplify_options *o, resurf_error *error)
+{
+    RESURFI_CHECK_OPTIONS_ALLOC(o, resurf_simplify_options, error);
+    if (!o)
+        return RESURF_OK;
+    const char *bad = NULL;
+    if (!(o->target_ratio >= 0 && o->target_ratio <= 1))
+        bad = "target_ratio must be in [0, 1]";
+    else if (!(o->max_error >= 0 && isfinite(o->max_error)))
+        bad = "max_error must be finite and >= 0";
+    else if (!(o->max_error_rel >= 0 && isfinite(o->max_error_rel)))
+        bad = "max_error_rel must be finite and >= 0";
+    else if ((unsigned)o->placement >= RESURF_PLACEMENT_COUNT)
+        bad = "placement is not a resurf_placement";
+    else if ((unsigned)o->restore >= RESURF_RESTORE_MODE_COUNT)
+        bad = "restore is not a resurf_restore_mode";
+    else if (!(o->sag_offset >= 0 && o->sag_offset <= 4))
+        bad = "sag_offset must be in [0, 4]";
+    else if (!(o->min_angle_deg >= 0 && o->min_angle_deg < 60))
+        bad = "min_angle_deg must be in [0, 60)";
+    else if (!(o->max_normal_change_deg > 0 && o->max_normal_change_deg <= 180))
+        bad = "max_normal_change_deg must be in (0, 180]";
+    else if (!(o->border_weight >= 0 && isfinite(o->border_weight)))
+        bad = "border_weight must be finite and >= 0";
+    else if (o->restore_options && o->restore_options->struct_size != sizeof(resurf_restore_options))
+        bad = "restore_options was not initialised by resurf_restore_options_default()";
+    if (bad)
+        return resurfi_error(error, RESURF_ERR_INVALID_OPTIONS, "resurf_simplify_options: %s", bad);
+    return RESURF_OK;
+}
+
+static void simplifier_free(simplifier *s)
+{
+    resurfi_free(s->alloc, s->remap);
+    resurfi_free(s->alloc, s->tri);
+    resurfi_free(s->alloc, s->src);
+    resurfi_free(s->alloc, s->P_mem);
+    resurfi_free(s->alloc, s->mark);
+    resurfi_free(s->alloc, s->charts.of_input_tri);
+    resurfi_free(s->alloc, s->charts.of_wedge);
+    simp_queue_free(&s->queue);
+    resurfi_free(s->alloc, s->gen);
+    resurfi_free(s->alloc, s->home);
+    schedule_free(s);
+    resurfi_restorer_free(s->restorer);
+    resurfi_bvh_free(s->own_bvh);
+    resurfi_pool_free(s->pool);
+}
+
+/* The shared worker: one run of collapses, a snapshot at each target (non-increasing). */
+static resurf_status simplify_levels(const resurf_mesh *in, const resurf_simplify_options *options,
+                                     const size_t *targets, size_t count, resurf_mesh **outs,
+                                     resurf_simplify_report *reports, resurf_error *error)
+{
+    simplifier s;
+    memset(&s, 0, sizeof s);
+    s.in = in;
+    s.opt = options ? *options : resurf_simplify_options_default();
+    s.threads = resurfi_thread_count(s.opt.threads);
+    s.alloc = resurfi_allocator_of(s.opt.allocator, in);
+    s.queue.alloc = s.alloc;
+    scratch *sc = resurfi_calloc(s.alloc, s.threads, sizeof *sc);
+    if (!sc)
+        return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory starting the simplification");
+    for (unsigned w = 0; w < s.threads; ++w)
+        sc[w].alloc = s.alloc;
+    resurf_status st = resurfi_pool_create(s.alloc, s.threads, &s.pool);
+    if (st != RESURF_OK)
+        st = resurfi_error(error, st, "out of memory starting the simplification");
+    else if (resurfi_progress(&s.opt.progress, "prepare", 0))
+        st = resurfi_error(error, RESURF_ERR_CANCELLED, "simplification cancelled");
+    if (st == RESURF_OK)
+        st = simplify_start(&s, sc, error);
+    for (size_t i = 0; i < count && st == RESURF_OK; ++i) {
+        if (s.tri_count)
+            st = collapse_until(&s, targets[i], sc, error);
+        else
+            s.rep.stop = RESURF_STOP_TARGET;
+        if (st == RESURF_OK && resurfi_progress(&s.opt.progress, "finish", (double)i / (double)count))
+            st = resurfi_error(error, RESURF_ERR_CANCELLED, "simplification cancelled");
+        if (i + 1 == count) { /* no more collapses: the queue's memory goes before the output's comes */
+            s.last_level = 1;
+            simp_queue_free(&s.queue);
+        }
+        resurf_simplify_report rep;
+        if (st == RESURF_OK)
+            st = build_output(&s, &outs[i], &rep, error);
+        if (st == RESURF_OK && reports)
+            reports[i] = rep;
+    }
+    if (st == RESURF_OK && resurfi_progress(&s.opt.progress, "finish", 1))
+        st = resurfi_error(error, RESURF_ERR_CANCELLED, "simplification cancelled");
+    for (unsigned w = 0; w < s.threads; ++w)
+        scratch_free(&sc[w]);
+    resurfi_free(s.alloc, sc);
+    simplifier_free(&s);
+    if (st != RESURF_OK)
+        for (size_t i = 0; i < count; ++i) {
+            resurf_mesh_free(outs[i]);
+            outs[i] = NULL;
+        }
+    return st;
+}
+
+resurf_status resurf_simplify(const resurf_mesh *in, const resurf_simplify_options *options, resurf_mesh **out,
+                              resurf_simplify_report *out_report, resurf_error *error)
+{
+    resurfi_clear_error(error);
+    if (!out)
+        return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "out is NULL");
+    *out = NULL;
+    if (!in)
+        return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "the input mesh is NULL");
+    resurf_status st = check_options(options, error);
+    if (st != RESURF_OK)
+        return st;
+    resurf_simplify_options o = options ? *options : resurf_simplify_options_default();
+    /* Whichever target comes first is the larger triangle count. */
+    size_t target = 0;
+    if (o.target_triangles)
+        target = o.target_triangles;
+    if (o.target_ratio > 0) {
+        size_t r = (size_t)floor(o.target_ratio * (double)in->triangle_count * (1 + 1e-12));
+        target = r > target ? r : target;
+    }
+    resurf_simplify_report rep;
+    st = simplify_levels(in, &o, &target, 1, out, out_report ? &rep : NULL, error);
+    if (st == RESURF_OK && out_report)
+        *out_report = rep;
+    return st;
+}
+
+resurf_status resurf_simplify_lods(const resurf_mesh *in, const resurf_simplify_options *options, const double *ratios,
+                                   size_t count, resurf_mesh **out_levels, resurf_simplify_report *out_reports,
+                                   resurf_error *error)
+{
+    resurfi_clear_error(error);
+    if (!out_levels || (count && !ratios))
+        return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "%s is NULL", out_levels ? "ratios" : "out_levels");
+    for (size_t i = 0; i < count; ++i)
+        out_levels[i] = NULL;
+    if (!in)
+        return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "the input mesh is NULL");
+    resurf_status st = check_options(options, error);
+    if (st != RESURF_OK)
+        return st;
+    const resurf_allocator *alloc = resurfi_allocator_of(options ? options->allocator : NULL, in);
+    size_t *targets = resurfi_alloc(alloc, count, sizeof *targets);
+    if (!targets)
+        return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
+    for (size_t i = 0; i < count; ++i) {
+        if (!(ratios[i] > 0 && ratios[i] <= 1) || (i > 0 && ratios[i] > ratios[i - 1])) {
+            resurfi_free(alloc, targets);
+            return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT,
+                                 "ratio %zu (%g) must be in (0, 1] and not above the previous one", i, ratios[i]);
+        }
+        targets[i] = (size_t)floor(ratios[i] * (double)in->triangle_count * (1 + 1e-12));
+    }
+    st = simplify_levels(in, options, targets, count, out_levels, out_reports, error);
+    resurfi_free(alloc, targets);
+    return st;
+}

@@ -1,0 +1,380 @@
+/* The simplifier's shared types and small helpers: the working mesh, the per-concern state the simplifier holds,
+ * and the functions the files of src/simplify/ call across (simplify.c lists the files). The smallest helpers of
+ * the collapse loop are static inline here, so that splitting the loop over files costs no inlining. */
+#ifndef RESURF_SIMPLIFY_INTERNAL_H
+#define RESURF_SIMPLIFY_INTERNAL_H
+
+#include <string.h>
+
+#include "../internal.h"
+#include "queue.h"
+
+#define NONE UINT32_MAX
+
+enum {
+    BLOCK_POSITIONS = 1024,       /* parallel block sizes */
+    BLOCK_SAMPLES = 4096,
+    CHUNK = 1024,                 /* candidates of a pass applied together, at most */
+    WINDOW = 1536,                /* candidates whose stars are gathered for a chunk, besides those put aside */
+    CHUNK_MIN = 16,               /* a chunk's size is alive positions / CHUNK_SPREAD, within [CHUNK_MIN, CHUNK] */
+    CHUNK_SPREAD = 64,
+    CHUNK_THREADS = 32,           /* smaller chunks run on one thread: handing them out would cost more than it saves */
+};
+
+/* Per-position flags. */
+enum {
+    POS_DEAD = 1,          /* collapsed away */
+    POS_LOCKED = 2,        /* non-manifold or inconsistently oriented in the input: never moves */
+    POS_LOCKED_BORDER = 4, /* on a border with lock_border */
+    POS_BORDER = 8,        /* on an edge with one triangle */
+    POS_SEAM = 16,         /* exactly two wedges, split by exactly two seam edges, not on a border */
+    POS_COMPLEX = 32,      /* any other wedge arrangement (seam junctions, seams ending on a border): never moves */
+    POS_BLOCKED = 64,      /* a collapse at it failed a geometric guard: retry once its neighbourhood changes */
+    POS_RENEW = 128,       /* transient, while renewed neighbours are planned again (plan_renewed) */
+};
+
+/* Why a candidate collapse cannot be done. */
+enum {
+    BLOCK_NONE = 0,
+    BLOCK_STALE,       /* not an edge any more */
+    BLOCK_SEAM,
+    BLOCK_BORDER,
+    BLOCK_NONMANIFOLD, /* most severe last: when both directions fail, the larger reason is reported */
+    BLOCK_REASONS
+};
+
+/* The top bits of gen: TAKEN marks an end of a candidate taken up by the current pass, CLAIMED a position of the
+ * star of a candidate of the current chunk (schedule.c); the rest is the generation (queue.h). */
+enum { TAKEN = 0x80000000u, CLAIMED = 0x40000000u, GEN = SIMP_GEN };
+
+typedef struct u32vec {
+    uint32_t *data;
+    size_t count, cap;
+} u32vec;
+
+/* A corner of a position's fan, sorted by the neighbour it leads to: the unit of the per-position analyses. */
+typedef struct fan_pair {
+    uint32_t x;    /* the neighbour position */
+    uint32_t slot; /* index of the corner in the fan, times 2, plus 1 when x precedes the position in the face */
+} fan_pair;
+
+enum { GATHER_GROUP = 4 }; /* candidates whose fans star_block gathers together */
+
+/* One worker's buffers for the parallel loops. */
+typedef struct scratch {
+    const resurf_allocator *alloc; /* the call's */
+    u32vec fan;
+    u32vec group[2 * GATHER_GROUP]; /* star_block: the fans of a group of candidates' ends */
+    fan_pair *pairs;
+    uint32_t *uf;
+    size_t pairs_cap;
+    size_t blocked[BLOCK_REASONS]; /* candidates refused while seeding, by BLOCK_* reason */
+    char pad[128];     /* one per worker, side by side: keeps their counters off each other's cache lines */
+} scratch;
+
+/* A planned collapse of edge (a, b). */
+typedef struct plan {
+    int block;               /* BLOCK_*; the rest is valid for BLOCK_NONE only */
+    int a_removable, b_removable;
+    int pinned;              /* 1: the position is that of the surviving end, already where it should be */
+    uint32_t shared[2];      /* the triangles on the edge */
+    int shared_count;
+    vec3 p;
+    double cost;
+} plan;
+
+/* A working triangle: its corners 3t..3t+2 (corner c is triangle c / 3, slot c % 3). The arrays of one triangle
+ * and of one position sit together: the collapse loop visits them at random and each miss then brings the rest. */
+typedef struct work_tri {
+    uint32_t v[3];    /* position of each corner */
+    uint32_t w[3];    /* wedge of each corner: the lowest input vertex with the same position and attributes */
+    uint32_t next[3]; /* next corner of the same position, NONE at the end */
+    uint32_t dead;
+} work_tri;
+
+/* 128 bytes, allocated on a 64-byte boundary: the first cache line holds what every visit reads (flags, position,
+ * list head), the quadric follows. */
+typedef struct work_pos {
+    vec3 p;
+    uint32_t head;    /* first corner */
+    uint32_t up;      /* while starting: its neighbours above it (its edges in the first list) */
+    uint8_t flags;
+    resurfi_quadric q;
+} work_pos;
+
+#define TV(c) (s->tri[(c) / 3].v[(c) % 3])
+#define TW(c) (s->tri[(c) / 3].w[(c) % 3])
+#define TNEXT(c) (s->tri[(c) / 3].next[(c) % 3])
+
+/* Candidate `index` of the list as gathered ahead of the claims (star_block): its ends' fans (live corners, in
+ * list order: what gather_fan returns) and its closed star (the ends and their neighbours, each once). count is 0
+ * when the candidate has no business in this pass, STAR_OVERFLOW when it did not fit in STAR_MAX words (gathered
+ * again where needed). */
+typedef struct window_entry {
+    size_t index;
+    uint32_t count; /* of star positions */
+    uint32_t na, nb;
+} window_entry;
+
+enum { STAR_MAX = 96, STAR_OVERFLOW = UINT32_MAX };
+
+/* A candidate taken up by a pass: its place in the list and, with inline restoration, its placement restored.
+ * Applied on a worker (apply_block), also where its results wait in that worker's lane. */
+typedef struct pending {
+    size_t index;
+    vec3 p, restored;
+    uint32_t home;
+    uint8_t restore, left;
+    unsigned worker;
+    uint32_t *fans;                  /* its ends' fans as gathered with its star (na + nb corners), or NULL */
+    uint32_t na, nb;
+    uint32_t keep;                   /* the surviving end, when collapsed */
+    size_t fresh_begin, fresh_end;   /* its new candidates in the lane's fresh */
+    size_t renew_begin, renew_end;   /* its renewed neighbours in the lane's renew, planned after the chunk */
+} pending;
+
+/* What one collapse writes besides its own star: per worker, so that the collapses of a chunk run in parallel
+ * (schedule.c). Merged into the simplifier after each chunk, in the chunk's order. */
+typedef struct lane {
+    u32vec fan_a, fan_b, fan_c, touched, renew;
+    uint32_t *mark;         /* scratch stamps, see next_stamp (lane 0's is the simplifier's) */
+    uint32_t stamp;
+    candidate_buf fresh;    /* candidates planned or requeued, for the queue's fresh */
+    resurf_simplify_report rep; /* counters to add to the simplifier's */
+    size_t dead_tris, dead_positions;
+    int skipped_error;
+#ifndef NDEBUG
+    uint32_t writer;        /* the pending entry whose collapse runs on this lane in a parallel chunk, else NONE */
+#endif
+    char pad[128]; /* side by side: keeps the lanes' counters off each other's cache lines */
+} lane;
+
+/* The scheduler's state (schedule.c): the open pass, its chunk and the workers' lanes. */
+typedef struct schedule {
+    lane *lanes;            /* one per thread */
+    pending *pend;          /* CHUNK: the chunk's candidates being applied, pend_next the next one */
+    size_t pend_count, pend_next;
+    int pass_open;
+    size_t pass_next;       /* the next candidate of the open pass */
+    size_t pass_before;     /* collapses when it opened */
+    float pass_limit;
+    size_t chunk, window;   /* this pass's chunk size and window (open_pass) */
+    u32vec taken;           /* the positions marked taken */
+    u32vec claimed;         /* the positions marked claimed (stars of the chunk's candidates) */
+    size_t *skip;           /* CHUNK: candidates of the pass whose star met a claimed one: for the next chunk */
+    size_t skip_count;
+    window_entry *win;      /* CHUNK + WINDOW: the candidates examined for a chunk */
+    uint32_t *stars;        /* STAR_MAX per window entry: their stars */
+#ifndef NDEBUG
+    uint32_t *owner;        /* per position: the pending entry whose star claimed it in this chunk (guards.h) */
+#endif
+} schedule;
+
+/* Attribute sides (setup.c, only when the input has attributes and seams): chart of each input triangle and
+ * wedge. */
+typedef struct charts {
+    uint32_t *of_input_tri;
+    uint32_t *of_wedge;
+} charts;
+
+typedef struct simplifier {
+    const resurf_mesh *in;
+    resurf_simplify_options opt;
+    const resurf_allocator *alloc; /* the call's (options, else the input's): temporaries and the output */
+    unsigned threads;
+    resurfi_pool *pool;  /* threads - 1 workers waiting for the call's parallel loops (NULL with one thread) */
+    double diagonal, max_error;
+    double area_floor;   /* AREA_FLOOR × the mean triangle area */
+    vec3 origin;         /* the bounding box's centre: quadrics are built around it, where their expanded form
+                            xᵀAx + 2bᵀx + c loses the fewest digits to cancellation */
+
+    /* the working mesh */
+    size_t tri_count, alive_tris;
+    work_tri *tri;
+    uint32_t *src;     /* input triangle of each working triangle */
+    uint32_t *remap;   /* while starting: position of each input vertex (resurfi_weld_exact) */
+    size_t pos_count, alive_positions;
+    work_pos *P;         /* inside P_mem, 64-byte aligned */
+    void *P_mem;
+    uint32_t *mark;    /* lane 0's scratch stamps (allocated with the working mesh) */
+    uint32_t *gen;     /* per position: bumped when it changes (its candidates then go stale); the top bits are
+                          the scheduler's marks. Apart from the 128-byte records: a pass reads it for every
+                          candidate. */
+
+    /* the original M: for restoring, attributes and measuring */
+    resurfi_restorer *restorer;
+    resurfi_bvh *own_bvh;       /* when there is no restorer */
+    const resurfi_bvh *bvh;     /* over the input's triangles, input triangle ids */
+    uint32_t *home;             /* inline restoration: per position, a triangle of the input near it */
+    charts charts;
+
+    simp_queue queue;
+    schedule sched;
+    int skipped_error;      /* a candidate was skipped for max_error in this collapse_until */
+    int last_level;         /* building the last output: the working mesh may go once read */
+    resurf_simplify_report rep;
+} simplifier;
+
+/* ---- small helpers ------------------------------------------------------------------------------------------- */
+
+static inline int vec_push(const resurf_allocator *alloc, u32vec *v, uint32_t x)
+{
+    if (v->count == v->cap) {
+        size_t cap = v->cap ? 2 * v->cap : 32;
+        uint32_t *d = resurfi_realloc(alloc, v->data, cap, sizeof *d);
+        if (!d)
+            return 0;
+        v->data = d;
+        v->cap = cap;
+    }
+    v->data[v->count++] = x;
+    return 1;
+}
+
+/* A fresh stamp for lane L's mark array: a position is "marked" when mark[p] equals it. */
+static inline uint32_t next_stamp(const simplifier *s, lane *L)
+{
+    if (L->stamp >= UINT32_MAX - 4) {
+        memset(L->mark, 0, s->pos_count * sizeof *L->mark);
+        L->stamp = 0;
+    }
+    L->stamp += 2;
+    return L->stamp;
+}
+
+static inline uint32_t corner_next(uint32_t c) { return c - c % 3 + (c % 3 + 1) % 3; }
+static inline uint32_t corner_prev(uint32_t c) { return c - c % 3 + (c % 3 + 2) % 3; }
+
+/* The positions after and before corner c in its triangle: TV(corner_next(c)) and TV(corner_prev(c)) with one
+ * division instead of four (the collapse loop asks this for every corner of every fan it looks at). */
+static inline void corner_others(const simplifier *s, uint32_t c, uint32_t xs[2])
+{
+    uint32_t t = c / 3, k = c - 3 * t;
+    xs[0] = s->tri[t].v[k == 2 ? 0 : k + 1];
+    xs[1] = s->tri[t].v[k == 0 ? 2 : k - 1];
+}
+
+/* The corner of triangle t at position v, or NONE. */
+static inline uint32_t corner_at(const simplifier *s, uint32_t t, uint32_t v)
+{
+    for (uint32_t k = 0; k < 3; ++k)
+        if (TV(3 * t + k) == v)
+            return 3 * t + k;
+    return NONE;
+}
+
+/* The corners of live triangles at each of n distinct positions v[i] (n <= 2 GATHER_GROUP), in list order, into
+ * out[i]. With unlink, dead triangles' corners are dropped from the lists on the way (only a collapse applied
+ * alone may do that: it writes the lists' links). The lists are walked in step: each step of a list is a cache
+ * miss on a large mesh, and the misses of different lists then overlap instead of following one another. Returns
+ * 0 when out of memory. */
+static inline int gather_fans(simplifier *s, const uint32_t *v, size_t n, u32vec *out, int unlink)
+{
+    uint32_t c[2 * GATHER_GROUP], prev[2 * GATHER_GROUP];
+    for (size_t i = 0; i < n; ++i) {
+        out[i].count = 0;
+        c[i] = s->P[v[i]].head;
+        prev[i] = NONE;
+    }
+    for (int live = 1; live;) {
+        live = 0;
+        for (size_t i = 0; i < n; ++i) {
+            uint32_t cur = c[i];
+            if (cur == NONE)
+                continue;
+            live = 1;
+            c[i] = TNEXT(cur);
+            if (!s->tri[cur / 3].dead) {
+                if (!vec_push(s->alloc, &out[i], cur))
+                    return 0;
+                prev[i] = cur;
+            } else if (!unlink) {
+                prev[i] = cur;
+            } else if (prev[i] == NONE) {
+                s->P[v[i]].head = c[i];
+            } else {
+                TNEXT(prev[i]) = c[i];
+            }
+        }
+    }
+    return 1;
+}
+
+/* One position's fan (gather_fans). */
+static inline int gather_fan(simplifier *s, uint32_t v, u32vec *out, int unlink)
+{
+    return gather_fans(s, &v, 1, out, unlink);
+}
+
+/* Q(p) for a quadric built around s->origin. */
+static inline double qeval(const simplifier *s, const resurfi_quadric *q, vec3 p)
+{
+    return resurfi_quadric_eval(q, v3_sub(p, s->origin));
+}
+
+/* Position x changed: its candidates go stale. */
+static inline void bump_gen(simplifier *s, uint32_t x)
+{
+    s->gen[x] = (s->gen[x] & ~GEN) | ((s->gen[x] + 1) & GEN);
+}
+
+/* Is candidate c still what its ends are? */
+static inline int candidate_current(const simplifier *s, candidate c) { return simp_candidate_current(s->gen, c); }
+
+/* The start of the walk of a restoration `ahead` (1..3) places ahead in a loop, from position a's home: its home's
+ * entry three ahead, then the triangle's corner ids, then what they point to (resurfi_restorer_prefetch). */
+static inline void prefetch_walk(const simplifier *s, uint32_t a, size_t ahead)
+{
+    if (ahead >= 3)
+        PREFETCH(&s->home[a]);
+    else
+        resurfi_restorer_prefetch(s->restorer, s->home[a], ahead == 1);
+}
+
+/* Asks for what a collapse reads of the positions around a fan: their records (both cache lines: the checks read
+ * their places, the new candidates their quadrics) and their marks (link_ok). One neighbour per corner covers a
+ * closed fan. */
+static inline void prefetch_ring(const simplifier *s, const lane *L, const u32vec *fan)
+{
+    for (size_t i = 0; i < fan->count; ++i) {
+        uint32_t x = TV(corner_next(fan->data[i]));
+        PREFETCH(&s->P[x]);
+        PREFETCH(&s->P[x].q.c);
+        PREFETCH(&L->mark[x]);
+    }
+}
+
+/* ---- across the files ---------------------------------------------------------------------------------------- */
+
+/* setup.c: everything up to the first candidates; the per-position analysis collapses reuse */
+int has_attributes(const resurf_mesh *m);
+size_t fan_pairs(const simplifier *s, const u32vec *fan, scratch *sc);
+int analyse_position(simplifier *s, uint32_t a, scratch *sc, uint8_t *out_flags, resurfi_quadric *out_q,
+                     uint32_t *out_up);
+resurf_status simplify_start(simplifier *s, scratch *scratch, resurf_error *error);
+
+/* collapse.c: planning, the first candidates, applying, the pass loop */
+void plan_collapse(const simplifier *s, uint32_t a, uint32_t b, const u32vec *fan_a, plan *pl);
+resurf_status seed_candidates(simplifier *s, scratch *scratch);
+int try_candidate(simplifier *s, pending *q, lane *L, scratch *sc, int defer);
+int plan_renewed(simplifier *s, lane *L, uint32_t x, uint32_t keep);
+resurf_status collapse_until(simplifier *s, size_t target, scratch *sc, resurf_error *error);
+
+/* schedule.c: passes, chunks, lanes (guards.h states what a collapse of a chunk may touch) */
+resurf_status schedule_init(simplifier *s);
+void schedule_drop_marks(simplifier *s);
+void schedule_free(simplifier *s);
+int open_pass(simplifier *s);
+int take_chunk(simplifier *s, scratch *sc);
+int chunk_in_parallel(const simplifier *s, size_t target);
+int apply_chunk_parallel(simplifier *s, scratch *sc);
+int restore_chunk_ahead(simplifier *s, scratch *sc);
+int apply_next_alone(simplifier *s, scratch *sc);
+int merge_lane(simplifier *s, lane *L);
+
+/* output.c */
+resurf_status build_output(simplifier *s, resurf_mesh **out, resurf_simplify_report *rep, resurf_error *error);
+
+#include "guards.h"
+
+#endif
