@@ -132,7 +132,7 @@ static void leave_c_locale(c_locale_scope *scope)
 resurf_status resurfi_load_progress(resurfi_load *ld, const char *pos)
 {
     double fraction = ld->size ? (double)(pos - ld->data) / (double)ld->size : 1.0;
-    if (resurfi_progress(ld->progress, "load", fraction))
+    if (resurfi_progress(ld->progress, RESURF_STAGE_LOAD, fraction))
         return resurfi_fail(ld->error, RESURF_ERR_CANCELLED, ld->path, 0, -1, "cancelled by the progress callback");
     return RESURF_OK;
 }
@@ -209,7 +209,7 @@ static resurf_status load_bytes(const char *data, size_t size, resurf_format for
     leave_c_locale(&scope);
     if (status != RESURF_OK)
         return status;
-    if (resurfi_progress(&opts->progress, "load", 1.0)) {
+    if (resurfi_progress(&opts->progress, RESURF_STAGE_LOAD, 1.0)) {
         resurf_mesh_free(mesh);
         return resurfi_fail(error, RESURF_ERR_CANCELLED, name, 0, -1, "cancelled by the progress callback");
     }
@@ -317,7 +317,7 @@ static resurf_status read_file(const char *path, const resurf_load_options *opts
         ssize_t n = read(fd, data + size, cap - size);
         if (n < 0 && errno == EINTR) {
             /* A signal interrupted a read that waits on a pipe: the caller may want to stop. */
-            if (resurfi_progress(&opts->progress, "load", 0.0)) {
+            if (resurfi_progress(&opts->progress, RESURF_STAGE_LOAD, 0.0)) {
                 status = resurfi_fail(error, RESURF_ERR_CANCELLED, path, 0, -1, "cancelled by the progress callback");
                 break;
             }
@@ -505,7 +505,7 @@ resurf_status resurf_mesh_save(const resurf_mesh *mesh, const char *path, const 
     if (status != RESURF_OK)
         unlink(tmp);
     else {
-        (void)resurfi_progress(&opts.progress, "save", 1.0); /* too late to cancel: the file is in place */
+        (void)resurfi_progress(&opts.progress, RESURF_STAGE_SAVE, 1.0); /* too late to cancel: the file is in place */
         resurfi_clear_error(error);
     }
 done:

@@ -1042,17 +1042,9 @@ static vec3 restore_point(const simplifier *s, vec3 p, double scale, uint32_t ho
 }
 
 /* The cost that ranks a planned collapse. */
-static float rank_cost(const simplifier *s, uint32_t a, uint32_t b, const plan *pl)
+static float rank_cost(const simplifier *s, const plan *pl)
 {
     double cost = pl->cost;
-    if (s->opt.cost_at_restored && s->restorer && !pl->pinned) {
-        int left;
-        uint32_t t;
-        vec3 r = restore_point(s, pl->p, v3_dist(s->P[a].p, s->P[b].p), s->home[a], &left, &t);
-        resurfi_quadric q = s->P[a].q;
-        resurfi_quadric_add(&q, &s->P[b].q);
-        cost = qeval(s, &q, r);
-    }
     /* Costs are squared lengths times areas: divide by diagonal⁴ so that floats neither underflow nor overflow. */
     double d2 = s->diagonal * s->diagonal;
     double scaled = d2 > 0 ? cost / (d2 * d2) : cost;
@@ -1221,7 +1213,7 @@ static int push_edges(simplifier *s, lane *L, uint32_t a, const u32vec *fan, uin
                 count_block(&L->rep, pl.block);
                 continue;
             }
-            candidate c = {rank_cost(s, a, x, &pl), a, x, (s->gen[a] + s->gen[x]) & GEN};
+            candidate c = {rank_cost(s, &pl), a, x, (s->gen[a] + s->gen[x]) & GEN};
             if (!push_fresh(s, L, c))
                 return 0;
         }
@@ -1390,7 +1382,7 @@ static int seed_block(void *ctx, size_t begin, size_t end, unsigned worker)
                     sc->blocked[pl.block]++;
                     continue;
                 }
-                slot[used++] = (candidate){rank_cost(s, (uint32_t)a, b, &pl), (uint32_t)a, b, 0};
+                slot[used++] = (candidate){rank_cost(s, &pl), (uint32_t)a, b, 0};
             }
         }
         for (; used < room; ++used)
@@ -1812,7 +1804,7 @@ static int try_candidate(simplifier *s, pending *q, lane *L, scratch *sc, int de
         count_block(r, pl.block);
         return 1;
     }
-    float now = rank_cost(s, a, b, &pl);
+    float now = rank_cost(s, &pl);
     if (now > e.cost * 1.000001f + FLT_MIN)
         return push_fresh(s, L, (candidate){now, a, b, e.stamp});
     if (!link_ok(s, L, fa, fb, a, b, &pl)) {
@@ -2310,7 +2302,7 @@ static resurf_status collapse_until(simplifier *s, size_t target, scratch *sc, r
                 goto oom;
             if (s->pend_next == s->pend_count) {
                 double done = start > target ? (double)(start - s->alive_tris) / (double)(start - target) : 1;
-                if (resurfi_progress(&s->opt.progress, "simplify", done))
+                if (resurfi_progress(&s->opt.progress, RESURF_STAGE_SIMPLIFY, done))
                     return resurfi_error(error, RESURF_ERR_CANCELLED, "simplification cancelled");
             }
             continue;
@@ -2333,7 +2325,7 @@ static resurf_status collapse_until(simplifier *s, size_t target, scratch *sc, r
                 goto oom;
             s->pend_next = s->pend_count;
             double done = start > target ? (double)(start - s->alive_tris) / (double)(start - target) : 1;
-            if (resurfi_progress(&s->opt.progress, "simplify", done))
+            if (resurfi_progress(&s->opt.progress, RESURF_STAGE_SIMPLIFY, done))
                 return resurfi_error(error, RESURF_ERR_CANCELLED, "simplification cancelled");
             continue;
         }
@@ -2868,13 +2860,12 @@ resurf_simplify_options resurf_simplify_options_default(void)
     resurf_simplify_options o;
     memset(&o, 0, sizeof o);
     o.struct_size = sizeof o;
-    o.target_ratio = 0.5;
     o.placement = RESURF_PLACEMENT_QUADRIC;
     o.restore = RESURF_RESTORE_INLINE;
     o.sag_offset = 1.0;
     o.max_normal_change_deg = 60;
     o.border_weight = 1;
-    o.drop_fins = 1;
+    o.drop_fins = true;
     o.measure_samples = 100000;
     return o;
 }
@@ -3012,20 +3003,20 @@ static resurf_status start(simplifier *s, scratch *scratch, resurf_error *error)
         return RESURF_OK;
     setup_job sj = {.s = s, .scratch = scratch, .restorer_status = RESURF_OK};
     if (s->opt.restore != RESURF_RESTORE_NONE) {
-        resurf_restore_options ro = resurf_restore_options_default();
-        /* Max's normals, not the jet fit, unless asked: a LOD's distance to S is set by the chord sag, not by the
+        resurf_restore_options ro =
+            s->opt.restore_options ? *s->opt.restore_options : resurf_restore_options_default();
+        /* AUTO is Max's normals here, not the jet fit: a LOD's distance to S is set by the chord sag, not by the
          * restorer's last digits (the analytic benchmark's figures agree to 2%), and the fit costs about a second
          * per million triangles. */
-        ro.normals = RESURF_NORMALS_MAX;
-        if (s->opt.restore_options)
-            ro = *s->opt.restore_options;
+        if (ro.normals == RESURF_NORMALS_AUTO)
+            ro.normals = RESURF_NORMALS_MAX;
         ro.threads = 1;
         ro.progress = (resurf_progress){NULL, NULL};
         ro.allocator = s->alloc;
         sj.restore_options = ro;
         sj.build_restorer = 1;
     }
-    if (resurfi_progress(&s->opt.progress, "prepare", 0.5))
+    if (resurfi_progress(&s->opt.progress, RESURF_STAGE_PREPARE, 0.5))
         return resurfi_error(error, RESURF_ERR_CANCELLED, "simplification cancelled");
     size_t blocks = (s->pos_count + BLOCK_POSITIONS - 1) / BLOCK_POSITIONS;
     int analysed = !resurfi_pool_for(s->pool, blocks, 1, setup_block, &sj);
@@ -3076,7 +3067,7 @@ static resurf_status start(simplifier *s, scratch *scratch, resurf_error *error)
     for (unsigned w = 1; w < s->threads && s->star_chunks; ++w)
         if (!(s->lanes[w].mark = resurfi_calloc(s->alloc, s->pos_count, sizeof *s->lanes[w].mark)))
             return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
-    if (resurfi_progress(&s->opt.progress, "prepare", 1))
+    if (resurfi_progress(&s->opt.progress, RESURF_STAGE_PREPARE, 1))
         return resurfi_error(error, RESURF_ERR_CANCELLED, "simplification cancelled");
     return RESURF_OK;
 }
@@ -3100,7 +3091,7 @@ static resurf_status simplify_levels(const resurf_mesh *in, const resurf_simplif
     resurf_status st = resurfi_pool_create(s.alloc, s.threads, &s.pool);
     if (st != RESURF_OK)
         st = resurfi_error(error, st, "out of memory starting the simplification");
-    else if (resurfi_progress(&s.opt.progress, "prepare", 0))
+    else if (resurfi_progress(&s.opt.progress, RESURF_STAGE_PREPARE, 0))
         st = resurfi_error(error, RESURF_ERR_CANCELLED, "simplification cancelled");
     if (st == RESURF_OK)
         st = start(&s, sc, error);
@@ -3109,7 +3100,7 @@ static resurf_status simplify_levels(const resurf_mesh *in, const resurf_simplif
             st = collapse_until(&s, targets[i], sc, error);
         else
             s.rep.stop = RESURF_STOP_TARGET;
-        if (st == RESURF_OK && resurfi_progress(&s.opt.progress, "finish", (double)i / (double)count))
+        if (st == RESURF_OK && resurfi_progress(&s.opt.progress, RESURF_STAGE_FINISH, (double)i / (double)count))
             st = resurfi_error(error, RESURF_ERR_CANCELLED, "simplification cancelled");
         if (i + 1 == count) { /* no more collapses: the queue's memory goes before the output's comes */
             s.last_level = 1;
@@ -3125,7 +3116,7 @@ static resurf_status simplify_levels(const resurf_mesh *in, const resurf_simplif
         if (st == RESURF_OK && reports)
             reports[i] = rep;
     }
-    if (st == RESURF_OK && resurfi_progress(&s.opt.progress, "finish", 1))
+    if (st == RESURF_OK && resurfi_progress(&s.opt.progress, RESURF_STAGE_FINISH, 1))
         st = resurfi_error(error, RESURF_ERR_CANCELLED, "simplification cancelled");
     for (unsigned w = 0; w < s.threads; ++w)
         scratch_free(&sc[w]);
@@ -3167,9 +3158,9 @@ resurf_status resurf_simplify(const resurf_mesh *in, const resurf_simplify_optio
     return st;
 }
 
-resurf_status resurf_simplify_lods(const resurf_mesh *in, const resurf_simplify_options *options, const double *ratios,
-                                   size_t count, resurf_mesh **out_levels, resurf_simplify_report *out_reports,
-                                   resurf_error *error)
+resurf_status resurf_simplify_lods(const resurf_mesh *in, const double *ratios, size_t count,
+                                   const resurf_simplify_options *options, resurf_mesh **out_levels,
+                                   resurf_simplify_report *out_reports, resurf_error *error)
 {
     resurfi_clear_error(error);
     if (!out_levels || (count && !ratios))
