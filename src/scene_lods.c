@@ -35,8 +35,8 @@ static void coverage_from_errors(const double *errors, size_t levels, double pix
 }
 
 /* The caller's progress over the whole scene: the primitive being simplified covers [base, base + span).
- * resurf_simplify_lods reports each stage from 0 to 1 (and "simplify" once per level), so its fraction is mapped
- * to a share of the primitive by stage (setting up the services over the input is about a third of the work) and
+ * resurf_simplify_lods reports each stage from 0 to 1 (and RESURF_STAGE_SIMPLIFY once per level), so its fraction is
+ * mapped to a share of the primitive by stage (setting up the services over the input is about a third of the work) and
  * never allowed to fall: the caller sees one fraction rising from 0 to 1 over the scene. */
 typedef struct scene_progress {
     const resurf_progress *user;
