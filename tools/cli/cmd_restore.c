@@ -97,8 +97,8 @@ static void print_json(const char *original, const char *processed, const char *
     printf(", \"output\": ");
     cli_json_string(stdout, out);
     printf(", \"options\": {\"normals\": \"%s\", \"side\": \"%s\", \"displacement\": \"%s\", \"step\": ",
-           o->normals == RESURF_NORMALS_AUTO ? "auto" : normal_names[o->normals], side_names[o->side_rule],
-           displacement_names[o->displacement]);
+           normal_names[o->normals == RESURF_NORMALS_AUTO ? RESURF_NORMALS_JET : o->normals], /* AUTO's meaning here */
+           side_names[o->side_rule], displacement_names[o->displacement]);
     cli_json_number(stdout, o->step);
     printf(", \"iterations\": %u, \"tolerance\": ", o->iterations);
     cli_json_number(stdout, o->tolerance_rel);
