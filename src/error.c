@@ -92,7 +92,14 @@ size_t resurf_format_error(char *dst, size_t dst_size, const resurf_error *error
     return n < 0 ? 0 : (size_t)n;
 }
 
-int resurfi_progress(const resurf_progress *progress, const char *stage, double fraction)
+const char *resurf_stage_name(resurf_stage stage)
+{
+    static const char *const names[RESURF_STAGE_COUNT] = {"load",    "save",    "restore",  "smooth",
+                                                          "compare", "prepare", "simplify", "finish"};
+    return (unsigned)stage < RESURF_STAGE_COUNT ? names[stage] : "unknown";
+}
+
+int resurfi_progress(const resurf_progress *progress, resurf_stage stage, double fraction)
 {
     if (!progress || !progress->fn)
         return 0;
@@ -100,5 +107,5 @@ int resurfi_progress(const resurf_progress *progress, const char *stage, double 
         fraction = 0;
     if (fraction > 1)
         fraction = 1;
-    return progress->fn(progress->user, stage, fraction);
+    return progress->fn(progress->user, stage, fraction) ? 1 : 0;
 }

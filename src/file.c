@@ -109,7 +109,7 @@ resurf_status resurfi_read_file(const resurf_allocator *alloc, const char *path,
         ssize_t n = read(fd, data + size, cap - size);
         if (n < 0 && errno == EINTR) {
             /* A signal interrupted a read that waits on a pipe: the caller may want to stop. */
-            if (resurfi_progress(progress, "load", 0.0)) {
+            if (resurfi_progress(progress, RESURF_STAGE_LOAD, 0.0)) {
                 status = resurfi_fail(error, RESURF_ERR_CANCELLED, path, 0, -1, "cancelled by the progress callback");
                 break;
             }

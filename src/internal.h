@@ -28,7 +28,7 @@ resurf_status resurfi_error(resurf_error *error, resurf_status status, const cha
 void resurfi_clear_error(resurf_error *error);
 
 /* Returns nonzero when the caller asked to cancel. */
-int resurfi_progress(const resurf_progress *progress, const char *stage, double fraction);
+int resurfi_progress(const resurf_progress *progress, resurf_stage stage, double fraction);
 
 /* An options pointer that is not NULL must carry the struct_size its _default() set. */
 #define RESURFI_CHECK_OPTIONS(opts, type, error)                                                                \

@@ -170,7 +170,7 @@ static resurf_status load_bytes(const char *data, size_t size, resurf_format for
     leave_c_locale(&scope);
     if (status != RESURF_OK)
         return status;
-    if (resurfi_progress(&opts->progress, "load", 1.0)) {
+    if (resurfi_progress(&opts->progress, RESURF_STAGE_LOAD, 1.0)) {
         resurf_mesh_free(mesh);
         return resurfi_fail(error, RESURF_ERR_CANCELLED, name, 0, -1, "cancelled by the progress callback");
     }
@@ -313,7 +313,7 @@ resurf_status resurf_mesh_save(const resurf_mesh *mesh, const char *path, const 
         tmp = NULL;
     }
     if (status == RESURF_OK) {
-        (void)resurfi_progress(&opts.progress, "save", 1.0); /* too late to cancel: the file is in place */
+        (void)resurfi_progress(&opts.progress, RESURF_STAGE_SAVE, 1.0); /* too late to cancel: the file is in place */
         resurfi_clear_error(error);
     }
 done:

@@ -8,7 +8,7 @@
 resurf_status resurfi_load_progress(resurfi_load *ld, const char *pos)
 {
     double fraction = ld->size ? (double)(pos - ld->data) / (double)ld->size : 1.0;
-    if (resurfi_progress(ld->progress, "load", fraction))
+    if (resurfi_progress(ld->progress, RESURF_STAGE_LOAD, fraction))
         return resurfi_fail(ld->error, RESURF_ERR_CANCELLED, ld->path, 0, -1, "cancelled by the progress callback");
     return RESURF_OK;
 }

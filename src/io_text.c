@@ -363,6 +363,6 @@ void resurfi_write_tick(resurfi_writer *w, size_t done, size_t total)
 {
     if ((++w->tick & 0xffffu) != 0 || !w->progress || !w->progress->fn || w->cancelled)
         return;
-    if (resurfi_progress(w->progress, "save", total ? (double)done / (double)total : 1.0))
+    if (resurfi_progress(w->progress, RESURF_STAGE_SAVE, total ? (double)done / (double)total : 1.0))
         w->cancelled = true;
 }

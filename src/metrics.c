@@ -223,7 +223,7 @@ static int run_batches(size_t count, unsigned threads, int (*fn)(void *, size_t,
 {
     for (size_t base = 0; base < count; base += BATCH) {
         size_t n = count - base < BATCH ? count - base : BATCH;
-        if (resurfi_progress(progress, "compare", (double)*done / (double)total))
+        if (resurfi_progress(progress, RESURF_STAGE_COMPARE, (double)*done / (double)total))
             return 1;
         batch b = {fn, ctx, base};
         resurfi_parallel_for(n, BLOCK, threads, run_batch, &b);
@@ -339,12 +339,12 @@ resurf_status resurf_triangle_quality(const resurf_mesh *mesh, double *out_min_d
 }
 
 resurf_status resurf_compare(const resurf_mesh *ref, const resurf_mesh *test, const resurf_compare_options *options,
-                             resurf_metrics *out_metrics, double *out_vertex_distance, resurf_error *error)
+                             resurf_compare_report *out_report, double *out_vertex_distance, resurf_error *error)
 {
     resurfi_clear_error(error);
-    if (!ref || !test || !out_metrics)
+    if (!ref || !test || !out_report)
         return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "%s is NULL",
-                             !ref ? "ref" : !test ? "test" : "out_metrics");
+                             !ref ? "ref" : !test ? "test" : "out_report");
     RESURFI_CHECK_OPTIONS_ALLOC(options, resurf_compare_options, error);
     const resurf_compare_options o = options ? *options : resurf_compare_options_default();
     if (o.samples > 1000000000u)
@@ -380,7 +380,7 @@ resurf_status resurf_compare(const resurf_mesh *ref, const resurf_mesh *test, co
     if (!w.test_dist || !w.ref_dist || !w.angle || !w.weight)
         return compare_fail(&w, error, RESURF_ERR_OUT_OF_MEMORY, "allocating the samples");
 
-    if (resurfi_progress(&o.progress, "compare", 0.0))
+    if (resurfi_progress(&o.progress, RESURF_STAGE_COMPARE, 0.0))
         return compare_fail(&w, error, RESURF_ERR_CANCELLED, NULL);
     st = resurfi_bvh_build_threads(w.alloc, ref->positions, ref->vertex_count, ref->indices, ref->triangle_count,
                                    threads, &w.ref_bvh);
@@ -401,10 +401,10 @@ resurf_status resurf_compare(const resurf_mesh *ref, const resurf_mesh *test, co
     if (run_batches(test_points, threads, measure_points, &test_side, &o.progress, &done, total) ||
         run_batches(ref_points, threads, measure_points, &ref_side, &o.progress, &done, total) ||
         run_batches(test->triangle_count, threads, measure_normals, &nj, &o.progress, &done, total) ||
-        resurfi_progress(&o.progress, "compare", 1.0))
+        resurfi_progress(&o.progress, RESURF_STAGE_COMPARE, 1.0))
         return compare_fail(&w, error, RESURF_ERR_CANCELLED, NULL);
 
-    resurf_metrics m;
+    resurf_compare_report m;
     memset(&m, 0, sizeof m);
     double lo[3], hi[3];
     m.diagonal = resurf_mesh_bounds(ref, lo, hi);
@@ -435,7 +435,7 @@ resurf_status resurf_compare(const resurf_mesh *ref, const resurf_mesh *test, co
     m.mean_normal_deviation_deg = weight_sum > 0 ? angle_sum / weight_sum : 0;
     if (out_vertex_distance)
         memcpy(out_vertex_distance, w.test_dist + test_side.samples, test->vertex_count * sizeof(double));
-    *out_metrics = m;
+    *out_report = m;
     compare_work_free(&w);
     return RESURF_OK;
 }

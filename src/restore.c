@@ -17,7 +17,7 @@
  * than one).
  *
  * Where S is not smooth (notes §7):
- *   - Creases: an edge whose faces' normals differ by more than crease_angle_deg (or, with use_input_normals, whose
+ *   - Creases: an edge whose faces' normals differ by more than crease_angle_deg (or, with input_normals, whose
  *     input normals are split along it) is a crease. At each vertex the incident faces are grouped into fans
  *     separated by crease (and non-manifold) edges; each fan gets its own normal and curvature, computed on the mesh
  *     split along the creases, and a triangle takes each corner's normal from its own fan. So a point next to a
@@ -632,7 +632,7 @@ resurf_status resurf_restore(const resurf_mesh *original, resurf_mesh *processed
     if (s != RESURF_OK)
         return s;
     resurf_restore_options opt = options ? *options : resurf_restore_options_default();
-    if (resurfi_progress(&opt.progress, "restore", 0))
+    if (resurfi_progress(&opt.progress, RESURF_STAGE_RESTORE, 0))
         return resurfi_error(error, RESURF_ERR_CANCELLED, "restore cancelled");
     resurfi_restorer *r = NULL;
     if ((s = resurfi_restorer_create(original, &opt, &r, error)) != RESURF_OK)
@@ -653,7 +653,7 @@ resurf_status resurf_restore(const resurf_mesh *original, resurf_mesh *processed
         size_t count = n - begin < CHUNK_VERTICES ? n - begin : CHUNK_VERTICES;
         restore_job chunk = {r, job.in + 3 * begin, job.out + 3 * begin, job.outcome + begin};
         resurfi_parallel_for(count, BLOCK_VERTICES, threads, restore_block, &chunk);
-        if (resurfi_progress(&opt.progress, "restore", (double)(begin + count) / (double)n)) {
+        if (resurfi_progress(&opt.progress, RESURF_STAGE_RESTORE, (double)(begin + count) / (double)n)) {
             resurfi_free(alloc, out);
             resurfi_free(alloc, outcome);
             resurfi_restorer_free(r);

@@ -24,17 +24,17 @@ resurf_restore_options resurf_restore_options_default(void)
     resurf_restore_options o;
     memset(&o, 0, sizeof o);
     o.struct_size = sizeof o;
-    o.normals = RESURF_NORMALS_JET;
+    o.normals = RESURF_NORMALS_AUTO;
     o.side_rule = RESURF_SIDE_CURVATURE;
     o.displacement = RESURF_DISPLACEMENT_NORMAL_SECTION;
     o.step = 1.0 / 3.0;
     o.iterations = 10;
     o.tolerance_rel = 1e-6;
     o.crease_angle_deg = 60;
-    o.use_input_normals = 1;
+    o.input_normals = RESURF_INPUT_NORMALS_CREASES;
     o.far_factor = 4;
     o.outside = RESURF_OUTSIDE_NEIGHBOURS;
-    o.boundary = 1;
+    o.boundary = true;
     o.threads = 0;
     return o;
 }
@@ -57,7 +57,7 @@ resurf_status resurfi_restore_check_options(const resurf_restore_options *o, res
     if (!o)
         return RESURF_OK; /* the defaults */
     const char *bad = NULL;
-    if ((unsigned)o->normals >= RESURF_NORMALS_COUNT)
+    if ((unsigned)o->normals >= RESURF_NORMALS_COUNT && o->normals != RESURF_NORMALS_AUTO)
         bad = "normals is not a resurf_normal_scheme";
     else if ((unsigned)o->side_rule >= RESURF_SIDE_COUNT)
         bad = "side_rule is not a resurf_side_rule";
@@ -75,10 +75,8 @@ resurf_status resurfi_restore_check_options(const resurf_restore_options *o, res
         bad = "crease_angle_deg must be in [0, 180]";
     else if (!(o->far_factor > 0)) /* INFINITY: never far */
         bad = "far_factor must be > 0";
-    else if (o->use_input_normals < 0 || o->use_input_normals > 2)
-        bad = "use_input_normals must be 0, 1 or 2";
-    else if (o->boundary != 0 && o->boundary != 1)
-        bad = "boundary must be 0 or 1";
+    else if ((unsigned)o->input_normals >= RESURF_INPUT_NORMALS_COUNT)
+        bad = "input_normals is not a resurf_input_normals";
     if (bad)
         return resurfi_error(error, RESURF_ERR_INVALID_OPTIONS, "resurf_restore_options: %s", bad);
     return RESURF_OK;
@@ -308,7 +306,7 @@ static resurf_status classify_edges(resurfi_restorer *r, const resurf_mesh *m, r
                    .m = m,
                    .crease_cos = cos(r->opt.crease_angle_deg * (M_PI / 180.0)),
                    .by_angle = r->opt.crease_angle_deg < 180,
-                   .by_normals = r->opt.use_input_normals && m->normals};
+                   .by_normals = r->opt.input_normals != RESURF_INPUT_NORMALS_IGNORE && m->normals};
     /* The face normals serve the crease test and the quiet fans' (quiet_geometry_block) */
     j.face_normals = resurfi_alloc(&r->alloc, r->triangle_count ? r->triangle_count : 1, 3 * sizeof(double));
     j.reliable = resurfi_alloc(&r->alloc, r->triangle_count ? r->triangle_count : 1, 1);
@@ -488,7 +486,7 @@ static resurf_status mark_quiet(resurfi_restorer *r, resurf_error *error)
     return RESURF_OK;
 }
 
-/* With use_input_normals = 2: each fan's normal is the sum of the input normals of its corners (a fan never mixes
+/* With RESURF_INPUT_NORMALS_USE: each fan's normal is the sum of the input normals of its corners (a fan never mixes
  * different ones: a split marks a crease), normalised; fans whose input normals are all zero or not finite keep
  * the estimated normal. */
 static resurf_status take_input_normals(resurfi_restorer *r, const resurf_mesh *m)
@@ -542,7 +540,7 @@ static resurf_status estimate_normals(resurfi_restorer *r, const resurf_mesh *m,
         resurfi_free(&r->alloc, split_positions);
         return resurfi_error(error, s, "cannot estimate the original mesh's vertex normals");
     }
-    if (r->opt.use_input_normals == 2 && m->normals && take_input_normals(r, m) != RESURF_OK) {
+    if (r->opt.input_normals == RESURF_INPUT_NORMALS_USE && m->normals && take_input_normals(r, m) != RESURF_OK) {
         resurfi_free(&r->alloc, split_positions);
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory taking the input normals");
     }
@@ -739,6 +737,8 @@ resurf_status resurfi_restorer_create_ex(const resurf_mesh *original, const resu
     if (alloc)
         r->alloc = *alloc;
     r->opt = options ? *options : resurf_restore_options_default();
+    if (r->opt.normals == RESURF_NORMALS_AUTO) /* resurf_restore's own choice (the simplifier makes its own first) */
+        r->opt.normals = RESURF_NORMALS_JET;
     if ((s = weld_original(r, original, remap, distinct, error)) == RESURF_OK && (s = classify_edges(r, original, error)) == RESURF_OK &&
         (s = split_fans(r, error)) == RESURF_OK && (s = mark_quiet(r, error)) == RESURF_OK &&
         (s = estimate_normals(r, original, error)) == RESURF_OK &&

@@ -520,7 +520,8 @@ static resurf_status build_scene(load_ctx *c, resurfi_gltf_doc *doc, resurf_scen
         for (size_t p = 0; p < v->meshes[m].primitive_count && status == RESURF_OK; ++p, ++k) {
             s->prims[k].info.instances = instances;
             status = decode_primitive(c, m, p, &s->prims[k]);
-            if (status == RESURF_OK && resurfi_progress(c->progress, "load", (double)(k + 1) / (double)(prim_count + 1)))
+            if (status == RESURF_OK &&
+                resurfi_progress(c->progress, RESURF_STAGE_LOAD, (double)(k + 1) / (double)(prim_count + 1)))
                 status = resurfi_fail(c->error, RESURF_ERR_CANCELLED, c->path, 0, -1, "cancelled by the progress callback");
         }
     }

@@ -16,7 +16,7 @@ resurf_scene_lod_options resurf_scene_lod_options_default(void)
     resurf_scene_lod_options o;
     memset(&o, 0, sizeof o);
     o.struct_size = sizeof o;
-    o.set_screen_coverage = 1;
+    o.set_screen_coverage = true;
     o.pixels = 1;
     o.screen_height = 1080;
     return o;
@@ -35,8 +35,8 @@ static void coverage_from_errors(const double *errors, size_t levels, double pix
 }
 
 /* The caller's progress over the whole scene: the primitive being simplified covers [base, base + span).
- * resurf_simplify_lods reports each stage from 0 to 1 (and "simplify" once per level), so its fraction is mapped
- * to a share of the primitive by stage (setting up the services over the input is about a third of the work) and
+ * resurf_simplify_lods reports each stage from 0 to 1 (and RESURF_STAGE_SIMPLIFY once per level), so its fraction is
+ * mapped to a share of the primitive by stage (setting up the services over the input is about a third of the work) and
  * never allowed to fall: the caller sees one fraction rising from 0 to 1 over the scene. */
 typedef struct scene_progress {
     const resurf_progress *user;
@@ -44,15 +44,15 @@ typedef struct scene_progress {
     double last;
 } scene_progress;
 
-static int forward_progress(void *user, const char *stage, double fraction)
+static bool forward_progress(void *user, resurf_stage stage, double fraction)
 {
     scene_progress *p = user;
     double local = fraction;
-    if (!strcmp(stage, "prepare"))
+    if (stage == RESURF_STAGE_PREPARE)
         local = 0.3 * fraction;
-    else if (!strcmp(stage, "simplify"))
+    else if (stage == RESURF_STAGE_SIMPLIFY)
         local = 0.3 + 0.6 * fraction;
-    else if (!strcmp(stage, "finish"))
+    else if (stage == RESURF_STAGE_FINISH)
         local = 0.9 + 0.1 * fraction;
     double f = p->base + p->span * local;
     if (f < p->last)
@@ -60,7 +60,7 @@ static int forward_progress(void *user, const char *stage, double fraction)
     if (f > 1)
         f = 1;
     p->last = f;
-    return resurfi_progress(p->user, stage, f);
+    return resurfi_progress(p->user, stage, f) != 0;
 }
 
 /* resurf_simplify_lods promises the input's attribute layout; resurf_scene_save relies on it. A level that broke
@@ -90,8 +90,8 @@ static void free_chains(const resurf_allocator *alloc, resurf_mesh ***chains, si
     resurfi_free(alloc, chains);
 }
 
-resurf_status resurf_scene_build_lods(resurf_scene *scene, const resurf_simplify_options *simplify,
-                                      const double *ratios, size_t count, const resurf_scene_lod_options *options,
+resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios, size_t count,
+                                      const resurf_simplify_options *simplify, const resurf_scene_lod_options *options,
                                       resurf_scene_lod_report *out_report,
                                       resurf_simplify_report *out_primitive_reports, resurf_error *error)
 {
@@ -162,7 +162,7 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const resurf_simplify
             st = resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory building levels of detail");
             break;
         }
-        st = resurf_simplify_lods(prim->mesh, &sim, ratios, count, chains[p], reports, &e);
+        st = resurf_simplify_lods(prim->mesh, ratios, count, &sim, chains[p], reports, &e);
         for (size_t k = 0; k < count && st == RESURF_OK; ++k)
             if (!same_layout(prim->mesh, chains[p][k]))
                 st = resurfi_error(&e, RESURF_ERR_INTERNAL, "level %zu lost an attribute of the input", k + 1);
@@ -187,7 +187,7 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const resurf_simplify
         }
     }
     /* A cancel after the last progress call of the last primitive still cancels. */
-    if (st == RESURF_OK && resurfi_progress(&o.progress, "finish", 1.0))
+    if (st == RESURF_OK && resurfi_progress(&o.progress, RESURF_STAGE_FINISH, 1.0))
         st = resurfi_error(error, RESURF_ERR_CANCELLED, "cancelled");
 
     /* Phase 2: the coverage of every mesh that got levels (a mesh of morphed or point primitives got none). */

@@ -556,7 +556,7 @@ static resurf_status plan_mesh(save_ctx *c, size_t m, size_t level, resurfi_gltf
         resurf_status status = pack(c, first + i, level, &pk);
         if (status != RESURF_OK)
             return status;
-        if (resurfi_progress(&c->o->progress, "save", 0.5))
+        if (resurfi_progress(&c->o->progress, RESURF_STAGE_SAVE, 0.5))
             return resurfi_fail(c->error, RESURF_ERR_CANCELLED, c->path, 0, -1, "cancelled by the progress callback");
         if (pk->empty)
             continue;
@@ -911,7 +911,7 @@ resurf_status resurf_scene_save(const resurf_scene *scene, const char *path, con
     resurfi_free(c.alloc, files);
     free_owned(&c);
     if (status == RESURF_OK) {
-        (void)resurfi_progress(&o.progress, "save", 1.0);
+        (void)resurfi_progress(&o.progress, RESURF_STAGE_SAVE, 1.0);
         if (out_report)
             *out_report = report;
         resurfi_clear_error(error);

@@ -258,7 +258,7 @@ resurf_status resurf_smooth(resurf_mesh *mesh, const resurf_smooth_options *opti
     if (st != RESURF_OK)
         return st;
     if (o.iterations == 0 || mesh->triangle_count == 0)
-        return resurfi_progress(&o.progress, "smooth", 1.0)
+        return resurfi_progress(&o.progress, RESURF_STAGE_SMOOTH, 1.0)
                    ? resurfi_error(error, RESURF_ERR_CANCELLED, "smoothing cancelled")
                    : RESURF_OK;
 
@@ -288,7 +288,7 @@ resurf_status resurf_smooth(resurf_mesh *mesh, const resurf_smooth_options *opti
     }
 
     for (unsigned it = 0; it < o.iterations; ++it) {
-        if (resurfi_progress(&o.progress, "smooth", (double)it / o.iterations)) {
+        if (resurfi_progress(&o.progress, RESURF_STAGE_SMOOTH, (double)it / o.iterations)) {
             smoother_free(&s);
             resurfi_free(s.alloc, remap);
             return resurfi_error(error, RESURF_ERR_CANCELLED, "smoothing cancelled at iteration %u of %u", it,
@@ -308,7 +308,7 @@ resurf_status resurf_smooth(resurf_mesh *mesh, const resurf_smooth_options *opti
             break;
         }
     }
-    if (resurfi_progress(&o.progress, "smooth", 1.0)) {
+    if (resurfi_progress(&o.progress, RESURF_STAGE_SMOOTH, 1.0)) {
         smoother_free(&s);
         resurfi_free(s.alloc, remap);
         return resurfi_error(error, RESURF_ERR_CANCELLED, "smoothing cancelled at the end");

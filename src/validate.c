@@ -49,7 +49,7 @@ static void set_first(long long *first, size_t index)
         *first = (long long)index;
 }
 
-resurf_status resurf_mesh_validate(const resurf_mesh *mesh, resurf_validation *out, resurf_error *error)
+resurf_status resurf_mesh_validate(const resurf_mesh *mesh, resurf_validate_report *out, resurf_error *error)
 {
     if (!mesh || !out)
         return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "mesh or out is NULL");
@@ -59,7 +59,7 @@ resurf_status resurf_mesh_validate(const resurf_mesh *mesh, resurf_validation *o
     if (nv > UINT32_MAX || nt > UINT32_MAX)
         return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "more than 2^32 vertices or triangles");
 
-    resurf_validation r;
+    resurf_validate_report r;
     memset(&r, 0, sizeof r);
     r.vertex_count = nv;
     r.triangle_count = nt;
@@ -175,7 +175,7 @@ done:
     return RESURF_OK;
 }
 
-int resurf_validation_ok(const resurf_validation *v)
+bool resurf_validation_ok(const resurf_validate_report *v)
 {
     return v && v->nonfinite_positions == 0 && v->out_of_range_indices == 0;
 }

@@ -175,7 +175,7 @@ static int same_mesh(const resurf_mesh *a, const resurf_mesh *b)
 
 static int mesh_valid(const resurf_mesh *m)
 {
-    resurf_validation v;
+    resurf_validate_report v;
     return resurf_mesh_validate(m, &v, NULL) == RESURF_OK && resurf_validation_ok(&v);
 }
 
@@ -300,7 +300,7 @@ START_TEST(alloc_pipeline_uses_only_the_allocator)
     ck_assert_uint_gt(after_load, 0);
 
     /* validate: no options, so the mesh's allocator */
-    resurf_validation v;
+    resurf_validate_report v;
     ck_assert_int_eq(WATCHED(resurf_mesh_validate(m, &v, &error)), RESURF_OK);
     ck_assert_uint_eq(heap_during, 0);
     ck_assert_uint_eq(v.boundary_edges, 0);
@@ -341,7 +341,7 @@ START_TEST(alloc_pipeline_uses_only_the_allocator)
     resurf_compare_options co = resurf_compare_options_default();
     co.samples = 5000;
     co.threads = 2;
-    resurf_metrics metrics;
+    resurf_compare_report metrics;
     ck_assert_int_eq(WATCHED(resurf_compare(m, sphere, &co, &metrics, NULL, &error)), RESURF_OK);
     ck_assert_uint_eq(heap_during, 0);
     ck_assert_double_lt(metrics.hausdorff, 0.05);
@@ -355,7 +355,7 @@ START_TEST(alloc_pipeline_uses_only_the_allocator)
     sio.allocator = &counting;
     const double ratios[2] = {0.5, 0.2};
     resurf_mesh *lods[2] = {NULL, NULL};
-    ck_assert_int_eq(WATCHED(resurf_simplify_lods(sphere, &sio, ratios, 2, lods, NULL, &error)), RESURF_OK);
+    ck_assert_int_eq(WATCHED(resurf_simplify_lods(sphere, ratios, 2, &sio, lods, NULL, &error)), RESURF_OK);
     ck_assert_uint_eq(heap_during, 0);
     ck_assert_uint_gt(atomic_load(&the_counter.calls), after_compare);
     for (int i = 0; i < 2; ++i) {
@@ -515,7 +515,7 @@ static resurf_status run_simplify(void *p)
     o.allocator = &counting;
     resurf_mesh *out[2] = {(resurf_mesh *)&out, (resurf_mesh *)&out}; /* must be overwritten */
     const double ratios[2] = {0.6, 0.3};
-    resurf_status st = c->lods ? resurf_simplify_lods(c->in, &o, ratios, 2, out, NULL, NULL)
+    resurf_status st = c->lods ? resurf_simplify_lods(c->in, ratios, 2, &o, out, NULL, NULL)
                                : resurf_simplify(c->in, &o, &out[0], NULL, NULL);
     end_call();
     for (int i = 0; i < (c->lods ? 2 : 1); ++i) {
@@ -654,10 +654,10 @@ static resurf_status run_inplace(void *p)
         } else if (c->which == 2) {
             resurf_compare_options o = resurf_compare_options_default();
             o.samples = 500;
-            resurf_metrics m;
+            resurf_compare_report m;
             st = resurf_compare(work, c->mesh, &o, &m, NULL, NULL);
         } else {
-            resurf_validation v;
+            resurf_validate_report v;
             st = resurf_mesh_validate(work, &v, NULL);
         }
         end_call();

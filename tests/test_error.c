@@ -132,11 +132,11 @@ END_TEST
 typedef struct progress_log {
     int calls;
     double last;
-    const char *stage;
-    int answer;
+    resurf_stage stage;
+    bool answer;
 } progress_log;
 
-static int record_progress(void *user, const char *stage, double fraction)
+static bool record_progress(void *user, resurf_stage stage, double fraction)
 {
     progress_log *log = user;
     log->calls++;
@@ -148,21 +148,22 @@ static int record_progress(void *user, const char *stage, double fraction)
 /* The callback sees the stage and a fraction clamped to [0,1]; its answer comes back; no callback = continue. */
 START_TEST(error_progress)
 {
-    progress_log log = {0, -1, NULL, 0};
+    progress_log log = {0, -1, RESURF_STAGE_COUNT, false};
     resurf_progress p = {record_progress, &log};
-    ck_assert_int_eq(resurfi_progress(&p, "load", 0.25), 0);
+    ck_assert_int_eq(resurfi_progress(&p, RESURF_STAGE_LOAD, 0.25), 0);
     ck_assert_int_eq(log.calls, 1);
     ck_assert_double_eq(log.last, 0.25);
-    ck_assert_str_eq(log.stage, "load");
-    resurfi_progress(&p, "load", 1.5);
+    ck_assert_int_eq(log.stage, RESURF_STAGE_LOAD);
+    resurfi_progress(&p, RESURF_STAGE_LOAD, 1.5);
     ck_assert_double_eq(log.last, 1);
-    resurfi_progress(&p, "load", -3);
+    resurfi_progress(&p, RESURF_STAGE_LOAD, -3);
     ck_assert_double_eq(log.last, 0);
-    log.answer = 7;
-    ck_assert_int_ne(resurfi_progress(&p, "restore", 0.5), 0);
+    log.answer = true;
+    ck_assert_int_ne(resurfi_progress(&p, RESURF_STAGE_RESTORE, 0.5), 0);
+    ck_assert_int_eq(log.stage, RESURF_STAGE_RESTORE);
     resurf_progress none = {NULL, NULL};
-    ck_assert_int_eq(resurfi_progress(&none, "x", 0.5), 0);
-    ck_assert_int_eq(resurfi_progress(NULL, "x", 0.5), 0);
+    ck_assert_int_eq(resurfi_progress(&none, RESURF_STAGE_SAVE, 0.5), 0);
+    ck_assert_int_eq(resurfi_progress(NULL, RESURF_STAGE_SAVE, 0.5), 0);
     ck_assert_int_eq(log.calls, 4);
 }
 END_TEST

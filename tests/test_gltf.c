@@ -241,7 +241,7 @@ START_TEST(gltf_roundtrip_draco_within_quantization)
     for (int f = 0; f < 3; ++f) {
         char *path = tu_path(dir, names[f]);
         resurf_scene_save_options o = resurf_scene_save_options_default();
-        o.draco = 1;
+        o.draco = true;
         resurf_scene_save_report rep;
         save_ok(s, path, &o, &rep);
         ck_assert_uint_eq(rep.levels, 1);
@@ -308,7 +308,7 @@ START_TEST(gltf_draco_payload_decodes_with_draco_decoder)
     ck_assert_int_eq(resurf_scene_from_mesh(m, &s, NULL), RESURF_OK);
     char *glb = tu_path(dir, "t.glb"), *drc = tu_path(dir, "payload.drc"), *obj = tu_path(dir, "payload.obj");
     resurf_scene_save_options o = resurf_scene_save_options_default();
-    o.draco = 1;
+    o.draco = true;
     save_ok(s, glb, &o, NULL);
     char *script = strf(JS_LOAD "const p=doc.meshes[0].primitives[0];const v=doc.bufferViews[p.extensions."
                         "KHR_draco_mesh_compression.bufferView];const bin=20+b.readUInt32LE(12)+8;"
@@ -721,7 +721,7 @@ START_TEST(gltf_morph_targets_and_points_pass_through)
     ck_assert_int_eq(resurf_scene_set_lods(s, 1, lods, 1, NULL), RESURF_ERR_UNSUPPORTED);
     char *out = tu_path(dir, "out.glb");
     resurf_scene_save_options o = resurf_scene_save_options_default();
-    o.draco = 1;
+    o.draco = true;
     save_ok(s, out, &o, NULL);
     ck_assert_int_eq(validator_errors(out), 0);
     char *facts = node_eval(dir, JS_LOAD "const p=[doc.meshes[0].primitives[0],doc.meshes[1].primitives[0]];"
@@ -882,7 +882,7 @@ START_TEST(gltf_files_layout_one_file_per_level)
     char *out = tu_path(dir, "ball.glb");
     resurf_scene_save_options o = resurf_scene_save_options_default();
     o.layout = RESURF_LOD_FILES;
-    o.draco = 1;
+    o.draco = true;
     resurf_scene_save_report r;
     save_ok(s, out, &o, &r);
     ck_assert_uint_eq(r.files, 3);
@@ -901,7 +901,7 @@ START_TEST(gltf_files_layout_one_file_per_level)
     /* One level alone as a plain scene. */
     char *one = tu_path(dir, "level1.gltf");
     o.level = 1;
-    o.draco = 0;
+    o.draco = false;
     save_ok(s, one, &o, NULL);
     resurf_scene *t = load_ok(one);
     ck_assert_uint_eq(resurf_scene_primitive_mesh(t, 0)->triangle_count, levels[1]->triangle_count);
@@ -1121,7 +1121,7 @@ START_TEST(gltf_load_memory_reads_what_was_saved)
     for (size_t i = 0; i < sizeof cases / sizeof *cases; ++i) {
         char *path = tu_path(dir, cases[i].file);
         resurf_scene_save_options o = resurf_scene_save_options_default();
-        o.embed_buffers = 1;
+        o.embed_buffers = true;
         save_ok(s, path, &o, NULL);
         size_t size = 0;
         char *data = tu_read_file(path, &size);

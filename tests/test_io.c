@@ -306,10 +306,10 @@ typedef struct progress_log {
     int decreasing;
 } progress_log;
 
-static int record_progress(void *user, const char *stage, double fraction)
+static bool record_progress(void *user, resurf_stage stage, double fraction)
 {
     progress_log *log = user;
-    ck_assert(!strcmp(stage, "load") || !strcmp(stage, "save"));
+    ck_assert(stage == RESURF_STAGE_LOAD || stage == RESURF_STAGE_SAVE);
     if (fraction < log->last)
         log->decreasing = 1;
     log->last = fraction;

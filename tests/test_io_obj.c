@@ -300,7 +300,7 @@ START_TEST(obj_writer_output)
     free(text);
     resurf_mesh_free(back);
     resurf_save_options o = resurf_save_options_default();
-    o.write_normals = 0;
+    o.write_normals = false;
     char *dir = tu_tempdir(), *path = tu_path(dir, "x.obj");
     ck_assert_int_eq(resurf_mesh_save(m, path, &o, NULL), RESURF_OK);
     text = tu_read_file(path, NULL);

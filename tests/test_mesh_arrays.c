@@ -81,7 +81,7 @@ START_TEST(arrays_interleaved_float_stride_32_round_trip)
     for (int i = 0; i < 18; ++i)
         ck_assert_uint_eq(m->indices[i], idx[i]);
     /* The pyramid is one closed, consistently oriented surface: the order of the indices came through. */
-    resurf_validation val;
+    resurf_validate_report val;
     ck_assert_int_eq(resurf_mesh_validate(m, &val, NULL), RESURF_OK);
     ck_assert_uint_eq(val.boundary_edges, 0);
     ck_assert_uint_eq(val.inconsistent_edges, 0);

@@ -19,7 +19,7 @@ START_TEST(compare_self_is_zero)
 {
     resurf_mesh *m = shape_mesh(SHAPE_TORUS, 4000, 0.3, 9, 0);
     double *vd = malloc(m->vertex_count * sizeof *vd);
-    resurf_metrics r;
+    resurf_compare_report r;
     resurf_compare_options o = compare_options(20000, 0);
     ck_assert_int_eq(resurf_compare(m, m, &o, &r, vd, NULL), RESURF_OK);
     ck_assert_double_le(r.hausdorff, 1e-14);
@@ -56,7 +56,7 @@ START_TEST(compare_scaled_sphere_hausdorff)
     double sag = 1 - least_plane;
     ck_assert_double_lt(sag, 2e-3);
     double *vd = malloc(test->vertex_count * sizeof *vd);
-    resurf_metrics r;
+    resurf_compare_report r;
     resurf_compare_options o = compare_options(50000, 0);
     ck_assert_int_eq(resurf_compare(ref, test, &o, &r, vd, NULL), RESURF_OK);
     const double eps = 1e-12;
@@ -84,7 +84,7 @@ START_TEST(compare_shifted_plane_is_d_everywhere)
     for (size_t v = 0; v < test->vertex_count; ++v)
         test->positions[3 * v + 2] += d;
     double *vd = malloc(test->vertex_count * sizeof *vd);
-    resurf_metrics r;
+    resurf_compare_report r;
     resurf_compare_options o = compare_options(30000, 0);
     ck_assert_int_eq(resurf_compare(ref, test, &o, &r, vd, NULL), RESURF_OK);
     const double eps = 1e-15;
@@ -119,7 +119,7 @@ START_TEST(compare_area_uniform_sampling)
         p[0] *= p[0];
         p[2] = 0.1 * p[0];
     }
-    resurf_metrics r;
+    resurf_compare_report r;
     resurf_compare_options o = compare_options(200000, 0);
     ck_assert_int_eq(resurf_compare(ref, test, &o, &r, NULL, NULL), RESURF_OK);
     /* standard error of the mean: 0.1 × 0.289 / √200000 ≈ 6.5e-5 */
@@ -141,7 +141,7 @@ START_TEST(compare_rms_of_tilted_plane)
         test->positions[3 * v + 2] = 0.1 * test->positions[3 * v];
     /* REF's points near x = 1 project beyond TEST's edge only if the foot leaves [0,1]: the foot of (x, y, 0) is
      * x / 1.01 along x, always inside. */
-    resurf_metrics r;
+    resurf_compare_report r;
     resurf_compare_options o = compare_options(400000, 0);
     ck_assert_int_eq(resurf_compare(ref, test, &o, &r, NULL, NULL), RESURF_OK);
     ck_assert_double_eq_tol(r.rms, sqrt((0.01 / 3 + 0.01 / 3.03) / 2), 3e-4);
@@ -160,7 +160,7 @@ START_TEST(compare_flipped_normals)
         uint32_t *f = test->indices + 3 * t, s = f[1];
         f[1] = f[2], f[2] = s;
     }
-    resurf_metrics r;
+    resurf_compare_report r;
     resurf_compare_options o = compare_options(1000, 0);
     ck_assert_int_eq(resurf_compare(ref, test, &o, &r, NULL, NULL), RESURF_OK);
     ck_assert_double_eq_tol(r.mean_normal_deviation_deg, 180, 1e-9);
@@ -208,7 +208,7 @@ END_TEST
 START_TEST(compare_reports_test_quality)
 {
     resurf_mesh *ref = shape_mesh(SHAPE_PLANE, 500, 0.4, 1, 0), *test = tu_grid(5);
-    resurf_metrics r;
+    resurf_compare_report r;
     resurf_compare_options o = compare_options(1000, 0);
     ck_assert_int_eq(resurf_compare(ref, test, &o, &r, NULL, NULL), RESURF_OK);
     ck_assert_double_eq_tol(r.min_angle_deg, 45, 1e-12);
@@ -226,7 +226,7 @@ START_TEST(compare_threads_deterministic)
     ck_assert_int_eq(resurf_mesh_clone(ref, &test, NULL), RESURF_OK);
     resurf_smooth_options so = resurf_smooth_options_default();
     ck_assert_int_eq(resurf_smooth(test, &so, NULL), RESURF_OK);
-    resurf_metrics r[3];
+    resurf_compare_report r[3];
     double *vd[3];
     for (unsigned k = 0; k < 3; ++k) {
         vd[k] = malloc(test->vertex_count * sizeof *vd[k]);
@@ -239,7 +239,7 @@ START_TEST(compare_threads_deterministic)
         ck_assert(memcmp(vd[0], vd[k], test->vertex_count * sizeof(double)) == 0);
     }
     /* Another seed draws other samples: the sampled means change, the vertex figures do not. */
-    resurf_metrics other;
+    resurf_compare_report other;
     resurf_compare_options o = compare_options(150000, 0);
     o.seed = 77;
     ck_assert_int_eq(resurf_compare(ref, test, &o, &other, NULL, NULL), RESURF_OK);
@@ -260,7 +260,7 @@ START_TEST(compare_without_samples)
     resurf_mesh *ref = tu_grid(3), *test = tu_grid(5);
     for (size_t v = 0; v < test->vertex_count; ++v)
         test->positions[3 * v + 2] = 0.25;
-    resurf_metrics r;
+    resurf_compare_report r;
     resurf_compare_options o = compare_options(0, 1);
     ck_assert_int_eq(resurf_compare(ref, test, &o, &r, NULL, NULL), RESURF_OK);
     ck_assert_double_eq(r.hausdorff, 0.25);
@@ -271,10 +271,10 @@ START_TEST(compare_without_samples)
 }
 END_TEST
 
-static int cancel_at(void *user, const char *stage, double fraction)
+static bool cancel_at(void *user, resurf_stage stage, double fraction)
 {
     (void)fraction;
-    ck_assert_str_eq(stage, "compare");
+    ck_assert_int_eq(stage, RESURF_STAGE_COMPARE);
     int *left = user;
     return --*left == 0;
 }
@@ -286,7 +286,7 @@ START_TEST(compare_cancel)
     int calls = 1000000;
     resurf_compare_options o = compare_options(70000, 2); /* two batches of samples per side */
     o.progress = (resurf_progress){cancel_at, &calls};
-    resurf_metrics r;
+    resurf_compare_report r;
     ck_assert_int_eq(resurf_compare(ref, test, &o, &r, NULL, NULL), RESURF_OK);
     int total = 1000000 - calls;
     ck_assert_int_ge(total, 4);
@@ -416,7 +416,7 @@ START_TEST(compare_rejects_bad_input)
 {
     resurf_mesh *a = tu_grid(2), *b = tu_grid(2), *empty = NULL;
     ck_assert_int_eq(resurf_mesh_create(3, 0, 0, &empty, NULL), RESURF_OK);
-    resurf_metrics r;
+    resurf_compare_report r;
     resurf_error e;
     ck_assert_int_eq(resurf_compare(NULL, b, NULL, &r, NULL, &e), RESURF_ERR_INVALID_ARGUMENT);
     ck_assert_int_eq(resurf_compare(a, b, NULL, NULL, NULL, &e), RESURF_ERR_INVALID_ARGUMENT);

@@ -129,7 +129,7 @@ START_TEST(repair_drops_invalid)
         ck_assert_uint_eq(m->triangle_groups[i], groups[i]);
     const size_t from[] = {0, 1, 2, 3};
     assert_vertices_from(m, original, from, 4);
-    resurf_validation v;
+    resurf_validate_report v;
     ck_assert_int_eq(resurf_mesh_validate(m, &v, NULL), RESURF_OK);
     ck_assert_int_eq(resurf_validation_ok(&v), 1);
     ck_assert_uint_eq(v.boundary_edges, 0);
@@ -261,7 +261,7 @@ START_TEST(repair_weld_triangle_soup)
 {
     resurf_mesh *tet = tu_tetrahedron();
     resurf_mesh *m = soup(tet, 0);
-    resurf_validation v;
+    resurf_validate_report v;
     ck_assert_int_eq(resurf_mesh_validate(m, &v, NULL), RESURF_OK);
     ck_assert_uint_eq(v.position_count, 4); /* already closed over welded positions */
     ck_assert_uint_eq(v.boundary_edges, 0);
@@ -282,7 +282,7 @@ START_TEST(repair_weld_tolerance)
     resurf_mesh *m = soup(tet, 1e-9);
     resurf_repair_report r = repair(m, NULL);
     assert_report(&r, 0, 0, 0, 0, 0);
-    resurf_validation v;
+    resurf_validate_report v;
     ck_assert_int_eq(resurf_mesh_validate(m, &v, NULL), RESURF_OK);
     ck_assert_uint_eq(v.components, 4);
     ck_assert_uint_eq(v.boundary_edges, 12);
@@ -344,7 +344,7 @@ START_TEST(repair_weld_keeps_seams)
 
     m = seam_quad();
     resurf_repair_options o = resurf_repair_options_default();
-    o.weld_ignore_attributes = 1;
+    o.weld_ignore_attributes = true;
     r = repair(m, &o);
     assert_report(&r, 0, 0, 0, 3, 0);
     ck_assert_uint_eq(m->vertex_count, 4);
@@ -432,7 +432,7 @@ START_TEST(repair_damaged_torus_back_to_original)
     const uint32_t extra[] = {1, 2, nan_v, 3, 4, (uint32_t)(nv + copies + 3), 5, 5, 6, 10, mid, 200};
     memcpy(m->indices + 3 * nt, extra, sizeof extra);
 
-    resurf_validation v;
+    resurf_validate_report v;
     ck_assert_int_eq(resurf_mesh_validate(m, &v, NULL), RESURF_OK);
     ck_assert_uint_eq(v.nonfinite_positions, 1);
     ck_assert_uint_eq(v.out_of_range_indices, 1);

@@ -104,19 +104,20 @@ START_TEST(sphere_exact_normals_land_exactly)
     vec3 *pts = random_near_points(SHAPE_SPHERE, M, n, 0.5 * h, 5);
     struct {
         resurf_normal_scheme normals;
-        int input;
+        resurf_input_normals input;
         resurf_displacement d;
         resurf_side_rule side;
     } cases[] = {
-        {RESURF_NORMALS_MAX, 0, RESURF_DISPLACEMENT_PAPER, RESURF_SIDE_CURVATURE},
-        {RESURF_NORMALS_MAX, 0, RESURF_DISPLACEMENT_PAPER, RESURF_SIDE_LOCAL},
-        {RESURF_NORMALS_MAX, 0, RESURF_DISPLACEMENT_NORMAL_SECTION, RESURF_SIDE_CURVATURE},
-        {RESURF_NORMALS_INVERSE_AREA, 2, RESURF_DISPLACEMENT_PAPER, RESURF_SIDE_CURVATURE},
-        {RESURF_NORMALS_INVERSE_AREA, 2, RESURF_DISPLACEMENT_NORMAL_SECTION, RESURF_SIDE_CURVATURE},
+        {RESURF_NORMALS_MAX, RESURF_INPUT_NORMALS_IGNORE, RESURF_DISPLACEMENT_PAPER, RESURF_SIDE_CURVATURE},
+        {RESURF_NORMALS_MAX, RESURF_INPUT_NORMALS_IGNORE, RESURF_DISPLACEMENT_PAPER, RESURF_SIDE_LOCAL},
+        {RESURF_NORMALS_MAX, RESURF_INPUT_NORMALS_IGNORE, RESURF_DISPLACEMENT_NORMAL_SECTION, RESURF_SIDE_CURVATURE},
+        {RESURF_NORMALS_INVERSE_AREA, RESURF_INPUT_NORMALS_USE, RESURF_DISPLACEMENT_PAPER, RESURF_SIDE_CURVATURE},
+        {RESURF_NORMALS_INVERSE_AREA, RESURF_INPUT_NORMALS_USE, RESURF_DISPLACEMENT_NORMAL_SECTION,
+         RESURF_SIDE_CURVATURE},
     };
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
         resurf_restore_options o = one_step(cases[c].normals, cases[c].d, cases[c].side);
-        o.use_input_normals = cases[c].input;
+        o.input_normals = cases[c].input;
         resurf_restore_report rep;
         vec3 *out = restore_points(M, pts, n, &o, &rep);
         ck_assert_uint_eq(rep.used_least_outside, 0);
@@ -194,7 +195,7 @@ START_TEST(fold_normals_do_not_throw_points)
                     i % 2 ? 1e-3 : -1e-3);
     for (int d = 0; d < RESURF_DISPLACEMENT_COUNT; ++d) {
         resurf_restore_options o = resurf_restore_options_default();
-        o.use_input_normals = 2;
+        o.input_normals = RESURF_INPUT_NORMALS_USE;
         o.displacement = (resurf_displacement)d;
         resurf_restore_report rep;
         vec3 *out = restore_points(M, pts, N, &o, &rep);
@@ -250,7 +251,7 @@ START_TEST(cylinder)
     for (size_t i = 0; i < n; ++i)
         ck_assert(fabs(out[i].z - pts[i].z) < 0.01 * h);
     free(out);
-    o.use_input_normals = 2;
+    o.input_normals = RESURF_INPUT_NORMALS_USE;
     out = restore_points(M, pts, n, &o, &rep);
     errors exact = measure(SHAPE_CYLINDER, out, n);
     ck_assert_msg(exact.max < 1e-3 * h * h, "exact normals: max %.3g (h %.3g)", exact.max, h);
@@ -270,7 +271,7 @@ START_TEST(saddle_side_choice_matters)
     for (size_t i = 0; i < n; ++i) /* away from the boundary */
         pts[i].x *= 0.85, pts[i].y *= 0.85;
     resurf_restore_options curv = one_step(RESURF_NORMALS_JET, RESURF_DISPLACEMENT_PAPER, RESURF_SIDE_CURVATURE);
-    curv.use_input_normals = 2;
+    curv.input_normals = RESURF_INPUT_NORMALS_USE;
     resurf_restore_options local = curv, section = curv;
     local.side_rule = RESURF_SIDE_LOCAL;
     section.displacement = RESURF_DISPLACEMENT_NORMAL_SECTION;
@@ -516,7 +517,7 @@ START_TEST(outside_policies)
     vec3 pts[2] = {v3(1.3, 0.4, 0.2), v3(0.5, 0.5, 0.1)};
     for (int policy = 0; policy < RESURF_OUTSIDE_COUNT; ++policy) {
         resurf_restore_options o = resurf_restore_options_default();
-        o.boundary = 0;
+        o.boundary = false;
         o.outside = (resurf_outside_policy)policy;
         resurf_restore_report rep;
         vec3 *out = restore_points(M, pts, 2, &o, &rep);
@@ -583,7 +584,7 @@ START_TEST(cylinder_rims_are_kept)
     for (size_t e = 0; e < ne; ++e)
         ck_assert(v3_dist(out[3 * e + 2], pts[3 * e + 2]) == 0);
     /* without the boundary rule, points beyond the rim are restored like any other (off the rim plane) */
-    o.boundary = 0;
+    o.boundary = false;
     free(out);
     out = restore_points(M, pts, 3 * ne, &o, &rep);
     ck_assert_uint_eq(rep.on_boundary, 0);
@@ -717,7 +718,7 @@ START_TEST(cube_with_split_normals)
     }
     resurf_restore_options o = resurf_restore_options_default();
     o.crease_angle_deg = 180;
-    o.use_input_normals = 1;
+    o.input_normals = RESURF_INPUT_NORMALS_CREASES;
     uint64_t rng = 3;
     vec3 pts[300];
     for (int i = 0; i < 300; ++i) {
@@ -869,16 +870,42 @@ START_TEST(same_result_for_every_thread_count)
 }
 END_TEST
 
+/* The default normals, AUTO, are the jet fit in resurf_restore: NULL options, the defaults and explicit JET give the
+ * same positions bit for bit, and Max's normals (AUTO's meaning in the simplifier) do not. */
+START_TEST(auto_normals_are_jet_here)
+{
+    resurf_mesh *M = shape_mesh(SHAPE_CUBIC, 3000, 0.3, 31, 0);
+    resurf_mesh *P = shape_mesh(SHAPE_CUBIC, 2000, 0.3, 32, 0);
+    ck_assert_int_eq(resurf_restore_options_default().normals, RESURF_NORMALS_AUTO);
+    resurf_mesh *R[4] = {NULL};
+    for (int k = 0; k < 4; ++k) {
+        resurf_restore_options o = resurf_restore_options_default();
+        o.normals = k == 2 ? RESURF_NORMALS_JET : k == 3 ? RESURF_NORMALS_MAX : o.normals;
+        ck_assert_int_eq(resurf_mesh_clone(P, &R[k], NULL), RESURF_OK);
+        ck_assert_int_eq(resurf_restore(M, R[k], k == 0 ? NULL : &o, NULL, NULL), RESURF_OK);
+    }
+    const size_t bytes = 3 * P->vertex_count * sizeof(double);
+    ck_assert(memcmp(R[0]->positions, P->positions, bytes) != 0);
+    ck_assert(memcmp(R[0]->positions, R[1]->positions, bytes) == 0);
+    ck_assert(memcmp(R[0]->positions, R[2]->positions, bytes) == 0);
+    ck_assert(memcmp(R[0]->positions, R[3]->positions, bytes) != 0);
+    for (int k = 0; k < 4; ++k)
+        resurf_mesh_free(R[k]);
+    resurf_mesh_free(M);
+    resurf_mesh_free(P);
+}
+END_TEST
+
 typedef struct progress_log {
     int calls, cancel_at;
     double last;
     int monotone;
 } progress_log;
 
-static int log_progress(void *user, const char *stage, double fraction)
+static bool log_progress(void *user, resurf_stage stage, double fraction)
 {
     progress_log *l = user;
-    ck_assert_str_eq(stage, "restore");
+    ck_assert_int_eq(stage, RESURF_STAGE_RESTORE);
     if (fraction < l->last || fraction < 0 || fraction > 1)
         l->monotone = 0;
     l->last = fraction;
@@ -943,7 +970,7 @@ START_TEST(bad_arguments)
     ck_assert_int_eq(resurf_restore(M, P, &o, NULL, &error), RESURF_ERR_INVALID_OPTIONS);
     o = d, o.normals = RESURF_NORMALS_COUNT;
     ck_assert_int_eq(resurf_restore(M, P, &o, NULL, &error), RESURF_ERR_INVALID_OPTIONS);
-    o = d, o.use_input_normals = 3;
+    o = d, o.input_normals = RESURF_INPUT_NORMALS_COUNT;
     ck_assert_int_eq(resurf_restore(M, P, &o, NULL, &error), RESURF_ERR_INVALID_OPTIONS);
     /* an original with an index out of range, a non-finite position, no triangles */
     M->indices[4] = 17;
@@ -990,6 +1017,7 @@ Suite *make_suite(void)
     tcase_add_test(tc, cube_with_split_normals);
     tcase_add_test(tc, walk_finds_the_closest_triangle);
     tcase_add_test(tc, same_result_for_every_thread_count);
+    tcase_add_test(tc, auto_normals_are_jet_here);
     tcase_add_test(tc, cancel_at_every_progress_call);
     tcase_add_test(tc, bad_arguments);
     suite_add_tcase(s, tc);

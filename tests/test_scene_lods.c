@@ -167,7 +167,7 @@ START_TEST(scene_lods_equal_per_primitive_chains)
     resurf_simplify_report pr[4 * 2];
     memset(pr, 0xFF, sizeof pr);
     resurf_error e;
-    ck_assert_msg(resurf_scene_build_lods(s, &so, ratios, 2, &lo, &r, pr, &e) == RESURF_OK, "%s", e.message);
+    ck_assert_msg(resurf_scene_build_lods(s, ratios, 2, &so, &lo, &r, pr, &e) == RESURF_OK, "%s", e.message);
     ck_assert_uint_eq(r.levels, 3);
     ck_assert_uint_eq(r.primitives, 2);
     ck_assert_uint_eq(r.morphed, 1);
@@ -182,7 +182,7 @@ START_TEST(scene_lods_equal_per_primitive_chains)
         const resurf_mesh *in = resurf_scene_primitive_mesh(s, p);
         resurf_mesh *alone[2] = {NULL, NULL};
         resurf_simplify_report ar[2];
-        ck_assert_int_eq(resurf_simplify_lods(in, &so, ratios, 2, alone, ar, NULL), RESURF_OK);
+        ck_assert_int_eq(resurf_simplify_lods(in, ratios, 2, &so, alone, ar, NULL), RESURF_OK);
         resurf_scene_primitive info;
         ck_assert_int_eq(resurf_scene_primitive_info(s, p, &info, NULL), RESURF_OK);
         ck_assert_uint_eq(info.lod_count, 2);
@@ -197,7 +197,7 @@ START_TEST(scene_lods_equal_per_primitive_chains)
             /* Independent bound: the reported error covers every vertex's exact distance to the input surface. */
             resurf_compare_options co = resurf_compare_options_default();
             co.samples = 0;
-            resurf_metrics mt;
+            resurf_compare_report mt;
             ck_assert_int_eq(resurf_compare(in, alone[k], &co, &mt, NULL, NULL), RESURF_OK);
             ck_assert(ar[k].max_distance_rel >= mt.vertex_max / mt.diagonal - 1e-12);
             ck_assert(ar[k].max_distance_rel > 0);
@@ -226,7 +226,7 @@ START_TEST(scene_lods_equal_per_primitive_chains)
      * mesh's own largest error (one primitive each here). */
     char *out = tu_path(dir, "out.gltf");
     resurf_scene_save_options sv = resurf_scene_save_options_default();
-    sv.embed_buffers = 1;
+    sv.embed_buffers = true;
     resurf_scene_save_report saved;
     ck_assert_msg(resurf_scene_save(s, out, &sv, &saved, &e) == RESURF_OK, "%s", e.message);
     ck_assert_uint_eq(saved.levels, 3);
@@ -265,10 +265,10 @@ typedef struct watch {
     double last;
     int monotone;
     double cancel_from;    /* cancel at the first fraction >= this (> 1: never) */
-    const char *cancel_at; /* ... or at this stage name */
+    resurf_stage cancel_at; /* ... or at the end of this stage (RESURF_STAGE_COUNT: never) */
 } watch;
 
-static int watch_fn(void *user, const char *stage, double fraction)
+static bool watch_fn(void *user, resurf_stage stage, double fraction)
 {
     watch *w = user;
     w->calls++;
@@ -277,7 +277,7 @@ static int watch_fn(void *user, const char *stage, double fraction)
     w->last = fraction;
     if (fraction >= w->cancel_from)
         return 1;
-    return w->cancel_at && !strcmp(stage, w->cancel_at) && fraction >= 1.0;
+    return stage == w->cancel_at && fraction >= 1.0;
 }
 
 START_TEST(scene_lods_cancel_leaves_scene_unchanged)
@@ -291,10 +291,10 @@ START_TEST(scene_lods_cancel_leaves_scene_unchanged)
     /* A first, complete run: levels and coverage in place, progress monotone from 0 to 1. */
     const double first[1] = {0.5};
     resurf_scene_lod_options lo = resurf_scene_lod_options_default();
-    watch w = {0, 0, 1, 2, NULL};
+    watch w = {0, 0, 1, 2, RESURF_STAGE_COUNT};
     lo.progress.fn = watch_fn;
     lo.progress.user = &w;
-    ck_assert_int_eq(resurf_scene_build_lods(s, &so, first, 1, &lo, NULL, NULL, NULL), RESURF_OK);
+    ck_assert_int_eq(resurf_scene_build_lods(s, first, 1, &so, &lo, NULL, NULL, NULL), RESURF_OK);
     ck_assert_int_gt(w.calls, 2);
     ck_assert(w.monotone);
     ck_assert(w.last == 1.0);
@@ -306,12 +306,12 @@ START_TEST(scene_lods_cancel_leaves_scene_unchanged)
     const double second[2] = {0.3, 0.1};
     const double cancel_from[2] = {0.6, 2};
     for (int run = 0; run < 2; ++run) {
-        watch c = {0, 0, 1, cancel_from[run], run == 1 ? "finish" : NULL};
+        watch c = {0, 0, 1, cancel_from[run], run == 1 ? RESURF_STAGE_FINISH : RESURF_STAGE_COUNT};
         lo.progress.user = &c;
         resurf_scene_lod_report r;
         memset(&r, 0x11, sizeof r);
         resurf_error e;
-        ck_assert_int_eq(resurf_scene_build_lods(s, &so, second, 2, &lo, &r, NULL, &e), RESURF_ERR_CANCELLED);
+        ck_assert_int_eq(resurf_scene_build_lods(s, second, 2, &so, &lo, &r, NULL, &e), RESURF_ERR_CANCELLED);
         ck_assert_int_eq(e.status, RESURF_ERR_CANCELLED);
         ck_assert(c.last >= cancel_from[run] || run == 1);
         for (int p = 0; p < 2; ++p) {
@@ -345,37 +345,37 @@ START_TEST(scene_lods_errors_named_and_scene_unchanged)
     const double ratios[2] = {0.5, 0.25}, rising[2] = {0.25, 0.5};
     resurf_error e;
 
-    ck_assert_int_eq(resurf_scene_build_lods(NULL, NULL, ratios, 2, NULL, NULL, NULL, &e),
+    ck_assert_int_eq(resurf_scene_build_lods(NULL, ratios, 2, NULL, NULL, NULL, NULL, &e),
                      RESURF_ERR_INVALID_ARGUMENT);
-    ck_assert_int_eq(resurf_scene_build_lods(s, NULL, NULL, 2, NULL, NULL, NULL, &e), RESURF_ERR_INVALID_ARGUMENT);
-    ck_assert_int_eq(resurf_scene_build_lods(s, NULL, ratios, 0, NULL, NULL, NULL, &e), RESURF_ERR_INVALID_ARGUMENT);
+    ck_assert_int_eq(resurf_scene_build_lods(s, NULL, 2, NULL, NULL, NULL, NULL, &e), RESURF_ERR_INVALID_ARGUMENT);
+    ck_assert_int_eq(resurf_scene_build_lods(s, ratios, 0, NULL, NULL, NULL, NULL, &e), RESURF_ERR_INVALID_ARGUMENT);
     ck_assert_str_eq(e.message, "0 levels of detail (1 to 15)");
-    ck_assert_int_eq(resurf_scene_build_lods(s, NULL, rising, 2, NULL, NULL, NULL, &e), RESURF_ERR_INVALID_ARGUMENT);
+    ck_assert_int_eq(resurf_scene_build_lods(s, rising, 2, NULL, NULL, NULL, NULL, &e), RESURF_ERR_INVALID_ARGUMENT);
     ck_assert_str_eq(e.message, "ratios[1] = 0.5: ratios must lie in (0, 1] and never increase");
 
     resurf_scene_lod_options lo;
     memset(&lo, 0, sizeof lo);
-    ck_assert_int_eq(resurf_scene_build_lods(s, NULL, ratios, 2, &lo, NULL, NULL, &e), RESURF_ERR_INVALID_OPTIONS);
+    ck_assert_int_eq(resurf_scene_build_lods(s, ratios, 2, NULL, &lo, NULL, NULL, &e), RESURF_ERR_INVALID_OPTIONS);
     lo = resurf_scene_lod_options_default();
     lo.pixels = 0;
-    ck_assert_int_eq(resurf_scene_build_lods(s, NULL, ratios, 2, &lo, NULL, NULL, &e), RESURF_ERR_INVALID_OPTIONS);
+    ck_assert_int_eq(resurf_scene_build_lods(s, ratios, 2, NULL, &lo, NULL, NULL, &e), RESURF_ERR_INVALID_OPTIONS);
     ck_assert_ptr_nonnull(strstr(e.message, "pixels (0) and screen_height (1080) must be positive"));
 
     /* The simplifier refuses its options: the message names the primitive first. */
     resurf_simplify_options so = resurf_simplify_options_default();
     so.max_normal_change_deg = -1;
-    ck_assert_int_eq(resurf_scene_build_lods(s, &so, ratios, 2, NULL, NULL, NULL, &e), RESURF_ERR_INVALID_OPTIONS);
+    ck_assert_int_eq(resurf_scene_build_lods(s, ratios, 2, &so, NULL, NULL, NULL, &e), RESURF_ERR_INVALID_OPTIONS);
     ck_assert_msg(!strncmp(e.message, "meshes[0].primitives[0]: ", 25), "message '%s'", e.message);
     ck_assert_uint_eq(s->prims[0].lod_count, 0);
     ck_assert_ptr_null(s->coverage[0]);
 
     /* With defaults (NULL options) it works, and set_screen_coverage 0 leaves the coverage unset. */
     lo = resurf_scene_lod_options_default();
-    lo.set_screen_coverage = 0;
-    ck_assert_int_eq(resurf_scene_build_lods(s, NULL, ratios, 2, &lo, NULL, NULL, &e), RESURF_OK);
+    lo.set_screen_coverage = false;
+    ck_assert_int_eq(resurf_scene_build_lods(s, ratios, 2, NULL, &lo, NULL, NULL, &e), RESURF_OK);
     ck_assert_uint_eq(s->prims[0].lod_count, 2);
     ck_assert_ptr_null(s->coverage[0]);
-    ck_assert_int_eq(resurf_scene_build_lods(s, NULL, ratios, 1, NULL, NULL, NULL, &e), RESURF_OK);
+    ck_assert_int_eq(resurf_scene_build_lods(s, ratios, 1, NULL, NULL, NULL, NULL, &e), RESURF_OK);
     ck_assert_uint_eq(s->prims[0].lod_count, 1); /* replaced, not added */
     ck_assert_uint_eq(s->coverage_count[0], 2);
     resurf_scene_free(s);
@@ -409,7 +409,7 @@ START_TEST(scene_lods_cli_max_triangles_and_errors)
     ck_assert_int_eq(resurf_scene_load(ply, NULL, &s, NULL), RESURF_OK);
     const double ratio = 0.5;
     resurf_scene_lod_report r;
-    ck_assert_int_eq(resurf_scene_build_lods(s, NULL, &ratio, 1, NULL, &r, NULL, NULL), RESURF_OK);
+    ck_assert_int_eq(resurf_scene_build_lods(s, &ratio, 1, NULL, NULL, &r, NULL, NULL), RESURF_OK);
     const char *at = strstr(text, "\"level\": 1");
     ck_assert_ptr_nonnull(at);
     at = strstr(at, "\"error_rel\": ");

@@ -26,7 +26,7 @@ static resurf_mesh *simplify_ok(const resurf_mesh *in, const resurf_simplify_opt
 /* A valid, manifold, consistently oriented mesh without degenerate triangles. */
 static void assert_clean(const resurf_mesh *m)
 {
-    resurf_validation v;
+    resurf_validate_report v;
     ck_assert_int_eq(resurf_mesh_validate(m, &v, NULL), RESURF_OK);
     ck_assert(resurf_validation_ok(&v));
     ck_assert_uint_eq(v.nonmanifold_edges, 0);
@@ -36,9 +36,9 @@ static void assert_clean(const resurf_mesh *m)
     ck_assert_uint_eq(v.unreferenced_vertices, 0);
 }
 
-static resurf_validation validation(const resurf_mesh *m)
+static resurf_validate_report validation(const resurf_mesh *m)
 {
-    resurf_validation v;
+    resurf_validate_report v;
     ck_assert_int_eq(resurf_mesh_validate(m, &v, NULL), RESURF_OK);
     return v;
 }
@@ -149,7 +149,6 @@ START_TEST(simplify_tetrahedron_stays)
     /* A tetrahedron cannot lose a vertex without becoming a double-sided sheet: the link condition refuses. */
     resurf_mesh *m = tu_tetrahedron();
     resurf_simplify_options o = resurf_simplify_options_default();
-    o.target_ratio = 0;
     for (int mode = 0; mode < RESURF_RESTORE_MODE_COUNT; ++mode) {
         o.restore = (resurf_restore_mode)mode;
         resurf_simplify_report r;
@@ -173,7 +172,6 @@ START_TEST(simplify_cube_closed_and_oriented)
     resurf_simplify_options o = resurf_simplify_options_default();
     o.restore = RESURF_RESTORE_NONE;
     o.target_triangles = 6;
-    o.target_ratio = 0;
     o.max_normal_change_deg = 180; /* a cube's corners need big turns to go */
     resurf_simplify_report r;
     resurf_mesh *out = simplify_ok(m, &o, &r);
@@ -183,7 +181,7 @@ START_TEST(simplify_cube_closed_and_oriented)
     ck_assert_uint_eq(r.vertices, out->vertex_count);
     ck_assert_uint_eq(r.collapses, (12 - out->triangle_count) / 2);
     assert_clean(out);
-    resurf_validation v = validation(out);
+    resurf_validate_report v = validation(out);
     ck_assert_uint_eq(v.boundary_edges, 0);
     ck_assert_uint_eq(out->vertex_count, out->triangle_count / 2 + 2); /* Euler: a closed genus-0 surface */
     ck_assert(volume6(out) > 0);
@@ -205,7 +203,7 @@ START_TEST(simplify_grid_keeps_border_and_area)
         resurf_mesh *out = simplify_ok(m, &o, &r);
         ck_assert_uint_le(out->triangle_count, 28);
         assert_clean(out);
-        resurf_validation v = validation(out);
+        resurf_validate_report v = validation(out);
         ck_assert_uint_eq(v.boundary_loops, 1);
         ck_assert_uint_eq(v.components, 1);
         ck_assert_double_eq_tol(area(out), 1.0, 1e-9);
@@ -232,11 +230,10 @@ START_TEST(simplify_lock_border_freezes_border)
 {
     resurf_mesh *m = tu_grid(10);
     resurf_simplify_options o = resurf_simplify_options_default();
-    o.target_ratio = 0;
-    o.lock_border = 1;
+    o.lock_border = true;
     resurf_simplify_report r;
     resurf_mesh *out = simplify_ok(m, &o, &r);
-    resurf_validation v = validation(out);
+    resurf_validate_report v = validation(out);
     ck_assert_uint_eq(v.boundary_edges, 40); /* all 4 × 10 border edges, untouched */
     ck_assert_uint_gt(r.blocked_border, 0);
     ck_assert_uint_lt(out->triangle_count, m->triangle_count);
@@ -315,7 +312,7 @@ START_TEST(simplify_seam_kept_flat)
     ck_assert_uint_gt(r.positions, 0);
     ck_assert_uint_gt(r.vertices, r.positions); /* seam copies */
     check_seam_grid(out, 1e-9, 1e-12);
-    resurf_validation v = validation(out);
+    resurf_validate_report v = validation(out);
     ck_assert_uint_eq(v.boundary_loops, 1); /* the seam is no border: topology over welded positions */
     ck_assert_uint_eq(v.nonmanifold_edges, 0);
     ck_assert_double_eq_tol(area(out), 1.0, 1e-9);
@@ -338,7 +335,7 @@ START_TEST(simplify_seam_kept_curved)
         resurf_simplify_report r;
         resurf_mesh *out = simplify_ok(m, &o, &r);
         check_seam_grid(out, 2e-3, 1e-6); /* the restorer's normals are not exactly symmetric about x = ½ */
-        resurf_validation v = validation(out);
+        resurf_validate_report v = validation(out);
         ck_assert_uint_eq(v.boundary_loops, 1);
         ck_assert_uint_eq(v.nonmanifold_edges, 0);
         ck_assert_uint_eq(v.inconsistent_edges, 0);
@@ -355,7 +352,7 @@ START_TEST(simplify_targets_reached)
     static const shape_kind kinds[] = {SHAPE_SPHERE, SHAPE_TORUS, SHAPE_CUBIC};
     for (size_t k = 0; k < 3; ++k) {
         resurf_mesh *m = shape_mesh(kinds[k], 6000, 0.3, 7, 0);
-        resurf_validation vin = validation(m);
+        resurf_validate_report vin = validation(m);
         for (int mode = 0; mode < RESURF_RESTORE_MODE_COUNT; mode += 2) { /* inline and none */
             resurf_simplify_options o = resurf_simplify_options_default();
             o.target_ratio = 0.05;
@@ -367,7 +364,7 @@ START_TEST(simplify_targets_reached)
                           "%s: %zu triangles for a target of %zu", shape_name(kinds[k]), out->triangle_count, target);
             ck_assert_int_eq(r.stop, RESURF_STOP_TARGET);
             assert_clean(out);
-            resurf_validation v = validation(out);
+            resurf_validate_report v = validation(out);
             ck_assert_uint_eq(v.components, 1);
             ck_assert_uint_eq(v.boundary_loops, vin.boundary_loops);
             /* Euler characteristic kept: V − E + F */
@@ -381,6 +378,70 @@ START_TEST(simplify_targets_reached)
         }
         resurf_mesh_free(m);
     }
+}
+END_TEST
+
+/* Targets are unset by default and only those set count: a triangle count alone is reached (before 0.2 the default
+ * ratio of 0.5 stopped it at half), an error bound alone goes past half, and no target at all goes as far as the
+ * guards allow. */
+START_TEST(simplify_only_the_targets_set_count)
+{
+    resurf_mesh *m = shape_mesh(SHAPE_SPHERE, 8000, 0.3, 5, 0);
+    const size_t n = m->triangle_count;
+    resurf_simplify_options o = resurf_simplify_options_default();
+    ck_assert_uint_eq(o.target_triangles, 0);
+    ck_assert(o.target_ratio == 0 && o.max_error == 0 && o.max_error_rel == 0);
+    o.target_triangles = n / 8;
+    resurf_simplify_report r;
+    resurf_mesh *out = simplify_ok(m, &o, &r);
+    ck_assert_msg(out->triangle_count <= n / 8 && out->triangle_count + 2 >= n / 8, "%zu triangles for %zu",
+                  out->triangle_count, n / 8);
+    ck_assert_int_eq(r.stop, RESURF_STOP_TARGET);
+    resurf_mesh_free(out);
+
+    o = resurf_simplify_options_default();
+    o.max_error_rel = 0.01;
+    out = simplify_ok(m, &o, &r);
+    ck_assert_uint_lt(out->triangle_count, n / 4);
+    ck_assert_int_eq(r.stop, RESURF_STOP_ERROR);
+    resurf_mesh_free(out);
+
+    o = resurf_simplify_options_default();
+    o.restore = RESURF_RESTORE_NONE;
+    out = simplify_ok(m, &o, &r);
+    ck_assert_uint_lt(out->triangle_count, n / 20);
+    ck_assert_int_eq(r.stop, RESURF_STOP_BLOCKED);
+    resurf_mesh_free(out);
+    resurf_mesh_free(m);
+}
+END_TEST
+
+/* restore_options NULL is exactly resurf_restore_options_default(): byte-identical LODs, inline and post (before 0.2
+ * NULL meant Max's normals and the defaults the jet fit, which the last comparison tells apart). */
+START_TEST(simplify_null_restore_options_are_the_defaults)
+{
+    resurf_mesh *m = shape_mesh(SHAPE_CUBIC, 6000, 0.3, 3, 0);
+    for (int mode = RESURF_RESTORE_INLINE; mode <= RESURF_RESTORE_POST; ++mode) {
+        resurf_simplify_options o = resurf_simplify_options_default();
+        o.target_ratio = 0.1;
+        o.restore = (resurf_restore_mode)mode;
+        o.measure_samples = 0;
+        ck_assert_ptr_null(o.restore_options);
+        resurf_mesh *by_null = simplify_ok(m, &o, NULL);
+        const resurf_restore_options defaults = resurf_restore_options_default();
+        o.restore_options = &defaults;
+        resurf_mesh *by_defaults = simplify_ok(m, &o, NULL);
+        ck_assert_msg(same_mesh_bytes(by_null, by_defaults), "mode %d: NULL and the defaults differ", mode);
+        resurf_restore_options jet = defaults;
+        jet.normals = RESURF_NORMALS_JET;
+        o.restore_options = &jet;
+        resurf_mesh *by_jet = simplify_ok(m, &o, NULL);
+        ck_assert_msg(!same_mesh_bytes(by_null, by_jet), "mode %d: jet normals change nothing", mode);
+        resurf_mesh_free(by_null);
+        resurf_mesh_free(by_defaults);
+        resurf_mesh_free(by_jet);
+    }
+    resurf_mesh_free(m);
 }
 END_TEST
 
@@ -429,7 +490,7 @@ START_TEST(simplify_lod_chain_restored_onto_original)
     resurf_mesh *levels[4];
     resurf_simplify_report reps[4];
     resurf_error e;
-    ck_assert_int_eq(resurf_simplify_lods(m, &o, ratios, 4, levels, reps, &e), RESURF_OK);
+    ck_assert_int_eq(resurf_simplify_lods(m, ratios, 4, &o, levels, reps, &e), RESURF_OK);
     for (int i = 0; i < 4; ++i) {
         ck_assert_uint_le(levels[i]->triangle_count, (size_t)(ratios[i] * (double)m->triangle_count));
         ck_assert_uint_eq(reps[i].triangles, levels[i]->triangle_count);
@@ -447,10 +508,10 @@ START_TEST(simplify_lod_chain_restored_onto_original)
         resurf_mesh_free(levels[i]);
     /* bad ratios */
     const double bad[] = {0.2, 0.5};
-    ck_assert_int_eq(resurf_simplify_lods(m, &o, bad, 2, levels, NULL, NULL), RESURF_ERR_INVALID_ARGUMENT);
+    ck_assert_int_eq(resurf_simplify_lods(m, bad, 2, &o, levels, NULL, NULL), RESURF_ERR_INVALID_ARGUMENT);
     ck_assert_ptr_null(levels[0]);
     const double zero[] = {0.0};
-    ck_assert_int_eq(resurf_simplify_lods(m, &o, zero, 1, levels, NULL, NULL), RESURF_ERR_INVALID_ARGUMENT);
+    ck_assert_int_eq(resurf_simplify_lods(m, zero, 1, &o, levels, NULL, NULL), RESURF_ERR_INVALID_ARGUMENT);
     resurf_mesh_free(m);
 }
 END_TEST
@@ -502,7 +563,6 @@ START_TEST(simplify_error_bound_stops)
 {
     resurf_mesh *m = shape_mesh(SHAPE_SPHERE, 8000, 0.3, 5, 0);
     resurf_simplify_options o = resurf_simplify_options_default();
-    o.target_ratio = 0;
     o.max_error_rel = 1e-3;
     o.restore = RESURF_RESTORE_NONE;
     resurf_simplify_report r;
@@ -625,7 +685,7 @@ START_TEST(simplify_keeps_attribute_layout)
 }
 END_TEST
 
-START_TEST(simplify_midpoint_and_cost_at_restored)
+START_TEST(simplify_midpoint_placement)
 {
     resurf_mesh *m = shape_mesh(SHAPE_TORUS, 6000, 0.3, 4, 0);
     resurf_simplify_options o = resurf_simplify_options_default();
@@ -634,12 +694,6 @@ START_TEST(simplify_midpoint_and_cost_at_restored)
     o.placement = RESURF_PLACEMENT_MIDPOINT;
     resurf_simplify_report r;
     resurf_mesh *out = simplify_ok(m, &o, &r);
-    assert_clean(out);
-    ck_assert(max_shape_distance(SHAPE_TORUS, out) < 1e-3);
-    resurf_mesh_free(out);
-    o.placement = RESURF_PLACEMENT_QUADRIC;
-    o.cost_at_restored = 1;
-    out = simplify_ok(m, &o, &r);
     assert_clean(out);
     ck_assert_uint_le(out->triangle_count, m->triangle_count / 10);
     ck_assert(max_shape_distance(SHAPE_TORUS, out) < 1e-3);
@@ -670,18 +724,17 @@ START_TEST(simplify_nonmanifold_input)
     /* the fin on the interior edge (0,0)–(1/6,1/6) of the first grid: vertices 0 and 8 */
     v3_store(m->positions + 3 * (2 * nv), v3(0.1, 0.05, 0.3));
     m->indices[6 * nt] = 0, m->indices[6 * nt + 1] = 8, m->indices[6 * nt + 2] = (uint32_t)(2 * nv);
-    resurf_validation vin = validation(m);
+    resurf_validate_report vin = validation(m);
     ck_assert_uint_gt(vin.nonmanifold_edges, 0);
     ck_assert_uint_gt(vin.nonmanifold_vertices, 0);
     for (int mode = 0; mode < RESURF_RESTORE_MODE_COUNT; ++mode) {
         resurf_simplify_options o = resurf_simplify_options_default();
-        o.target_ratio = 0;
         o.restore = (resurf_restore_mode)mode;
         resurf_simplify_report r;
         resurf_mesh *out = simplify_ok(m, &o, &r);
         ck_assert_uint_lt(out->triangle_count, m->triangle_count);
         ck_assert_uint_gt(r.blocked_nonmanifold, 0);
-        resurf_validation v = validation(out);
+        resurf_validate_report v = validation(out);
         ck_assert(resurf_validation_ok(&v));
         ck_assert_uint_eq(v.degenerate_triangles, 0);
         ck_assert_uint_le(v.nonmanifold_edges, vin.nonmanifold_edges);
@@ -717,7 +770,7 @@ START_TEST(simplify_drops_fins)
     uint32_t extra[4][3] = {{t0[0], t0[1], (uint32_t)nv}, {t0[1], t0[0], (uint32_t)nv},
                             {t0[1], t0[2], t0[0]} /* T again, same way */, {t0[0], t0[2], t0[1]} /* the other way */};
     memcpy(m->indices + 3 * nt, extra, sizeof extra);
-    resurf_validation vin = validation(m);
+    resurf_validate_report vin = validation(m);
     ck_assert_uint_gt(vin.nonmanifold_edges, 0);
 
     resurf_simplify_options o = resurf_simplify_options_default();
@@ -728,12 +781,12 @@ START_TEST(simplify_drops_fins)
     ck_assert_uint_eq(r.dropped_fins, 4);
     ck_assert_uint_eq(r.input_triangles, nt);
     ck_assert_uint_le(out->triangle_count, (size_t)(0.2 * (double)m->triangle_count));
-    resurf_validation v = validation(out);
+    resurf_validate_report v = validation(out);
     ck_assert_uint_eq(v.nonmanifold_edges, 0);
     ck_assert_uint_eq(v.boundary_edges, 0); /* T stayed: no hole */
     resurf_mesh_free(out);
 
-    o.drop_fins = 0;
+    o.drop_fins = false;
     out = simplify_ok(m, &o, &r);
     ck_assert_uint_eq(r.dropped_fins, 0);
     ck_assert_uint_eq(r.input_triangles, nt + 4);
@@ -881,7 +934,7 @@ START_TEST(simplify_keeps_a_scanned_spike)
         resurf_simplify_report r;
         resurf_mesh *out = simplify_ok(m, &o, &r);
         ck_assert_uint_le(out->triangle_count, (size_t)(0.1 * m->triangle_count));
-        resurf_metrics d;
+        resurf_compare_report d;
         ck_assert_int_eq(resurf_compare(m, out, NULL, &d, NULL, NULL), RESURF_OK);
         ck_assert_msg(d.hausdorff < 0.02 * d.diagonal, "restore mode %d: Hausdorff %g of the diagonal", mode,
                       d.hausdorff / d.diagonal);
@@ -910,7 +963,7 @@ START_TEST(simplify_does_not_bridge_a_notch)
         resurf_simplify_report r;
         resurf_mesh *out = simplify_ok(m, &o, &r);
         ck_assert_uint_le(out->triangle_count, (size_t)(0.05 * m->triangle_count));
-        resurf_metrics d;
+        resurf_compare_report d;
         ck_assert_int_eq(resurf_compare(m, out, NULL, &d, NULL, NULL), RESURF_OK);
         ck_assert_msg(d.hausdorff < 0.06 * d.diagonal, "%s: Hausdorff %g of the diagonal", i ? "post" : "inline",
                       d.hausdorff / d.diagonal);
@@ -938,12 +991,11 @@ START_TEST(simplify_degenerate_and_tiny_inputs)
             for (int placement = 0; placement < RESURF_PLACEMENT_COUNT; ++placement) {
                 resurf_mesh *m = tu_mesh(p, 7, tris[c], counts[c]);
                 resurf_simplify_options o = resurf_simplify_options_default();
-                o.target_ratio = 0;
                 o.restore = (resurf_restore_mode)mode;
                 o.placement = (resurf_placement)placement;
                 resurf_simplify_report r;
                 resurf_mesh *out = simplify_ok(m, &o, &r);
-                resurf_validation v = validation(out);
+                resurf_validate_report v = validation(out);
                 ck_assert(resurf_validation_ok(&v));
                 ck_assert_uint_eq(v.unreferenced_vertices, 0);
                 ck_assert_uint_ge(out->triangle_count, out->triangle_count ? 1 : 0);
@@ -972,7 +1024,7 @@ START_TEST(simplify_empty_input)
     resurf_mesh_free(out);
     const double levels[] = {0.5, 0.1};
     resurf_mesh *lods[2];
-    ck_assert_int_eq(resurf_simplify_lods(m, NULL, levels, 2, lods, NULL, NULL), RESURF_OK);
+    ck_assert_int_eq(resurf_simplify_lods(m, levels, 2, NULL, lods, NULL, NULL), RESURF_OK);
     ck_assert_uint_eq(lods[1]->triangle_count, 0);
     resurf_mesh_free(lods[0]);
     resurf_mesh_free(lods[1]);
@@ -1029,9 +1081,9 @@ typedef struct cancel_state {
     int calls, cancel_at;
 } cancel_state;
 
-static int cancel_cb(void *user, const char *stage, double fraction)
+static bool cancel_cb(void *user, resurf_stage stage, double fraction)
 {
-    (void)stage;
+    ck_assert(stage == RESURF_STAGE_PREPARE || stage == RESURF_STAGE_SIMPLIFY || stage == RESURF_STAGE_FINISH);
     ck_assert(fraction >= 0 && fraction <= 1);
     cancel_state *c = user;
     return c->calls++ == c->cancel_at;
@@ -1057,7 +1109,7 @@ START_TEST(simplify_cancel_at_every_step)
         const double levels[] = {0.5, 0.2};
         resurf_mesh *lods[2] = {(resurf_mesh *)1, (resurf_mesh *)1};
         c = (cancel_state){0, at};
-        ck_assert_int_eq(resurf_simplify_lods(m, &o, levels, 2, lods, NULL, &e), RESURF_ERR_CANCELLED);
+        ck_assert_int_eq(resurf_simplify_lods(m, levels, 2, &o, lods, NULL, &e), RESURF_ERR_CANCELLED);
         ck_assert_ptr_null(lods[0]);
         ck_assert_ptr_null(lods[1]);
     }
@@ -1131,13 +1183,15 @@ Suite *make_suite(void)
     tcase_add_test(tc, simplify_seam_kept_flat);
     tcase_add_test(tc, simplify_seam_kept_curved);
     tcase_add_test(tc, simplify_targets_reached);
+    tcase_add_test(tc, simplify_only_the_targets_set_count);
+    tcase_add_test(tc, simplify_null_restore_options_are_the_defaults);
     tcase_add_test(tc, simplify_sphere_lod_vertices_on_sphere);
     tcase_add_test(tc, simplify_lod_chain_restored_onto_original);
     tcase_add_test(tc, simplify_deterministic_over_threads);
     tcase_add_test(tc, simplify_error_bound_stops);
     tcase_add_test(tc, simplify_min_angle_guard);
     tcase_add_test(tc, simplify_keeps_attribute_layout);
-    tcase_add_test(tc, simplify_midpoint_and_cost_at_restored);
+    tcase_add_test(tc, simplify_midpoint_placement);
     tcase_add_test(tc, simplify_nonmanifold_input);
     tcase_add_test(tc, simplify_drops_fins);
     tcase_add_test(tc, simplify_keeps_a_pencils_length);

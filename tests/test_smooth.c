@@ -280,10 +280,10 @@ typedef struct progress_log {
     int decreasing;
 } progress_log;
 
-static int log_progress(void *user, const char *stage, double fraction)
+static bool log_progress(void *user, resurf_stage stage, double fraction)
 {
     progress_log *l = user;
-    ck_assert_str_eq(stage, "smooth");
+    ck_assert_int_eq(stage, RESURF_STAGE_SMOOTH);
     if (fraction < l->last)
         l->decreasing = 1;
     l->last = fraction;

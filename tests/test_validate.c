@@ -1,11 +1,11 @@
-/* src/validate.c: every field of resurf_validation against hand-counted meshes. */
+/* src/validate.c: every field of resurf_validate_report against hand-counted meshes. */
 #include <string.h>
 
 #include "testutil.h"
 
-static resurf_validation validate(const resurf_mesh *m)
+static resurf_validate_report validate(const resurf_mesh *m)
 {
-    resurf_validation v;
+    resurf_validate_report v;
     memset(&v, 0xab, sizeof v); /* every field must be written */
     resurf_error error;
     ck_assert_int_eq(resurf_mesh_validate(m, &v, &error), RESURF_OK);
@@ -14,7 +14,7 @@ static resurf_validation validate(const resurf_mesh *m)
 }
 
 /* Everything that a clean mesh has at zero / -1. */
-static void assert_clean(const resurf_validation *v)
+static void assert_clean(const resurf_validate_report *v)
 {
     ck_assert_uint_eq(v->nonfinite_vertices, 0);
     ck_assert_uint_eq(v->nonfinite_positions, 0);
@@ -37,7 +37,7 @@ static void assert_clean(const resurf_validation *v)
 START_TEST(validate_closed_tetrahedron_and_cube)
 {
     resurf_mesh *m = tu_tetrahedron();
-    resurf_validation v = validate(m);
+    resurf_validate_report v = validate(m);
     assert_clean(&v);
     ck_assert_uint_eq(v.vertex_count, 4);
     ck_assert_uint_eq(v.triangle_count, 4);
@@ -64,7 +64,7 @@ START_TEST(validate_open_grid)
 {
     for (unsigned n = 1; n <= 7; n += 3) {
         resurf_mesh *m = tu_grid(n);
-        resurf_validation v = validate(m);
+        resurf_validate_report v = validate(m);
         assert_clean(&v);
         ck_assert_uint_eq(v.boundary_edges, 4 * n);
         ck_assert_uint_eq(v.boundary_loops, 1);
@@ -81,7 +81,7 @@ START_TEST(validate_two_disjoint_triangles)
     const double p[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 5, 0, 0, 6, 0, 0, 5, 1, 0};
     const uint32_t t[] = {0, 1, 2, 3, 4, 5};
     resurf_mesh *m = tu_mesh(p, 6, t, 2);
-    resurf_validation v = validate(m);
+    resurf_validate_report v = validate(m);
     assert_clean(&v);
     ck_assert_uint_eq(v.components, 2);
     ck_assert_uint_eq(v.boundary_loops, 2);
@@ -97,7 +97,7 @@ START_TEST(validate_nonmanifold_edge)
     const double p[] = {0, 0, 0, 1, 0, 0, 0.5, 1, 0, 0.5, -1, 0, 0.5, 0, 1};
     const uint32_t t[] = {0, 1, 2, 1, 0, 3, 0, 1, 4};
     resurf_mesh *m = tu_mesh(p, 5, t, 3);
-    resurf_validation v = validate(m);
+    resurf_validate_report v = validate(m);
     ck_assert_uint_eq(v.nonmanifold_edges, 1);
     ck_assert_uint_eq(v.nonmanifold_vertices, 2);
     ck_assert_int_eq(v.first_nonmanifold_edge_vertex, 0);
@@ -115,7 +115,7 @@ START_TEST(validate_bowtie_vertex)
     const double p[] = {-1, 1, 0, -1, -1, 0, 0, 0, 0, 1, 1, 0, 1, -1, 0};
     const uint32_t t[] = {0, 1, 2, 2, 3, 4};
     resurf_mesh *m = tu_mesh(p, 5, t, 2);
-    resurf_validation v = validate(m);
+    resurf_validate_report v = validate(m);
     ck_assert_uint_eq(v.nonmanifold_edges, 0);
     ck_assert_uint_eq(v.nonmanifold_vertices, 1);
     ck_assert_int_eq(v.first_nonmanifold_edge_vertex, 2);
@@ -134,7 +134,7 @@ START_TEST(validate_flipped_triangle)
     uint32_t tmp = m->indices[1];
     m->indices[1] = m->indices[2];
     m->indices[2] = tmp;
-    resurf_validation v = validate(m);
+    resurf_validate_report v = validate(m);
     ck_assert_uint_eq(v.inconsistent_edges, 3);
     ck_assert_int_eq(v.first_inconsistent_triangle, 0);
     ck_assert_uint_eq(v.boundary_edges, 0);
@@ -168,7 +168,7 @@ START_TEST(validate_nonfinite)
 {
     resurf_mesh *m = tu_tetrahedron();
     m->positions[3 * 2 + 1] = NAN;
-    resurf_validation v = validate(m);
+    resurf_validate_report v = validate(m);
     ck_assert_uint_eq(v.nonfinite_vertices, 1);
     ck_assert_uint_eq(v.nonfinite_positions, 1);
     ck_assert_int_eq(v.first_nonfinite_vertex, 2);
@@ -206,7 +206,7 @@ START_TEST(validate_out_of_range)
 {
     resurf_mesh *m = tu_tetrahedron();
     m->indices[3 * 1 + 2] = 7;
-    resurf_validation v = validate(m);
+    resurf_validate_report v = validate(m);
     ck_assert_uint_eq(v.out_of_range_indices, 1);
     ck_assert_int_eq(v.first_out_of_range_triangle, 1);
     ck_assert_int_eq(resurf_validation_ok(&v), 0);
@@ -236,7 +236,7 @@ START_TEST(validate_degenerate)
     const double p[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0};
     const uint32_t t[] = {0, 1, 2, 0, 0, 1, 4, 1, 0};
     resurf_mesh *m = tu_mesh(p, 5, t, 3);
-    resurf_validation v = validate(m);
+    resurf_validate_report v = validate(m);
     ck_assert_uint_eq(v.degenerate_triangles, 2);
     ck_assert_int_eq(v.first_degenerate_triangle, 1);
     ck_assert_uint_eq(v.zero_area_triangles, 0); /* degenerate ones are not also zero-area */
@@ -261,7 +261,7 @@ START_TEST(validate_zero_area)
     const double p[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 2, 0, 0, 0.5, 1e-14, 0, 0.5, 1e-13, 0};
     const uint32_t t[] = {0, 1, 2, 0, 1, 3, 0, 1, 4, 0, 1, 5};
     resurf_mesh *m = tu_mesh(p, 6, t, 4);
-    resurf_validation v = validate(m);
+    resurf_validate_report v = validate(m);
     ck_assert_uint_eq(v.zero_area_triangles, 2);
     ck_assert_int_eq(v.first_zero_area_triangle, 1);
     ck_assert_uint_eq(v.degenerate_triangles, 0);
@@ -277,7 +277,7 @@ START_TEST(validate_unreferenced)
     const double p[] = {1, 1, 1, 1, -1, -1, 9, 9, 9, -1, 1, -1, -1, -1, 1, 8, 8, 8};
     const uint32_t t[] = {0, 1, 3, 0, 3, 4, 0, 4, 1, 1, 4, 3};
     resurf_mesh *m = tu_mesh(p, 6, t, 4);
-    resurf_validation v = validate(m);
+    resurf_validate_report v = validate(m);
     ck_assert_uint_eq(v.unreferenced_vertices, 2);
     ck_assert_uint_eq(v.position_count, 6);
     ck_assert_uint_eq(v.boundary_edges, 0);
@@ -298,7 +298,7 @@ START_TEST(validate_seam_is_not_a_boundary)
     memcpy(m->positions, p, sizeof p);
     memcpy(m->indices, t, sizeof t);
     m->texcoords[0][2 * 4] = 0.5;
-    resurf_validation v = validate(m);
+    resurf_validate_report v = validate(m);
     assert_clean(&v);
     ck_assert_uint_eq(v.vertex_count, 5);
     ck_assert_uint_eq(v.position_count, 4);
@@ -312,7 +312,7 @@ START_TEST(validate_empty_and_null)
 {
     resurf_mesh *m = NULL;
     ck_assert_int_eq(resurf_mesh_create(0, 0, 0, &m, NULL), RESURF_OK);
-    resurf_validation v = validate(m);
+    resurf_validate_report v = validate(m);
     assert_clean(&v);
     ck_assert_uint_eq(v.vertex_count, 0);
     ck_assert_uint_eq(v.components, 0);
@@ -331,7 +331,7 @@ START_TEST(validate_torus)
 {
     resurf_mesh *m = shape_mesh(SHAPE_TORUS, 20000, 0.3, 4, 0);
     ck_assert_ptr_nonnull(m);
-    resurf_validation v = validate(m);
+    resurf_validate_report v = validate(m);
     assert_clean(&v);
     ck_assert_uint_eq(v.position_count, m->vertex_count);
     ck_assert_uint_eq(v.boundary_edges, 0);

@@ -67,7 +67,7 @@ static int measure(const resurf_mesh *mesh, const char *name, const char *dir, r
     int rc = 0;
     if (resurf_scene_save(scene, plain, &o, NULL, &e) != RESURF_OK)
         rc = 1;
-    o.draco = 1;
+    o.draco = true;
     double t0 = now();
     if (!rc && resurf_scene_save(scene, ours, &o, NULL, &e) != RESURF_OK)
         rc = 1;

@@ -1,7 +1,7 @@
 /* bench-simplify: resurf's simplifier (src/simplify.c) against meshoptimizer's meshopt_simplify, in the same run.
  *
  *   bench-simplify [--small] [--large] [--scan FILE] [--scaling] [--ratios 0.5,0.1,0.02] [--shape NAME]
- *                  [--threads N] [--sag S] [--normal-deg D] [--midpoint] [--cost-restored] [--post]
+ *                  [--threads N] [--sag S] [--normal-deg D] [--midpoint] [--post]
  *                  [--normals K] [--repeat N]
  *   (K: the restorer's resurf_normal_scheme, 0..4; --shape none: only the scan; N runs per method, the time is the
  *   best of them, default 1)
@@ -147,7 +147,7 @@ static void measure(const resurf_mesh *orig, shape_kind kind, const resurf_mesh 
     r->min_angle = r->mean_min_angle = NAN;
     if (!lod->triangle_count)
         return;
-    resurf_metrics mt;
+    resurf_compare_report mt;
     resurf_error e;
     if (resurf_compare(orig, lod, NULL, &mt, NULL, &e) == RESURF_OK) {
         r->h_orig = mt.hausdorff / mt.diagonal;
@@ -166,7 +166,7 @@ typedef struct config {
     unsigned threads;
     double sag;
     double normal_deg;
-    int midpoint, cost_restored, post;
+    int midpoint, post;
     int normals; /* resurf_normal_scheme of the restorer, or -1 for its default */
     int repeat;  /* runs per method: the time is the best of them */
 } config;
@@ -185,7 +185,6 @@ static int run_resurf(const resurf_mesh *m, double ratio, resurf_restore_mode mo
         o.max_normal_change_deg = cfg->normal_deg;
     if (cfg->midpoint)
         o.placement = RESURF_PLACEMENT_MIDPOINT;
-    o.cost_at_restored = cfg->cost_restored;
     resurf_restore_options ro = resurf_restore_options_default();
     if (cfg->normals >= 0) {
         ro.normals = (resurf_normal_scheme)cfg->normals;
@@ -347,7 +346,7 @@ int main(int argc, char **argv)
     const char *scan = "data/scans/dragon.ply";
     double ratios[8] = {0.5, 0.1, 0.02};
     size_t nr = 3;
-    config cfg = {0, -1, 0, 0, 0, 0, -1, 1};
+    config cfg = {0, -1, 0, 0, 0, -1, 1};
     for (int i = 1; i < argc; ++i) {
         if (!strcmp(argv[i], "--small"))
             small = 1;
@@ -373,16 +372,14 @@ int main(int argc, char **argv)
             cfg.normals = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--midpoint"))
             cfg.midpoint = 1;
-        else if (!strcmp(argv[i], "--cost-restored"))
-            cfg.cost_restored = 1;
         else if (!strcmp(argv[i], "--repeat") && i + 1 < argc)
             cfg.repeat = atoi(argv[++i]) > 0 ? atoi(argv[i]) : 1;
         else if (!strcmp(argv[i], "--post"))
             cfg.post = 1;
         else {
             fprintf(stderr, "usage: bench-simplify [--small] [--large] [--scan FILE|''] [--scaling] [--ratios R,..]"
-                            " [--shape NAME] [--threads N] [--sag S] [--normal-deg D] [--midpoint] [--cost-restored]"
-                            " [--post] [--normals K] [--repeat N]\n");
+                            " [--shape NAME] [--threads N] [--sag S] [--normal-deg D] [--midpoint] [--post]"
+                            " [--normals K] [--repeat N]\n");
             return 2;
         }
     }

@@ -18,14 +18,19 @@
  *   before it returns (the simplifier keeps its own waiting between its many short parallel steps, briefly
  *   spinning, then sleeping).
  * - The library never prints, never exits and never aborts on bad input.
- * - Progress: a resurf_progress {fn, user} is called at a bounded rate with a stage name and a fraction in [0,1].
- *   A non-zero return cancels the call: it returns RESURF_ERR_CANCELLED and leaves the caller's data valid.
+ * - Progress: a resurf_progress {fn, user} is called at a bounded rate with a resurf_stage and a fraction in [0,1].
+ *   Returning true cancels the call: it returns RESURF_ERR_CANCELLED and leaves the caller's data valid.
+ * - Types and names: flags are bool, a choice among more than two is an enum. A call's options are resurf_X_options
+ *   and what it fills in is resurf_X_report (resurf_mesh_validate, without options: resurf_validate_report). Calls
+ *   take their inputs, then what to make, then the options, then the outputs (the text writers take dst first,
+ *   like snprintf).
  * - Units: lengths are in the mesh's own units unless a name ends in `_rel` (relative to the bounding-box
  *   diagonal of the reference mesh); angles end in `_deg`.
  */
 #ifndef RESURF_RESURF_H
 #define RESURF_RESURF_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -34,9 +39,9 @@ extern "C" {
 #endif
 
 #define RESURF_VERSION_MAJOR 0
-#define RESURF_VERSION_MINOR 1
+#define RESURF_VERSION_MINOR 2
 #define RESURF_VERSION_PATCH 0
-#define RESURF_VERSION_STRING "0.1.0"
+#define RESURF_VERSION_STRING "0.2.0"
 
 #if defined(RESURF_BUILDING) && defined(__GNUC__)
 #define RESURF_API __attribute__((visibility("default")))
@@ -82,10 +87,27 @@ typedef struct resurf_error {
  * NUL-terminated when dst_size > 0. Returns the length the full text needs, like snprintf. */
 RESURF_API size_t resurf_format_error(char *dst, size_t dst_size, const resurf_error *error);
 
-/* Progress and cancel. fn may be NULL. stage is a static string ("load", "restore", ...); fraction is in [0,1].
- * Return 0 to continue, anything else to cancel. Called from the calling thread only. */
+/* What a call is doing when it reports progress. */
+typedef enum resurf_stage {
+    RESURF_STAGE_LOAD = 0,  /* reading a mesh or a scene */
+    RESURF_STAGE_SAVE,      /* writing one */
+    RESURF_STAGE_RESTORE,   /* resurf_restore() */
+    RESURF_STAGE_SMOOTH,    /* resurf_smooth() */
+    RESURF_STAGE_COMPARE,   /* resurf_compare() */
+    RESURF_STAGE_PREPARE,   /* the simplifier's set-up: checks, the services over the input, the first candidates */
+    RESURF_STAGE_SIMPLIFY,  /* its collapses, towards the (current level's) target */
+    RESURF_STAGE_FINISH,    /* its output: numbering, attributes, measuring, level after level */
+    RESURF_STAGE_COUNT
+} resurf_stage;
+
+/* "load", "save", "restore", "smooth", "compare", "prepare", "simplify", "finish"; "unknown" for anything else.
+ * Never NULL. */
+RESURF_API const char *resurf_stage_name(resurf_stage stage);
+
+/* Progress and cancel. fn may be NULL. fraction is in [0,1].
+ * Return false to continue, true to cancel. Called from the calling thread only. */
 typedef struct resurf_progress {
-    int (*fn)(void *user, const char *stage, double fraction);
+    bool (*fn)(void *user, resurf_stage stage, double fraction);
     void *user;
 } resurf_progress;
 
@@ -334,7 +356,7 @@ RESURF_API resurf_status resurf_mesh_to_arrays(const resurf_mesh *mesh, const re
 /* What resurf_mesh_validate() found. Topology counts are over welded positions (exact weld), so attribute seams
  * do not show up as boundaries. Triangles with an out-of-range index or a repeated position take no part in the
  * topology. The first_* fields give the lowest index of an example, or -1 when there is none. */
-typedef struct resurf_validation {
+typedef struct resurf_validate_report {
     size_t vertex_count, triangle_count, position_count; /* position_count: distinct positions */
     size_t nonfinite_vertices;        /* NaN or infinite coordinate (or attribute) */
     size_t nonfinite_positions;       /* NaN or infinite coordinate (a subset of nonfinite_vertices) */
@@ -355,21 +377,22 @@ typedef struct resurf_validation {
         first_zero_area_triangle;
     long long first_nonmanifold_edge_vertex; /* a vertex at a non-manifold position */
     long long first_inconsistent_triangle;   /* a triangle on an inconsistent edge */
-} resurf_validation;
+} resurf_validate_report;
 
 /* Counts the problems of mesh. Never fails on a bad mesh (that is what it reports); fails only on NULL
  * arguments or out of memory. Out-of-range triangles are skipped by the topology counts. */
-RESURF_API resurf_status resurf_mesh_validate(const resurf_mesh *mesh, resurf_validation *out, resurf_error *error);
+RESURF_API resurf_status resurf_mesh_validate(const resurf_mesh *mesh, resurf_validate_report *out,
+                                              resurf_error *error);
 
-/* True (1) when the mesh can be processed: finite positions and every index in range (non-finite attributes,
- * degenerate triangles and topology problems are reported but do not stop processing). 0 for NULL. */
-RESURF_API int resurf_validation_ok(const resurf_validation *v);
+/* True when the mesh can be processed: finite positions and every index in range (non-finite attributes,
+ * degenerate triangles and topology problems are reported but do not stop processing). False for NULL. */
+RESURF_API bool resurf_validation_ok(const resurf_validate_report *v);
 
 enum {
     RESURF_REPAIR_DROP_INVALID = 1u << 0,      /* drop triangles with out-of-range indices or non-finite corners */
     RESURF_REPAIR_DROP_DEGENERATE = 1u << 1,   /* drop triangles with a repeated index or a repeated position
                                                   (after the weld, if any) */
-    RESURF_REPAIR_DROP_ZERO_AREA = 1u << 2,    /* drop what resurf_validation counts as zero_area_triangles */
+    RESURF_REPAIR_DROP_ZERO_AREA = 1u << 2,    /* drop what resurf_validate_report counts as zero_area_triangles */
     RESURF_REPAIR_WELD = 1u << 3,              /* merge vertices with equal positions and equal attributes */
     RESURF_REPAIR_REMOVE_UNREFERENCED = 1u << 4,
     RESURF_REPAIR_ALL = 0x1f,
@@ -381,9 +404,9 @@ typedef struct resurf_repair_options {
     double weld_tolerance_rel; /* with RESURF_REPAIR_WELD: 0 welds exact duplicates only; > 0 clusters positions as
                                   resurf_mesh_weld_map() does and moves every vertex (seams too) onto its cluster's
                                   first position; finite, >= 0; default 0 */
-    int weld_ignore_attributes; /* 1: weld by position alone (attributes of the first vertex win); default 0: only
-                                   vertices whose attributes (normals, texcoords, colors, extras) are equal merge,
-                                   so attribute seams stay */
+    bool weld_ignore_attributes; /* true: weld by position alone (attributes of the first vertex win); default
+                                    false: only vertices whose attributes (normals, texcoords, colors, extras) are
+                                    equal merge, so attribute seams stay */
     const resurf_allocator *allocator; /* NULL (default): the input mesh's (or the C heap); see resurf_allocator */
 } resurf_repair_options;
 
@@ -460,8 +483,9 @@ RESURF_API resurf_status resurf_mesh_load_memory(const void *data, size_t size, 
 typedef struct resurf_save_options {
     size_t struct_size;
     resurf_format format;       /* default AUTO */
-    int binary;                 /* PLY and STL: 1 = binary little-endian (default), 0 = ASCII */
-    int write_normals, write_texcoords, write_colors, write_extras; /* default 1: write what the format can hold */
+    bool binary;                /* PLY and STL: true = binary little-endian (default), false = ASCII */
+    bool write_normals, write_texcoords, write_colors, write_extras; /* default true: write what the format can
+                                                                         hold */
     resurf_progress progress;
     const resurf_allocator *allocator; /* NULL (default): the input mesh's (or the C heap); see resurf_allocator */
 } resurf_save_options;
@@ -489,8 +513,19 @@ typedef enum resurf_normal_scheme {
     RESURF_NORMALS_ANGLE,            /* Σ n_f θ_f */
     RESURF_NORMALS_MAX,              /* Max 1999: Σ (e1 × e2) / (|e1|² |e2|²), exact on spheres */
     RESURF_NORMALS_JET,              /* normal of a quadratic fitted to the 2-ring */
-    RESURF_NORMALS_COUNT
+    RESURF_NORMALS_COUNT,            /* the number of schemes above */
+    RESURF_NORMALS_AUTO = 0x100      /* the default: the calling function's choice (see resurf_restore_options) */
 } resurf_normal_scheme;
+
+/* What resurf_restore() makes of M's own normals, when it has them. */
+typedef enum resurf_input_normals {
+    RESURF_INPUT_NORMALS_IGNORE = 0,  /* they play no part */
+    RESURF_INPUT_NORMALS_CREASES,     /* the default: an edge whose faces carry different normals (by more than 1°)
+                                         at an end is a crease */
+    RESURF_INPUT_NORMALS_USE,         /* creases as CREASES, and they are M's vertex normals (the scheme fills in
+                                         corners whose input normal is zero) */
+    RESURF_INPUT_NORMALS_COUNT
+} resurf_input_normals;
 
 /* Max or min algorithm per triangle corner. */
 typedef enum resurf_side_rule {
@@ -522,7 +557,10 @@ typedef enum resurf_outside_policy {
  * its corners' mean incident edge lengths. */
 typedef struct resurf_restore_options {
     size_t struct_size;
-    resurf_normal_scheme normals;      /* vertex normals of M; default JET */
+    resurf_normal_scheme normals;      /* vertex normals of M; default AUTO: JET in resurf_restore() (the most
+                                          accurate: see its default), MAX when the simplifier restores (as good
+                                          for a LOD, whose error is the chord sag, and faster to set up than the
+                                          jet fit) */
     resurf_side_rule side_rule;        /* max/min choice of formula (2); default CURVATURE (unused by NORMAL_SECTION) */
     resurf_displacement displacement;  /* default NORMAL_SECTION */
     double step;                       /* k in p ← p + k Σ_j δ_j N_opt, in (0, 1]; each δ_j estimates the whole
@@ -536,24 +574,22 @@ typedef struct resurf_restore_options {
                                           (slivers with an angle over 150° take no part); a boundary or crease
                                           curve that turns by more than this at a vertex has a corner there;
                                           [0, 180], 180 = no creases; default 60 */
-    int use_input_normals;             /* M's own normals, when it has them: 0 = ignore them; 1 (default) = an edge
-                                          whose faces carry different normals (by more than 1°) at an end is a crease;
-                                          2 = that, and use them as M's vertex normals (the scheme fills in corners
-                                          whose input normal is zero) */
+    resurf_input_normals input_normals; /* M's own normals, when it has them; default CREASES */
     double far_factor;                 /* a vertex farther from M than this × the local edge length is left where it
                                           is (counted in left_far); > 0, INFINITY = never; default 4 */
     resurf_outside_policy outside;     /* default NEIGHBOURS */
-    int boundary;                      /* 1 (default): a vertex whose closest point on M lies on a boundary edge (or
-                                          a boundary vertex) is put on the boundary curve (circular arcs through the
-                                          edge's end points, tangent to the boundary there); 0: treated like others */
+    bool boundary;                     /* true (default): a vertex whose closest point on M lies on a boundary edge
+                                          (or a boundary vertex) is put on the boundary curve (circular arcs through
+                                          the edge's end points, tangent to the boundary there); false: treated like
+                                          others */
     unsigned threads;                  /* 0 = all cores; results are the same for every count */
-    resurf_progress progress;          /* stage "restore", called between blocks of vertices */
+    resurf_progress progress;          /* RESURF_STAGE_RESTORE, called between blocks of vertices */
     const resurf_allocator *allocator; /* NULL (default): the input mesh's (or the C heap); see resurf_allocator */
 } resurf_restore_options;
 
-/* resurf's default: JET normals, the normal-section displacement, k = 1/3, up to 10 steps with tolerance 1e-6,
- * crease angle 60°, boundaries kept, far factor 4. Chosen by measurement on the irregular sphere and the cubic
- * surface after Laplacian smoothing (see README). */
+/* resurf's default: AUTO normals (JET in resurf_restore), the normal-section displacement, k = 1/3, up to 10 steps
+ * with tolerance 1e-6, crease angle 60°, boundaries kept, far factor 4. Chosen by measurement on the irregular
+ * sphere and the cubic surface after Laplacian smoothing (see README). */
 RESURF_API resurf_restore_options resurf_restore_options_default(void);
 /* The paper's preset: inverse-area normals, curvature rule, formula (2), k = 1/6, 5 iterations, no tolerance (the
  * other fields as in the default). */
@@ -615,7 +651,7 @@ typedef struct resurf_smooth_options {
     double lambda;        /* step, in (0, 1]; 0 (default) = the method's own: 0.5 Laplacian, 0.33 Taubin and
                              Taubin-cot, 0.5 bilaplacian (at most 0.5 there: larger steps diverge) */
     double mu;            /* Taubin's negative step, in [−1, 0); 0 (default) = −0.34; ignored by the other methods */
-    resurf_progress progress; /* stage "smooth", once per iteration; a cancel leaves the mesh unchanged */
+    resurf_progress progress; /* RESURF_STAGE_SMOOTH, once per iteration; a cancel leaves the mesh unchanged */
     const resurf_allocator *allocator; /* NULL (default): the input mesh's (or the C heap); see resurf_allocator */
 } resurf_smooth_options;
 
@@ -645,7 +681,7 @@ typedef struct resurf_compare_options {
                               0 measures from the vertices alone; default 200000 */
     uint64_t seed;         /* sample seed (any value); default 1 */
     unsigned threads;      /* 0 = all cores */
-    resurf_progress progress; /* stage "compare"; a cancel returns RESURF_ERR_CANCELLED and writes no output */
+    resurf_progress progress; /* RESURF_STAGE_COMPARE; a cancel returns RESURF_ERR_CANCELLED and writes no output */
     const resurf_allocator *allocator; /* NULL (default): the input mesh's (or the C heap); see resurf_allocator */
 } resurf_compare_options;
 
@@ -656,7 +692,7 @@ RESURF_API resurf_compare_options resurf_compare_options_default(void);
  * samples and the vertices its triangles use) to the nearest point of the other surface: the max over all those
  * points, the mean and RMS over the area-uniform samples (so that they estimate the area average; over the
  * vertices when samples is 0). */
-typedef struct resurf_metrics {
+typedef struct resurf_compare_report {
     double diagonal;                           /* of REF's bounding box (resurf_mesh_bounds) */
     double hausdorff;                          /* max(test_to_ref_max, ref_to_test_max) */
     double mean;                               /* (test_to_ref_mean + ref_to_test_mean) / 2 */
@@ -670,15 +706,15 @@ typedef struct resurf_metrics {
                                                   normal and REF's face normal at the point of REF closest to the
                                                   face's centroid, in [0, 180] (orientation counts: a flipped face
                                                   is 180); faces of zero area are left out */
-} resurf_metrics;
+} resurf_compare_report;
 
 /* Distances between the surfaces of ref and test, TEST's triangle quality and normal deviation.
  * ref, test: meshes with at least one triangle, indices in range and finite coordinates at the vertices triangles
  * use (else RESURF_ERR_INVALID_MESH naming "REF" or "TEST" and the element). options: NULL = defaults.
- * out_metrics: required. out_vertex_distance: NULL, or room for test->vertex_count distances of TEST's vertices to
+ * out_report: required. out_vertex_distance: NULL, or room for test->vertex_count distances of TEST's vertices to
  * REF's surface (every vertex, unused ones included; a non-finite unused vertex gets INFINITY). */
 RESURF_API resurf_status resurf_compare(const resurf_mesh *ref, const resurf_mesh *test,
-                                        const resurf_compare_options *options, resurf_metrics *out_metrics,
+                                        const resurf_compare_options *options, resurf_compare_report *out_report,
                                         double *out_vertex_distance, resurf_error *error);
 
 /* Triangle quality: the smallest angle of each triangle (a triangle with coincident corners or collinear corners
@@ -712,10 +748,10 @@ typedef enum resurf_restore_mode {
 
 typedef struct resurf_simplify_options {
     size_t struct_size;
-    /* Stopping: the run stops at whichever of these comes first; a field at 0 is not used. With all four at 0 the
-     * mesh is simplified as far as the guards allow. */
-    size_t target_triangles;      /* stop once the result has at most this many triangles; default 0 */
-    double target_ratio;          /* ... at most ratio × the input's triangles, in [0, 1]; default 0.5 */
+    /* Stopping: every one is unset (0) by default, and only those set count: the run stops at whichever of them
+     * comes first. With none set the mesh is simplified as far as the guards allow. */
+    size_t target_triangles;      /* stop once the result has at most this many triangles; default 0 (unset) */
+    double target_ratio;          /* ... at most ratio × the input's triangles, in [0, 1]; default 0 (unset) */
     double max_error;             /* never collapse where the estimated error (RMS distance of the new vertex to the
                                      planes of the input triangles merged into it) exceeds this, in mesh units;
                                      default 0 (off) */
@@ -723,10 +759,9 @@ typedef struct resurf_simplify_options {
 
     resurf_placement placement;   /* default RESURF_PLACEMENT_QUADRIC */
     resurf_restore_mode restore;  /* default RESURF_RESTORE_INLINE */
-    const resurf_restore_options *restore_options; /* how points are restored; NULL = resurf_restore_options_default()
-                                     with normals = RESURF_NORMALS_MAX (as good for LODs, whose error is the chord
-                                     sag, and faster to set up than the jet fit); its threads, progress and
-                                     allocator are ignored: this call's are used */
+    const resurf_restore_options *restore_options; /* how points are restored; NULL (default) =
+                                     resurf_restore_options_default(), exactly (its AUTO normals are Max's here);
+                                     its threads, progress and allocator are ignored: this call's are used */
     double sag_offset;            /* with restoration: once vertices lie on S, the facets between them cut inside
                                      convex parts of S by the chord sag (about h²κ/8 for an edge of length h where
                                      S bends by κ). Each output vertex is moved along S's normal by sag_offset × its
@@ -734,43 +769,40 @@ typedef struct resurf_simplify_options {
                                      sag by h_M²κ/8: the offset is (h² − h_M²)κ/8) so that the facets straddle the
                                      input's surface, which the report measures against. 0 = vertices exactly on
                                      S; range [0, 4]; default 1 */
-    int cost_at_restored;         /* with INLINE: 1 = rank candidate collapses by the quadric at their restored
-                                     position (restores every candidate: slower); default 0 */
 
     /* Guards. A candidate collapse that breaks one is skipped and counted in the report. The link condition (no
      * non-manifold result) and attribute seams (a seam vertex collapses only along its seam) always apply; vertices
      * that are non-manifold in the input never move. */
-    int lock_border;              /* 1 = border vertices never move or disappear; default 0 (borders are kept by
-                                     boundary quadrics and collapse only along themselves) */
+    bool lock_border;             /* true = border vertices never move or disappear; default false (borders are kept
+                                     by boundary quadrics and collapse only along themselves) */
     double min_angle_deg;         /* skip collapses that leave a changed triangle with a smallest angle under this
                                      (unless that angle did not decrease); in [0, 60); 0 = off (default) */
     double max_normal_change_deg; /* skip collapses that turn a triangle's normal by more than this (flips and
                                      folds); in (0, 180]; default 60 */
     double border_weight;         /* weight of the planes through border and seam edges, perpendicular to their
                                      triangles, relative to the triangles' own planes; >= 0; default 1 */
-    int drop_fins;                /* 1 (default): triangles over the same three positions as another are left out
+    bool drop_fins;               /* true (default): triangles over the same three positions as another are left out
                                      of the result: a pair with opposite orientations (a zero-thickness fin, which
                                      encloses nothing and makes its edges non-manifold, locking them) goes whole,
                                      a repeat with the same orientation goes alone. Scans hold them: the Stanford
                                      dragon's 48k reconstruction has 1,052 pairs, whose 2,094 non-manifold edges
                                      stopped its 10% level at 8,056 triangles (17%, error 1.8% of the diagonal);
-                                     without them it reaches 4,778 (error 0.45%). 0 keeps every triangle. */
+                                     without them it reaches 4,778 (error 0.45%). false keeps every triangle. */
 
     size_t measure_samples;       /* area-uniform samples of the result (plus all its vertices) whose distance to the
                                      input surface is measured for the report; default 100000; 0 = no measurement */
     unsigned threads;             /* 0 = all cores; the result is the same for any value */
-    resurf_progress progress;     /* stages "prepare", "simplify", "finish"; a cancel returns RESURF_ERR_CANCELLED */
+    resurf_progress progress;     /* RESURF_STAGE_PREPARE, _SIMPLIFY, _FINISH; a cancel returns RESURF_ERR_CANCELLED */
     const resurf_allocator *allocator; /* NULL (default): the input mesh's (or the C heap); see resurf_allocator */
 } resurf_simplify_options;
 
-/* The defaults: target_ratio 0.5, quadric placement, inline restoration, sag_offset 1, cost_at_restored 0,
- * max_normal_change_deg 60, min_angle_deg 0, border_weight 1, measure_samples 100000, all cores. Measured with
- * tools/bench_simplify.c on the irregular analytic sphere, torus and cubic surface (20k triangles, 10% and 2%): the
- * mean distance of the LOD's surface to the true surface is lowest at sag_offset 1 (about 0.24–0.26, 0.35–0.38 and
- * 0.74–0.80 of meshoptimizer's; 0.86–0.89 with the offset at 0), as the chord-sag model predicts (the mean depth of
- * an equilateral facet under a sphere equals its edges' sag h²κ/8). Ranking by the quadric at the
- * restored position changed nothing measurable and doubles the time; normal-change bounds from 40° to 90° gave the
- * same figures. */
+/* The defaults: no target (set one), quadric placement, inline restoration with the restorer's defaults (Max's
+ * normals), sag_offset 1, max_normal_change_deg 60, min_angle_deg 0, border_weight 1, measure_samples 100000, all
+ * cores. Measured with tools/bench_simplify.c on the irregular analytic sphere, torus and cubic surface (20k triangles,
+ * 10% and 2%): the mean distance of the LOD's surface to the true surface is lowest at sag_offset 1 (about 0.24–0.26,
+ * 0.35–0.38 and 0.74–0.80 of meshoptimizer's; 0.86–0.89 with the offset at 0), as the chord-sag model predicts (the
+ * mean depth of an equilateral facet under a sphere equals its edges' sag h²κ/8). Normal-change bounds from 40° to 90°
+ * gave the same figures. */
 RESURF_API resurf_simplify_options resurf_simplify_options_default(void);
 
 /* Why a simplification stopped. */
@@ -834,7 +866,7 @@ typedef struct resurf_simplify_report {
  * - in: finite positions where triangles refer, indices in range (else RESURF_ERR_INVALID_MESH naming the element);
  *   triangles with a repeated position are dropped; any topology is accepted (non-manifold vertices stay put).
  *   Not modified.
- * - options: NULL = defaults.
+ * - options: NULL = defaults, which set no target: set one (see resurf_simplify_options).
  * - out: receives a new mesh (free with resurf_mesh_free) with the input's attribute layout: normals from S's
  *   smooth normal field at each vertex (without restoration: the input's normals interpolated), texcoords,
  *   colours and extras interpolated from the input at the vertex's closest input triangle on the same side of an
@@ -848,9 +880,10 @@ RESURF_API resurf_status resurf_simplify(const resurf_mesh *in, const resurf_sim
                                          resurf_mesh **out, resurf_simplify_report *out_report,
                                          resurf_error *error);
 
-/* A chain of levels of detail: level i has at most ratios[i] × the input's triangles and is simplified from level
+/* A chain of levels of detail. Level i has at most ratios[i] × the input's triangles and is simplified from level
  * i − 1 (the collapse sequence continues where the previous level stopped), yet every level is restored onto S of
- * the ORIGINAL input, never onto a previous level. options' target_triangles and target_ratio are ignored;
+ * the ORIGINAL input, never onto a previous level. The parameters come as in resurf_scene_build_lods(): the input,
+ * what to make, the options, then the outputs. options' target_triangles and target_ratio are ignored;
  * max_error / max_error_rel still apply (a level that cannot go further equals the previous one).
  * - ratios: count values in (0, 1], non-increasing (else RESURF_ERR_INVALID_ARGUMENT).
  * - out_levels: room for count mesh pointers; each level is freed by the caller with resurf_mesh_free.
@@ -858,8 +891,8 @@ RESURF_API resurf_status resurf_simplify(const resurf_mesh *in, const resurf_sim
  * On error or cancel every out_levels[i] is NULL. The CLI writes level i (1-based, in the order given) of
  * `-o STEM.EXT` to STEM_lodI.EXT: `resurf simplify in.ply -o out.ply --levels 0.5,0.1` writes out_lod1.ply and
  * out_lod2.ply. */
-RESURF_API resurf_status resurf_simplify_lods(const resurf_mesh *in, const resurf_simplify_options *options,
-                                              const double *ratios, size_t count, resurf_mesh **out_levels,
+RESURF_API resurf_status resurf_simplify_lods(const resurf_mesh *in, const double *ratios, size_t count,
+                                              const resurf_simplify_options *options, resurf_mesh **out_levels,
                                               resurf_simplify_report *out_reports, resurf_error *error);
 
 /* ------------------------------------------------------------------------------------------------------------- */
@@ -943,7 +976,7 @@ typedef struct resurf_scene_primitive {
     char mesh_name[64];       /* the glTF mesh's name (shortened to fit), or "" */
     int mode;                 /* glTF mode as in the file: 0 points, 1 lines, 2 loop, 3 strip, 4 triangles, 5 strip, 6 fan */
     resurf_primitive_kind kind;
-    int draco;                /* 1 when the input was Draco-compressed */
+    bool draco;               /* the input was Draco-compressed */
     size_t instances;         /* nodes that show its mesh (several: the mesh is still handled once) */
     size_t lod_count;         /* levels of detail set with resurf_scene_set_lods() */
 } resurf_scene_primitive;
@@ -981,14 +1014,14 @@ RESURF_API resurf_status resurf_scene_set_screen_coverage(resurf_scene *scene, s
 /* How resurf_scene_build_lods() works besides the simplification itself. */
 typedef struct resurf_scene_lod_options {
     size_t struct_size;
-    int set_screen_coverage;  /* 1 (default): set each mesh's MSFT_screencoverage from the measured errors (see
-                                 below); 0: leave the coverage as it is */
+    bool set_screen_coverage; /* true (default): set each mesh's MSFT_screencoverage from the measured errors (see
+                                 below); false: leave the coverage as it is */
     double pixels;            /* a level is shown once its error covers at most this many pixels; > 0, default 1 */
     double screen_height;     /* ... on a screen this many pixels high; > 0, default 1080 */
-    resurf_progress progress; /* the stages of resurf_simplify ("prepare", "simplify", "finish") with a fraction of
-                                 the whole scene's work that never decreases (primitives weighted by their
-                                 triangles) and ends at 1; a cancel returns RESURF_ERR_CANCELLED and leaves the
-                                 scene as it was */
+    resurf_progress progress; /* the stages of resurf_simplify (RESURF_STAGE_PREPARE, _SIMPLIFY, _FINISH) with a
+                                 fraction of the whole scene's work that never decreases (primitives weighted by
+                                 their triangles) and ends at 1; a cancel returns RESURF_ERR_CANCELLED and leaves
+                                 the scene as it was */
 } resurf_scene_lod_options;
 
 RESURF_API resurf_scene_lod_options resurf_scene_lod_options_default(void);
@@ -1029,8 +1062,8 @@ typedef struct resurf_scene_lod_report {
  *   [p × count + k] is level k + 1 of primitive p (zeroed for primitives that got no levels).
  * Errors name the primitive ("meshes[1].primitives[0]: ..."). The primitives are simplified one after the other,
  * each with simplify->threads worker threads. */
-RESURF_API resurf_status resurf_scene_build_lods(resurf_scene *scene, const resurf_simplify_options *simplify,
-                                                 const double *ratios, size_t count,
+RESURF_API resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios, size_t count,
+                                                 const resurf_simplify_options *simplify,
                                                  const resurf_scene_lod_options *options,
                                                  resurf_scene_lod_report *out_report,
                                                  resurf_simplify_report *out_primitive_reports, resurf_error *error);
@@ -1049,14 +1082,15 @@ typedef enum resurf_lod_layout {
 
 typedef struct resurf_scene_save_options {
     size_t struct_size;
-    int draco;                 /* 1: KHR_draco_mesh_compression on every triangle primitive (not morphed ones, which
-                                  stay untouched); default 0. A .drc file is always Draco */
+    bool draco;                /* true: KHR_draco_mesh_compression on every triangle primitive (not morphed ones,
+                                  which stay untouched); default false. A .drc file is always Draco */
     int position_bits, normal_bits, texcoord_bits, color_bits; /* Draco quantization bits, 1..30; defaults 14, 10,
                                                                    12, 8 */
     int generic_bits;          /* other float attributes (TANGENT, WEIGHTS_n, custom): default 12; integer attributes
                                   (JOINTS_n) are stored exactly */
     int compression_level;     /* Draco: 0 fastest .. 10 smallest; default 7 */
-    int embed_buffers;         /* .gltf: 1 puts the binary data in a data: URI; default 0 writes NAME.bin beside it */
+    bool embed_buffers;        /* .gltf: true puts the binary data in a data: URI; default false writes NAME.bin
+                                  beside it */
     resurf_lod_layout layout;  /* default RESURF_LOD_MSFT_LOD */
     double spacing_rel;        /* RESURF_LOD_SIDE_BY_SIDE: the gap between levels as a fraction of the scene's width
                                   along x; >= 0; default 0.25 */

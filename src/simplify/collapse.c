@@ -161,21 +161,6 @@ void plan_collapse(const simplifier *s, uint32_t a, uint32_t b, const u32vec *fa
     pl->cost = qeval(s, &q, pl->p);
 }
 
-/* The cost that ranks a planned collapse. */
-static float rank_cost(const simplifier *s, uint32_t a, uint32_t b, const plan *pl)
-{
-    double cost = pl->cost;
-    if (s->opt.cost_at_restored && s->restorer && !pl->pinned) {
-        int left;
-        uint32_t t;
-        vec3 r = restore_point(s, pl->p, v3_dist(s->P[a].p, s->P[b].p), s->home[a], &left, &t);
-        resurfi_quadric q = s->P[a].q;
-        resurfi_quadric_add(&q, &s->P[b].q);
-        cost = qeval(s, &q, r);
-    }
-    return scaled_cost(s, cost);
-}
-
 static int push_fresh(const simplifier *s, lane *L, candidate c) { return simp_buf_append(s->alloc, &L->fresh, &c, 1); }
 
 /* Plans the candidates of position a (fan given) to every neighbour except `except` and those flagged POS_RENEW
@@ -197,7 +182,7 @@ static int push_edges(simplifier *s, lane *L, uint32_t a, const u32vec *fan, uin
                 count_blocks(&L->rep, pl.block, 1);
                 continue;
             }
-            candidate c = {rank_cost(s, a, x, &pl), a, x, (s->gen[a] + s->gen[x]) & GEN};
+            candidate c = {scaled_cost(s, pl.cost), a, x, (s->gen[a] + s->gen[x]) & GEN};
             if (!push_fresh(s, L, c))
                 return 0;
         }
@@ -237,7 +222,7 @@ static int seed_block(void *ctx, size_t begin, size_t end, unsigned worker)
                     sc->blocked[pl.block]++;
                     continue;
                 }
-                slot[used++] = (candidate){rank_cost(s, (uint32_t)a, b, &pl), (uint32_t)a, b, 0};
+                slot[used++] = (candidate){scaled_cost(s, pl.cost), (uint32_t)a, b, 0};
             }
         }
         for (; used < room; ++used)
@@ -488,7 +473,7 @@ int try_candidate(simplifier *s, pending *q, lane *L, scratch *sc, int defer)
         count_blocks(r, pl.block, 1);
         return 1;
     }
-    float now = rank_cost(s, a, b, &pl);
+    float now = scaled_cost(s, pl.cost);
     if (now > e.cost * 1.000001f + FLT_MIN)
         return push_fresh(s, L, (candidate){now, a, b, e.stamp});
     if (!link_ok(s, L, fa, fb, a, b, &pl)) {
@@ -579,7 +564,7 @@ int try_candidate(simplifier *s, pending *q, lane *L, scratch *sc, int defer)
 static int progress_cancelled(simplifier *s, size_t start, size_t target)
 {
     double done = start > target ? (double)(start - s->alive_tris) / (double)(start - target) : 1;
-    return resurfi_progress(&s->opt.progress, "simplify", done);
+    return resurfi_progress(&s->opt.progress, RESURF_STAGE_SIMPLIFY, done);
 }
 
 /* Collapses until at most `target` triangles are left or nothing can be collapsed.

@@ -586,20 +586,20 @@ resurf_status simplify_start(simplifier *s, scratch *scratch, resurf_error *erro
         return RESURF_OK;
     setup_job sj = {.s = s, .scratch = scratch, .restorer_status = RESURF_OK};
     if (s->opt.restore != RESURF_RESTORE_NONE) {
-        resurf_restore_options ro = resurf_restore_options_default();
-        /* Max's normals, not the jet fit, unless asked: a LOD's distance to S is set by the chord sag, not by the
+        resurf_restore_options ro =
+            s->opt.restore_options ? *s->opt.restore_options : resurf_restore_options_default();
+        /* AUTO is Max's normals here, not the jet fit: a LOD's distance to S is set by the chord sag, not by the
          * restorer's last digits (the analytic benchmark's figures agree to 2%), and the fit costs about a second
          * per million triangles. */
-        ro.normals = RESURF_NORMALS_MAX;
-        if (s->opt.restore_options)
-            ro = *s->opt.restore_options;
+        if (ro.normals == RESURF_NORMALS_AUTO)
+            ro.normals = RESURF_NORMALS_MAX;
         ro.threads = 1;
         ro.progress = (resurf_progress){NULL, NULL};
         ro.allocator = s->alloc;
         sj.restore_options = ro;
         sj.build_restorer = 1;
     }
-    if (resurfi_progress(&s->opt.progress, "prepare", 0.5))
+    if (resurfi_progress(&s->opt.progress, RESURF_STAGE_PREPARE, 0.5))
         return resurfi_error(error, RESURF_ERR_CANCELLED, "simplification cancelled");
     size_t blocks = (s->pos_count + BLOCK_POSITIONS - 1) / BLOCK_POSITIONS;
     int analysed = !resurfi_pool_for(s->pool, blocks, 1, setup_block, &sj);
@@ -640,7 +640,7 @@ resurf_status simplify_start(simplifier *s, scratch *scratch, resurf_error *erro
                              3 * s->tri_count / 2);
     if (schedule_init(s) != RESURF_OK)
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
-    if (resurfi_progress(&s->opt.progress, "prepare", 1))
+    if (resurfi_progress(&s->opt.progress, RESURF_STAGE_PREPARE, 1))
         return resurfi_error(error, RESURF_ERR_CANCELLED, "simplification cancelled");
     return RESURF_OK;
 }

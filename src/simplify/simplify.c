@@ -57,13 +57,12 @@ resurf_simplify_options resurf_simplify_options_default(void)
     resurf_simplify_options o;
     memset(&o, 0, sizeof o);
     o.struct_size = sizeof o;
-    o.target_ratio = 0.5;
     o.placement = RESURF_PLACEMENT_QUADRIC;
     o.restore = RESURF_RESTORE_INLINE;
     o.sag_offset = 1.0;
     o.max_normal_change_deg = 60;
     o.border_weight = 1;
-    o.drop_fins = 1;
+    o.drop_fins = true;
     o.measure_samples = 100000;
     return o;
 }
@@ -137,7 +136,7 @@ static resurf_status simplify_levels(const resurf_mesh *in, const resurf_simplif
     resurf_status st = resurfi_pool_create(s.alloc, s.threads, &s.pool);
     if (st != RESURF_OK)
         st = resurfi_error(error, st, "out of memory starting the simplification");
-    else if (resurfi_progress(&s.opt.progress, "prepare", 0))
+    else if (resurfi_progress(&s.opt.progress, RESURF_STAGE_PREPARE, 0))
         st = resurfi_error(error, RESURF_ERR_CANCELLED, "simplification cancelled");
     if (st == RESURF_OK)
         st = simplify_start(&s, sc, error);
@@ -146,7 +145,7 @@ static resurf_status simplify_levels(const resurf_mesh *in, const resurf_simplif
             st = collapse_until(&s, targets[i], sc, error);
         else
             s.rep.stop = RESURF_STOP_TARGET;
-        if (st == RESURF_OK && resurfi_progress(&s.opt.progress, "finish", (double)i / (double)count))
+        if (st == RESURF_OK && resurfi_progress(&s.opt.progress, RESURF_STAGE_FINISH, (double)i / (double)count))
             st = resurfi_error(error, RESURF_ERR_CANCELLED, "simplification cancelled");
         if (i + 1 == count) { /* no more collapses: the queue's memory goes before the output's comes */
             s.last_level = 1;
@@ -158,7 +157,7 @@ static resurf_status simplify_levels(const resurf_mesh *in, const resurf_simplif
         if (st == RESURF_OK && reports)
             reports[i] = rep;
     }
-    if (st == RESURF_OK && resurfi_progress(&s.opt.progress, "finish", 1))
+    if (st == RESURF_OK && resurfi_progress(&s.opt.progress, RESURF_STAGE_FINISH, 1))
         st = resurfi_error(error, RESURF_ERR_CANCELLED, "simplification cancelled");
     for (unsigned w = 0; w < s.threads; ++w)
         scratch_free(&sc[w]);
@@ -200,9 +199,9 @@ resurf_status resurf_simplify(const resurf_mesh *in, const resurf_simplify_optio
     return st;
 }
 
-resurf_status resurf_simplify_lods(const resurf_mesh *in, const resurf_simplify_options *options, const double *ratios,
-                                   size_t count, resurf_mesh **out_levels, resurf_simplify_report *out_reports,
-                                   resurf_error *error)
+resurf_status resurf_simplify_lods(const resurf_mesh *in, const double *ratios, size_t count,
+                                   const resurf_simplify_options *options, resurf_mesh **out_levels,
+                                   resurf_simplify_report *out_reports, resurf_error *error)
 {
     resurfi_clear_error(error);
     if (!out_levels || (count && !ratios))

@@ -44,7 +44,7 @@ int main(int argc, char **argv)
     memcpy(mesh->positions, positions, sizeof positions);
     memcpy(mesh->indices, indices, sizeof indices);
 
-    resurf_validation v;
+    resurf_validate_report v;
     if (resurf_mesh_validate(mesh, &v, &error) != RESURF_OK)
         return fail("resurf_mesh_validate", &error);
     resurf_mesh_free(mesh);

@@ -52,7 +52,7 @@ int main(int argc, char **argv)
     std::memcpy(mesh->positions, positions, sizeof positions);
     std::memcpy(mesh->indices, indices, sizeof indices);
 
-    resurf_validation v{};
+    resurf_validate_report v{};
     if (resurf_mesh_validate(mesh.get(), &v, &error) != RESURF_OK)
         return fail("resurf_mesh_validate", &error);
     if (v.boundary_edges != 0 || v.components != 1 || v.nonmanifold_edges != 0 || v.inconsistent_edges != 0)

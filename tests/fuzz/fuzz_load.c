@@ -52,7 +52,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         REQUIRE(mesh->triangle_groups[t] < mesh->group_count);
     for (size_t g = 0; g < mesh->group_count; ++g)
         REQUIRE(mesh->group_names[g] != NULL);
-    resurf_validation v;
+    resurf_validate_report v;
     REQUIRE(resurf_mesh_validate(mesh, &v, NULL) == RESURF_OK);
     REQUIRE(resurf_validation_ok(&v));
     REQUIRE(v.vertex_count == mesh->vertex_count && v.triangle_count == mesh->triangle_count);

@@ -77,7 +77,7 @@ static void save_and_reload(const resurf_mesh *m, unsigned flags)
     if (!path[0])
         snprintf(path, sizeof path, "/tmp/resurf-fuzz-pipeline-%ld.ply", (long)getpid());
     resurf_save_options so = resurf_save_options_default();
-    so.binary = (flags & 8) ? 0 : 1;
+    so.binary = !(flags & 8);
     resurf_error e;
     resurf_status s = resurf_mesh_save(m, path, &so, &e);
     if (s != RESURF_OK) {
@@ -121,7 +121,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     }
 
     /* Validate: never fails on a bad mesh; its verdict must agree with the mesh. */
-    resurf_validation v;
+    resurf_validate_report v;
     resurf_status s = resurf_mesh_validate(mesh, &v, &e);
     REQUIRE(s == RESURF_OK);
     REQUIRE(resurf_validation_ok(&v) == processable(mesh));

@@ -39,7 +39,7 @@ static double check_mesh(const resurf_mesh *m)
     for (size_t e = 0; e < m->extra_count; ++e)
         for (size_t i = 0; i < m->extras[e].components * m->vertex_count; ++i)
             sum += m->extras[e].data[i];
-    resurf_validation v;
+    resurf_validate_report v;
     REQUIRE(resurf_mesh_validate(m, &v, NULL) == RESURF_OK);
     REQUIRE(resurf_validation_ok(&v));
     REQUIRE(v.vertex_count == m->vertex_count && v.triangle_count == m->triangle_count);

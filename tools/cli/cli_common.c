@@ -131,12 +131,12 @@ int cli_interrupted(void) { return (int)interrupted_by; }
 typedef struct bar_state {
     int active;
     int last_permille;
-    const char *last_stage;
+    resurf_stage last_stage;
 } bar_state;
 
 static bar_state bar; /* the CLI is single-threaded; the library itself keeps no such state */
 
-static int draw_bar(const char *stage, double fraction)
+static int draw_bar(resurf_stage stage, double fraction)
 {
     int permille = (int)(fraction * 1000);
     if (bar.active && stage == bar.last_stage && permille / 5 == bar.last_permille / 5 && permille < 1000)
@@ -149,18 +149,18 @@ static int draw_bar(const char *stage, double fraction)
     for (int i = 0; i < 30; ++i)
         cells[i] = i < filled ? '#' : '.';
     cells[30] = 0;
-    fprintf(stderr, "\r%-10s [%s] %5.1f%%", stage, cells, fraction * 100);
+    fprintf(stderr, "\r%-10s [%s] %5.1f%%", resurf_stage_name(stage), cells, fraction * 100);
     fflush(stderr);
     return 0;
 }
 
-static int on_progress(void *user, const char *stage, double fraction)
+static bool on_progress(void *user, resurf_stage stage, double fraction)
 {
     if (interrupted_by)
-        return 1;
+        return true;
     if (user)
         draw_bar(stage, fraction);
-    return 0;
+    return false;
 }
 
 resurf_progress cli_progress(void)

@@ -70,7 +70,7 @@ typedef struct row {
     int length;
 } row;
 
-static size_t make_rows(const resurf_metrics *m, row *rows)
+static size_t make_rows(const resurf_compare_report *m, row *rows)
 {
     size_t n = 0;
     rows[n++] = (row){"hausdorff", m->hausdorff, 1};
@@ -89,7 +89,7 @@ static size_t make_rows(const resurf_metrics *m, row *rows)
     return n;
 }
 
-static void print_text(const char *ref, const char *test, const resurf_metrics *m, size_t samples)
+static void print_text(const char *ref, const char *test, const resurf_compare_report *m, size_t samples)
 {
     printf("REF   %s\nTEST  %s\n", ref, test);
     printf("REF bounding-box diagonal %.9g; %zu samples per surface plus the vertices\n\n", m->diagonal, samples);
@@ -112,7 +112,7 @@ static void print_text(const char *ref, const char *test, const resurf_metrics *
     printf("%-28s %16.6f\n", "mean normal deviation (deg)", m->mean_normal_deviation_deg);
 }
 
-static void print_json(const char *ref, const char *test, const resurf_metrics *m, size_t samples, uint64_t seed)
+static void print_json(const char *ref, const char *test, const resurf_compare_report *m, size_t samples, uint64_t seed)
 {
     printf("{\"ref\": ");
     cli_json_string(stdout, ref);
@@ -205,7 +205,7 @@ int cmd_compare(int argc, char **argv)
     }
     rc = CLI_OK;
     double *distance = malloc((test->vertex_count ? test->vertex_count : 1) * sizeof *distance);
-    resurf_metrics m;
+    resurf_compare_report m;
     resurf_error error;
     co.progress = cli_progress();
     if (!distance) {

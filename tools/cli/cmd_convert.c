@@ -36,7 +36,7 @@ int cmd_convert(int argc, char **argv)
                 return cli_usage("convert", "unknown format '%s'", optarg);
             break;
         case 'a':
-            save.binary = 0;
+            save.binary = false;
             break;
         default:
             if ((rc = cli_shared_option("convert", usage, c, NULL)) != CLI_NEXT)

@@ -13,7 +13,7 @@ static const char usage[] =
     "  --format FMT     read as FMT whatever the file name says\n"
     CLI_MAX_TRIANGLES_HELP;
 
-static void print_text(const char *path, const resurf_mesh *m, const resurf_validation *v, const double lo[3],
+static void print_text(const char *path, const resurf_mesh *m, const resurf_validate_report *v, const double lo[3],
                        const double hi[3], double diagonal)
 {
     printf("file                 %s\n", path);
@@ -46,7 +46,7 @@ static void print_text(const char *path, const resurf_mesh *m, const resurf_vali
         printf("groups               %zu\n", m->group_count);
 }
 
-static void print_json(const char *path, const resurf_mesh *m, const resurf_validation *v, const double lo[3],
+static void print_json(const char *path, const resurf_mesh *m, const resurf_validate_report *v, const double lo[3],
                        const double hi[3], double diagonal)
 {
     printf("{\"file\": ");
@@ -108,7 +108,7 @@ int cmd_info(int argc, char **argv)
     resurf_mesh *mesh = NULL;
     if (cli_load(path, format, &mesh))
         return CLI_FAILED;
-    resurf_validation v;
+    resurf_validate_report v;
     resurf_error error;
     if (resurf_mesh_validate(mesh, &v, &error) != RESURF_OK) {
         resurf_mesh_free(mesh);

@@ -74,7 +74,7 @@ int cmd_lod(int argc, char **argv)
     int json = 0;
     unsigned long n;
     resurf_scene_save_options so = resurf_scene_save_options_default();
-    so.draco = 1;
+    so.draco = true;
     resurf_simplify_options sim = resurf_simplify_options_default();
     cli_getopt_reset();
     for (int c; (c = cli_getopt("lod", argc, argv, "ho:", options)) != -1;) {
@@ -84,8 +84,8 @@ int cmd_lod(int argc, char **argv)
             if (cli_parse_levels("lod", optarg, ratios, MAX_LEVELS, &ratio_count))
                 return CLI_USAGE;
             break;
-        case 'd': so.draco = 1; break;
-        case 'D': so.draco = 0; break;
+        case 'd': so.draco = true; break;
+        case 'D': so.draco = false; break;
         case 'l':
             if (!strcmp(optarg, "msft_lod"))
                 so.layout = RESURF_LOD_MSFT_LOD;
@@ -96,7 +96,7 @@ int cmd_lod(int argc, char **argv)
             else
                 return cli_usage("lod", "unknown --layout '%s' (msft_lod, files, side-by-side)", optarg);
             break;
-        case 'e': so.embed_buffers = 1; break;
+        case 'e': so.embed_buffers = true; break;
         case '1': if (parse_bits("qp", optarg, &so.position_bits)) return CLI_USAGE; break;
         case '2': if (parse_bits("qn", optarg, &so.normal_bits)) return CLI_USAGE; break;
         case '3': if (parse_bits("qt", optarg, &so.texcoord_bits)) return CLI_USAGE; break;
@@ -180,7 +180,7 @@ int cmd_lod(int argc, char **argv)
     lod.progress = cli_progress();
     resurf_scene_lod_report lod_report;
     int rc = CLI_OK;
-    s = resurf_scene_build_lods(scene, &sim, ratios, ratio_count, &lod, &lod_report, NULL, &error);
+    s = resurf_scene_build_lods(scene, ratios, ratio_count, &sim, &lod, &lod_report, NULL, &error);
     cli_progress_done();
     if (s != RESURF_OK)
         rc = cli_fail_error(&error);

@@ -42,7 +42,7 @@ static const char *const normal_names[RESURF_NORMALS_COUNT] = {"inverse-area", "
 static const char *const side_names[RESURF_SIDE_COUNT] = {"curvature", "local"};
 static const char *const displacement_names[RESURF_DISPLACEMENT_COUNT] = {"paper", "normal-section"};
 static const char *const outside_names[RESURF_OUTSIDE_COUNT] = {"neighbours", "least", "keep"};
-static const char *const input_names[3] = {"ignore", "creases", "use"};
+static const char *const input_names[RESURF_INPUT_NORMALS_COUNT] = {"ignore", "creases", "use"};
 
 /* Settings given on the command line, applied over the preset once all options are read. */
 typedef struct overrides {
@@ -97,14 +97,15 @@ static void print_json(const char *original, const char *processed, const char *
     printf(", \"output\": ");
     cli_json_string(stdout, out);
     printf(", \"options\": {\"normals\": \"%s\", \"side\": \"%s\", \"displacement\": \"%s\", \"step\": ",
-           normal_names[o->normals], side_names[o->side_rule], displacement_names[o->displacement]);
+           normal_names[o->normals == RESURF_NORMALS_AUTO ? RESURF_NORMALS_JET : o->normals], /* AUTO's meaning here */
+           side_names[o->side_rule], displacement_names[o->displacement]);
     cli_json_number(stdout, o->step);
     printf(", \"iterations\": %u, \"tolerance\": ", o->iterations);
     cli_json_number(stdout, o->tolerance_rel);
     printf(", \"crease_angle_deg\": ");
     cli_json_number(stdout, o->crease_angle_deg);
     printf(", \"input_normals\": \"%s\", \"outside\": \"%s\", \"boundary\": %s, \"far_factor\": ",
-           input_names[o->use_input_normals], outside_names[o->outside], o->boundary ? "true" : "false");
+           input_names[o->input_normals], outside_names[o->outside], o->boundary ? "true" : "false");
     cli_json_number(stdout, o->far_factor);
     printf("}, \"vertices\": %zu, \"moved\": %zu, \"mean_displacement\": ", r->vertices, r->moved);
     cli_json_number(stdout, r->mean_displacement);
@@ -164,7 +165,7 @@ int cmd_restore(int argc, char **argv)
                 return CLI_USAGE;
             break;
         case 'I':
-            if (parse_choice("input-normals", optarg, input_names, 3, &ov.input_normals))
+            if (parse_choice("input-normals", optarg, input_names, RESURF_INPUT_NORMALS_COUNT, &ov.input_normals))
                 return CLI_USAGE;
             break;
         case 's':
@@ -247,9 +248,9 @@ int cmd_restore(int argc, char **argv)
     if (ov.outside >= 0)
         o.outside = (resurf_outside_policy)ov.outside;
     if (ov.input_normals >= 0)
-        o.use_input_normals = ov.input_normals;
+        o.input_normals = (resurf_input_normals)ov.input_normals;
     if (ov.boundary >= 0)
-        o.boundary = ov.boundary;
+        o.boundary = ov.boundary != 0;
     if (ov.has_step)
         o.step = ov.step;
     if (ov.has_iterations)

@@ -142,7 +142,6 @@ int cmd_simplify(int argc, char **argv)
     size_t level_count = 0;
     unsigned long n = 0;
     resurf_simplify_options o = resurf_simplify_options_default();
-    o.target_ratio = 0; /* only what the command line asks for */
     int rc = CLI_OK;
     cli_getopt_reset();
     for (int c; (c = cli_getopt("simplify", argc, argv, "ho:", options)) != -1;) {
@@ -194,10 +193,10 @@ int cmd_simplify(int argc, char **argv)
                 return cli_usage("simplify", "--sag-offset must be in [0, 4], not %s", optarg);
             break;
         case 'b':
-            o.lock_border = 1;
+            o.lock_border = true;
             break;
         case 'k':
-            o.drop_fins = 0;
+            o.drop_fins = false;
             break;
         case 'a':
             if (cli_parse_double("simplify", "min-angle", optarg, &o.min_angle_deg))
@@ -259,7 +258,7 @@ int cmd_simplify(int argc, char **argv)
     if (rc == CLI_OK) {
         o.progress = cli_progress();
         resurf_error error;
-        resurf_status s = level_count ? resurf_simplify_lods(mesh, &o, levels, level_count, results, reports, &error)
+        resurf_status s = level_count ? resurf_simplify_lods(mesh, levels, level_count, &o, results, reports, &error)
                                       : resurf_simplify(mesh, &o, &results[0], &reports[0], &error);
         cli_progress_done();
         if (s != RESURF_OK)

@@ -100,7 +100,7 @@ int main(void)
     resurf_mesh *levels[3] = {NULL, NULL, NULL};
     resurf_simplify_report reports[3];
     resurf_simplify_options options = resurf_simplify_options_default();
-    if (resurf_simplify_lods(mesh, &options, ratios, 3, levels, reports, &error) != RESURF_OK) {
+    if (resurf_simplify_lods(mesh, ratios, 3, &options, levels, reports, &error) != RESURF_OK) {
         resurf_mesh_free(mesh);
         return fail("resurf_simplify_lods", &error);
     }
