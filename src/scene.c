@@ -55,7 +55,7 @@ int resurfi_ends_with_nocase(const char *s, const char *suffix)
     return 1;
 }
 
-static resurf_status add_warning(resurf_scene *s, const char *text)
+resurf_status resurfi_scene_add_warning(resurf_scene *s, const char *text)
 {
     char **list = resurfi_realloc(&s->alloc, s->warnings, s->warning_count + 1, sizeof *list);
     if (!list)
@@ -68,7 +68,7 @@ static resurf_status add_warning(resurf_scene *s, const char *text)
 }
 
 /* Reads a whole regular file (at most max_bytes). */
-static resurf_status read_whole(const resurf_allocator *alloc, const char *path, uint64_t max_bytes,
+resurf_status resurfi_read_whole(const resurf_allocator *alloc, const char *path, uint64_t max_bytes,
                                 unsigned char **out, size_t *out_size, resurf_error *error)
 {
     int fd = open(path, O_RDONLY | O_CLOEXEC);
@@ -170,6 +170,7 @@ void resurf_scene_free(resurf_scene *scene)
     for (size_t i = 0; i < scene->warning_count; ++i)
         resurfi_free(a, scene->warnings[i]);
     resurfi_free(a, scene->warnings);
+    resurfi_scene_free_images(scene);
     resurfi_gltf_doc_free(scene->doc);
     resurfi_free(a, scene);
 }
@@ -421,24 +422,6 @@ static void read_accessor(const resurfi_gltf_view *v, const resurfi_gltf_accesso
 
 /* Extensions that refer to no accessor or bufferView: the writer may renumber those freely when they are all the
  * document uses. Prefixes cover the material and texture families. */
-static int extension_known(const char *name)
-{
-    static const char *const exact[] = {
-        "KHR_draco_mesh_compression", "KHR_mesh_quantization", "KHR_lights_punctual", "KHR_materials_variants",
-        "KHR_xmp", "KHR_xmp_json_ld", "KHR_animation_pointer", "KHR_node_visibility", "MSFT_lod",
-        "EXT_lights_image_based",
-    };
-    static const char *const prefixes[] = {"KHR_materials_", "KHR_texture_", "EXT_texture_", "MSFT_texture_",
-                                           "MSFT_packing_"};
-    for (size_t i = 0; i < sizeof exact / sizeof *exact; ++i)
-        if (!strcmp(name, exact[i]))
-            return 1;
-    for (size_t i = 0; i < sizeof prefixes / sizeof *prefixes; ++i)
-        if (!strncmp(name, prefixes[i], strlen(prefixes[i])))
-            return 1;
-    return 0;
-}
-
 /* Local transform of a node, column-major: its matrix, or T · R · S. */
 static void node_local(const resurfi_gltf_node *n, double m[16])
 {
@@ -924,7 +907,7 @@ static resurf_status build_scene(load_ctx *c, resurfi_gltf_doc *doc, resurf_scen
         return FAIL(c, "%zu numbers of the JSON are not finite (the first at %s)", v->nonfinite_count,
                     v->first_nonfinite);
     for (size_t i = 0; i < v->extension_required_count; ++i)
-        if (!extension_known(v->extensions_required[i]))
+        if (!resurfi_scene_extension_known(v->extensions_required[i]))
             return resurfi_fail(c->error, RESURF_ERR_UNSUPPORTED, c->path, 0, -1,
                                 "the document requires the extension %s, which resurf does not support",
                                 v->extensions_required[i]);
@@ -950,8 +933,6 @@ static resurf_status build_scene(load_ctx *c, resurfi_gltf_doc *doc, resurf_scen
     for (size_t i = 0; i < v->extension_used_count; ++i) {
         if (!strcmp(v->extensions_used[i], "KHR_mesh_quantization"))
             s->quantized = 1;
-        if (!extension_known(v->extensions_used[i]))
-            s->unknown_extensions = 1;
     }
     status = check_nodes(c, s);
     size_t k = 0;
@@ -969,8 +950,11 @@ static resurf_status build_scene(load_ctx *c, resurfi_gltf_doc *doc, resurf_scen
     }
     s->mesh_first[v->mesh_count] = prim_count;
     for (size_t i = 0; i < v->warning_count && status == RESURF_OK; ++i)
-        if (add_warning(s, v->warnings[i]) != RESURF_OK)
+        if (resurfi_scene_add_warning(s, v->warnings[i]) != RESURF_OK)
             status = oom(c);
+    s->unknown_extensions = status == RESURF_OK && resurfi_scene_unknown_references(s);
+    if (status == RESURF_OK && resurfi_scene_warn_dropped_extensions(s) != RESURF_OK)
+        status = oom(c);
     if (status != RESURF_OK) {
         resurf_scene_free(s);
         return status;
@@ -1157,6 +1141,13 @@ static resurf_status load_document(const unsigned char *data, size_t size, scene
         if (status != RESURF_OK)
             resurfi_gltf_doc_free(doc);
     }
+    if (status == RESURF_OK) {
+        status = resurfi_scene_load_images(*out_scene, dir, path, opts->allow_missing_images, error);
+        if (status != RESURF_OK) {
+            resurf_scene_free(*out_scene);
+            *out_scene = NULL;
+        }
+    }
     /* Messages quote names from the document (extensions, attributes, JSON keys), which JSON escapes may fill
      * with line breaks and other control characters: the message stays one printable line. */
     if (status != RESURF_OK && error)
@@ -1205,7 +1196,7 @@ resurf_status resurf_scene_load(const char *path, const resurf_load_options *opt
 
     unsigned char *data = NULL;
     size_t size = 0;
-    resurf_status status = read_whole(opts.allocator, path, (uint64_t)1 << 32, &data, &size, error);
+    resurf_status status = resurfi_read_whole(opts.allocator, path, (uint64_t)1 << 32, &data, &size, error);
     if (status != RESURF_OK)
         return status;
     /* External files are relative to the document's folder. */
