@@ -140,6 +140,14 @@ static char *encode_uri(const resurf_allocator *a, const char *name)
     return out;
 }
 
+/* A uri from the document may hold control characters: a message stays one printable line. */
+static void printable(char *text)
+{
+    for (char *m = text; *m; ++m)
+        if ((unsigned char)*m < 0x20 || *m == 0x7f)
+            *m = '?';
+}
+
 static resurf_status oom(resurf_error *error, const char *path)
 {
     return resurfi_fail(error, RESURF_ERR_OUT_OF_MEMORY, path, 0, -1, "out of memory reading the images");
@@ -174,7 +182,15 @@ static resurf_status load_image(resurf_scene *s, size_t i, const char *dir, cons
             if (!mime)
                 mime = g->mime_type[0] ? g->mime_type : mime_of_name(img->name);
             snprintf(img->mime, sizeof img->mime, "%s", mime ? mime : "");
-            return (img->uri = encode_uri(&s->alloc, img->name)) ? RESURF_OK : oom(error, doc_path);
+            if (!(img->uri = encode_uri(&s->alloc, img->name)))
+                return oom(error, doc_path);
+            if (mime)
+                return RESURF_OK;
+            char text[1200];
+            snprintf(text, sizeof text, "images[%zu]: '%.800s' is no PNG, JPEG, WebP, KTX2 or DDS image: outputs "
+                     "refer to a copy beside them instead of embedding it", i, img->path);
+            printable(text);
+            return resurfi_scene_add_warning(s, text) == RESURF_OK ? RESURF_OK : oom(error, doc_path);
         }
         snprintf(reason, sizeof reason, "%s", rerr.message);
     }
@@ -182,9 +198,7 @@ static resurf_status load_image(resurf_scene *s, size_t i, const char *dir, cons
     char text[2400];
     snprintf(text, sizeof text, "images[%zu]: the image '%.800s' (uri '%.800s') cannot be read: %s", i,
              img->path[0] ? img->path : g->uri, g->uri, reason);
-    for (char *m = text; *m; ++m) /* a uri from the document may hold control characters: one printable line */
-        if ((unsigned char)*m < 0x20 || *m == 0x7f)
-            *m = '?';
+    printable(text);
     if (!allow_missing)
         return resurfi_fail(error, RESURF_ERR_IO, doc_path, 0, -1, "%s", text);
     return resurfi_scene_add_warning(s, text) == RESURF_OK ? RESURF_OK : oom(error, doc_path);
@@ -243,18 +257,20 @@ resurf_status resurfi_scene_out_image(const resurf_scene *s, size_t i, const cha
             out->uri = g->uri; /* allowed to be missing: referenced as it was */
         return RESURF_OK;
     }
-    if (embed || g->data) {
-        const char *mime = g->data ? (g->mime_type[0] ? g->mime_type : resurfi_image_mime_type(data, size)) : img->mime;
-        if (!mime || !mime[0])
-            return resurfi_fail(error, RESURF_ERR_UNSUPPORTED, out_path, 0, -1,
-                                "images[%zu]: the bytes are no PNG, JPEG, WebP, KTX2 or DDS image and no mimeType "
-                                "says what they are: it cannot be embedded",
-                                i);
+    if (g->data) { /* embedded in the source: embedded again, as it was */
+        const char *mime = g->mime_type[0] ? g->mime_type : resurfi_image_mime_type(data, size);
         out->data = data;
         out->size = size;
-        out->mime_type = mime;
+        out->mime_type = mime ? mime : "";
         return RESURF_OK;
     }
+    if (embed && img->mime[0]) {
+        out->data = data;
+        out->size = size;
+        out->mime_type = img->mime;
+        return RESURF_OK;
+    }
+    /* A .gltf's copy, or an image of a type no mimeType can name (a .tga): a copy beside the output. */
     out->uri = img->uri;
     const char *slash = strrchr(out_path, '/');
     size_t dir_len = slash ? (size_t)(slash - out_path) + 1 : 0, size_path = dir_len + strlen(img->name) + 1;
