@@ -94,26 +94,25 @@ static int decode_uri(const char *uri, char *out)
 static void output_name(char *path)
 {
     int escapes = path[0] == '/';
-    char *w = path;
+    char *w = path; /* the name so far ends at w; never past the component being read */
     for (char *r = path; *r;) {
         char *end = strchr(r, '/');
         size_t len = end ? (size_t)(end - r) : strlen(r);
-        if ((len == 1 && r[0] == '.') || len == 0) {
-        } else if (len == 2 && r[0] == '.' && r[1] == '.') {
+        if (len == 2 && r[0] == '.' && r[1] == '.') {
             if (w == path)
                 escapes = 1;
-            else
-                for (--w; w > path && w[-1] != '/';)
-                    --w;
-        } else {
+            while (w > path && w[-1] != '/')
+                --w;
+            if (w > path)
+                --w;
+        } else if (len > 0 && !(len == 1 && r[0] == '.')) {
+            if (w > path)
+                *w++ = '/';
             memmove(w, r, len);
             w += len;
-            *w++ = '/';
         }
         r += len + (end != NULL);
     }
-    if (w > path)
-        --w;
     *w = 0;
     if (escapes) {
         char *last = strrchr(path, '/');
