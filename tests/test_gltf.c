@@ -1838,6 +1838,63 @@ START_TEST(gltf_skinned_node_keeps_its_place)
 }
 END_TEST
 
+/* `resurf info` on a scene: counts read from the JSON it prints agree with the document written here (triangles
+ * from the indices, attributes, the morph target, the image's type and size from its file, the material's
+ * texture), the text has the same lines, and a .drc is one mesh with its triangles. */
+START_TEST(gltf_cli_info_describes_scenes)
+{
+    char *dir = tu_tempdir();
+    char *path = textured_input(dir, "tex%20dir/a.png");
+    /* The same document with a morph target on the primitive (its POSITION accessor doubles as the deltas). */
+    char *text = tu_read_file(path, NULL);
+    char *at = strstr(text, "\"indices\":1,");
+    ck_assert_ptr_nonnull(at);
+    char *morphed = strf("%.*s\"targets\":[{\"POSITION\":0}],%s", (int)(at - text), text, at);
+    char *morph_path = tu_path(dir, "in/morph.gltf");
+    ck_assert_int_eq(tu_write_file(morph_path, morphed, strlen(morphed)), 0);
+    char *cmd = strf("'%s' info '%s' --json > '%s/info.json'", RESURF_CLI, morph_path, dir), *out = NULL;
+    ck_assert_msg(tu_run(cmd, &out) == 0, "%s", out);
+    char *json = tu_path(dir, "info.json");
+    char *facts = node_eval(dir, "const d=JSON.parse(require('fs').readFileSync(process.argv[2])).scene;"
+                                 "const p=d.meshes[0].primitives[0];"
+                                 "console.log(d.scenes[0].nodes.join(','),d.nodes[0].mesh,p.triangles,p.vertices,"
+                                 "p.attributes.join('+'),p.targets,p.target_attributes.join('+'),p.material,"
+                                 "d.materials[0].textures.baseColor,d.materials[0].textures.emissive,"
+                                 "d.images.map(i=>i.mimeType+':'+i.bytes+':'+i.uri).join(' '),d.skins.length)",
+                            json);
+    ck_assert_str_eq(facts, "0 0 4 4 POSITION+TEXCOORD_0 1 POSITION 0 0 1 "
+                            "image/png:70:tex%20dir/a.png image/png:71:../shared/b.png 0");
+    free(facts);
+    free(out);
+    free(cmd);
+    cmd = strf("'%s' info '%s'", RESURF_CLI, morph_path);
+    ck_assert_int_eq(tu_run(cmd, &out), 0);
+    ck_assert_msg(strstr(out, "    primitives[0]: triangles 4, vertices 4, mode 4, material 0, attributes POSITION, "
+                              "TEXCOORD_0, targets 1, target_attributes POSITION\n") &&
+                      strstr(out, "  images[1]: uri ../shared/b.png, mimeType image/png, bytes 71\n"),
+                  "%s", out);
+    free(out);
+    free(cmd);
+    /* A .drc: one mesh, its triangles. */
+    char *drc = tu_path(dir, "t.drc");
+    cmd = strf("'%s' lod '%s' -o '%s' --layout files --levels 0.5 > /dev/null && '%s' info '%s/t_lod0.drc' --json",
+               RESURF_CLI, path, drc, RESURF_CLI, dir);
+    ck_assert_int_eq(tu_run(cmd, &out), 0);
+    ck_assert_msg(strstr(out, "\"triangles\":4") && strstr(out, "\"attributes\":[\"POSITION\",\"TEXCOORD_0\"]"),
+                  "%s", out);
+    free(out);
+    free(cmd);
+    free(drc);
+    free(json);
+    free(morph_path);
+    free(morphed);
+    free(text);
+    free(path);
+    tu_rmtree(dir);
+    free(dir);
+}
+END_TEST
+
 Suite *make_suite(void)
 {
     Suite *s = suite_create("gltf");
@@ -1880,6 +1937,7 @@ Suite *make_suite(void)
     tcase_add_test(whole, gltf_empty_objects_stay_empty);
     tcase_add_test(whole, gltf_triangulation_extensions_dropped_no_dead_bytes);
     tcase_add_test(whole, gltf_skinned_node_keeps_its_place);
+    tcase_add_test(whole, gltf_cli_info_describes_scenes);
     suite_add_tcase(s, whole);
     return s;
 }

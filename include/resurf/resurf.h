@@ -1112,6 +1112,16 @@ RESURF_API resurf_status resurf_scene_save(const resurf_scene *scene, const char
  * returns the length the full name needs, like snprintf. */
 RESURF_API size_t resurf_scene_level_path(char *dst, size_t dst_size, const char *path, unsigned level);
 
+/* A description of the scene, as text lines for people (as_json 0) or as one JSON object: its scenes, nodes (mesh,
+ * skin, camera, children, extensions), meshes and their primitives (triangles and vertices as decoded, mode,
+ * material, attribute names, morph targets and their attributes, Draco, extensions), materials (textures,
+ * extensions), textures, images (uri, bufferView or embedded; mimeType; bytes; missing), skins, animations
+ * (channels, samplers, animated paths), cameras and the extensions used and required. A scene made from a mesh
+ * (a .drc, a mesh file) is one mesh with one primitive. Written into dst like snprintf (NUL-terminated when
+ * dst_size > 0; dst may be NULL with dst_size 0); *out_length gets the length of the whole description. */
+RESURF_API resurf_status resurf_scene_describe(const resurf_scene *scene, int as_json, char *dst, size_t dst_size,
+                                               size_t *out_length, resurf_error *error);
+
 /* Problems that did not stop the load (a missing image allowed by allow_missing_images, primitive extensions that
  * saving drops, a tinygltf warning), one line each. resurf_scene_warning returns NULL for an index out of range; the strings live as long as the scene. */
 RESURF_API size_t resurf_scene_warning_count(const resurf_scene *scene);

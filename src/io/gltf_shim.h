@@ -247,6 +247,29 @@ resurf_status resurfi_gltf_write(const resurfi_gltf_doc *doc, const resurfi_gltf
                                  unsigned char **out_json, size_t *out_json_size, unsigned char **out_bin,
                                  size_t *out_bin_size, resurf_error *error);
 
+/* ---- describing (gltf_describe.cpp) -------------------------------------------------------------------------- */
+
+/* What the C side knows of each primitive (in file order). */
+typedef struct resurfi_describe_prim {
+    int has_mesh;              /* decoded into a mesh: triangles and vertices are its counts */
+    size_t triangles, vertices;
+    size_t attribute_count;    /* without a document only: the mesh's attribute names */
+    const char *const *attributes;
+} resurfi_describe_prim;
+
+/* What the C side knows of each image of the document. */
+typedef struct resurfi_describe_image {
+    size_t bytes;
+    int missing;
+    const char *mime_type;     /* from its bytes, or NULL */
+} resurfi_describe_image;
+
+/* Describes the document (doc NULL: the one mesh prims[0]) as JSON (as_json) or text into dst, snprintf-like:
+ * *out_length is the length of the whole description. */
+resurf_status resurfi_gltf_describe(const resurfi_gltf_doc *doc, const resurfi_describe_prim *prims,
+                                    const resurfi_describe_image *images, int as_json, char *dst, size_t dst_size,
+                                    size_t *out_length, resurf_error *error);
+
 /* ---- Draco (draco.cpp) -------------------------------------------------------------------------------------- */
 
 enum {
