@@ -16,7 +16,8 @@
 void resurfi_scene_free_images(resurf_scene *s)
 {
     for (size_t i = 0; i < s->image_count; ++i) {
-        resurfi_free(&s->alloc, s->images[i].data);
+        if (!s->images[i].shared)
+            resurfi_free(&s->alloc, s->images[i].data);
         resurfi_free(&s->alloc, s->images[i].path);
         resurfi_free(&s->alloc, s->images[i].name);
         resurfi_free(&s->alloc, s->images[i].uri);
@@ -172,8 +173,18 @@ static resurf_status load_image(resurf_scene *s, size_t i, const char *dir, cons
         snprintf(img->path, dir_len + uri_len + 1, "%s%s", img->name[0] == '/' ? "" : dir, img->name);
         output_name(img->name);
         resurf_error rerr;
-        resurf_status status = resurfi_read_whole(&s->alloc, img->path, (uint64_t)1 << 32, &img->data, &img->size,
-                                                  &rerr);
+        resurf_status status = RESURF_ERR_IO;
+        for (size_t j = 0; j < i && status != RESURF_OK; ++j)
+            if (s->images[j].data && !strcmp(s->images[j].path, img->path)) {
+                /* One file named by several images is read once (a small document cannot make it read
+                 * again and again). */
+                img->data = s->images[j].data;
+                img->size = s->images[j].size;
+                img->shared = 1;
+                status = RESURF_OK;
+            }
+        if (status != RESURF_OK)
+            status = resurfi_read_whole(&s->alloc, img->path, (uint64_t)1 << 32, &img->data, &img->size, &rerr);
         if (status == RESURF_ERR_OUT_OF_MEMORY)
             return oom(error, doc_path);
         if (status == RESURF_OK) {
@@ -219,10 +230,11 @@ resurf_status resurfi_scene_load_images(resurf_scene *s, const char *dir, const 
             return status;
         if (s->images[i].missing)
             continue;
-        /* Two files under one name: the later one is renamed by its index. */
+        /* Two different files under one name: the later one is renamed by its index. */
         for (size_t j = 0; j < i; ++j) {
-            if (!s->images[j].data || strcmp(s->images[j].name, s->images[i].name) ||
-                !strcmp(s->images[j].path, s->images[i].path))
+            const resurfi_scene_image *a = &s->images[j], *b = &s->images[i];
+            if (!a->data || strcmp(a->name, b->name) || a->data == b->data ||
+                (a->size == b->size && !memcmp(a->data, b->data, a->size)))
                 continue;
             const char *base = strrchr(s->images[i].name, '/');
             base = base ? base + 1 : s->images[i].name;

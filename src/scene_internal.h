@@ -33,6 +33,7 @@ typedef struct resurfi_scene_image {
     char *uri;              /* that name as a uri */
     char mime[32];          /* from its first bytes, else its mimeType, else its name; "" when unknown */
     int missing;            /* it could not be read (allowed by allow_missing_images) */
+    int shared;             /* data belongs to an earlier image that names the same file */
 } resurfi_scene_image;
 
 struct resurf_scene {
