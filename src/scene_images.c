@@ -164,6 +164,7 @@ static resurf_status load_image(resurf_scene *s, size_t i, const char *dir, cons
     img->name = resurfi_alloc(&s->alloc, uri_len + 1, 1);
     if (!img->path || !img->name)
         return oom(error, doc_path);
+    img->path[0] = 0; /* until the uri names a file */
     char reason[300] = "";
     if (!decode_uri(g->uri, img->name)) {
         snprintf(reason, sizeof reason, "the uri names no file of the document's folder");
@@ -206,8 +207,11 @@ static resurf_status load_image(resurf_scene *s, size_t i, const char *dir, cons
     }
     img->missing = 1;
     char text[2400];
-    snprintf(text, sizeof text, "images[%zu]: the image '%.800s' (uri '%.800s') cannot be read: %s", i,
-             img->path[0] ? img->path : g->uri, g->uri, reason);
+    if (img->path[0])
+        snprintf(text, sizeof text, "images[%zu]: the image '%.800s' (uri '%.800s') cannot be read: %s", i, img->path,
+                 g->uri, reason);
+    else
+        snprintf(text, sizeof text, "images[%zu]: the image of uri '%.800s' cannot be read: %s", i, g->uri, reason);
     printable(text);
     if (!allow_missing)
         return resurfi_fail(error, RESURF_ERR_IO, doc_path, 0, -1, "%s", text);
