@@ -58,7 +58,8 @@ static int hex_digit(char c)
     return c >= '0' && c <= '9' ? c - '0' : c >= 'a' && c <= 'f' ? c - 'a' + 10 : c >= 'A' && c <= 'F' ? c - 'A' + 10 : -1;
 }
 
-/* Does the uri start with a scheme ("http:", "file:")? One letter before ':' is a Windows drive, not a scheme. */
+/* Does the uri start with a scheme ("http:", "file:") or a Windows drive ("C:")? Neither names a file of the
+ * document's folder. */
 static int has_scheme(const char *uri)
 {
     size_t n = 0;

@@ -1688,6 +1688,19 @@ START_TEST(gltf_missing_image_is_an_error)
     ck_assert_ptr_nonnull(strstr(text, "resurf: warning: images[0]"));
     free(text);
     free(cmd);
+    /* A uri that names no file of the folder (a scheme, an encoded NUL) is refused without being tried. */
+    static const char *const foreign[] = {"http://example.com/a.png", "x%00.png", "C:\\\\a.png"};
+    for (int k = 0; k < 3; ++k) {
+        char *sub = strf("%s/h%d", dir, k);
+        ck_assert_int_eq(mkdir(sub, 0777), 0);
+        char *hostile = textured_input(sub, foreign[k]);
+        ck_assert_int_eq(resurf_scene_load(hostile, NULL, &s, &e), RESURF_ERR_IO);
+        ck_assert_msg(strstr(e.message, "images[0]: the image of uri '") &&
+                          strstr(e.message, "' cannot be read: the uri names no file of the document's folder"),
+                      "%s", e.message);
+        free(hostile);
+        free(sub);
+    }
     free(out);
     free(want);
     free(path);
