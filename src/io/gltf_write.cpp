@@ -3,8 +3,8 @@
 // the plan decides what the output contains.
 //
 // Layout of the output: one buffer. It holds, in this order, the source bufferViews that are still needed
-// (animations, skins, images, untouched primitives), the plan's new accessors, the Draco payloads and the embedded
-// images that came from data: URIs. Each bufferView starts on a 4-byte boundary (glTF 2.0, 3.6.2.4).
+// (animations, skins, images, untouched primitives), the images the plan embeds (external files, data: URIs), the
+// plan's new accessors and the Draco payloads. Each bufferView starts on a 4-byte boundary (glTF 2.0, 3.6.2.4).
 // MSFT_lod (Microsoft vendor extension) and the side-by-side copies are built here from the plan's level table.
 #include <algorithm>
 #include <cstdlib>
