@@ -214,8 +214,9 @@ static resurf_status load_image(resurf_scene *s, size_t i, const char *dir, cons
     else
         snprintf(text, sizeof text, "images[%zu]: the image of uri '%.800s' cannot be read: %s", i, g->uri, reason);
     printable(text);
-    if (!allow_missing)
-        return resurfi_fail(error, RESURF_ERR_IO, doc_path, 0, -1, "%s", text);
+    if (!allow_missing) /* I/O when a file was tried; else the document asks for what resurf does not do */
+        return resurfi_fail(error, img->path[0] ? RESURF_ERR_IO : RESURF_ERR_UNSUPPORTED, doc_path, 0, -1, "%s",
+                            text);
     return resurfi_scene_add_warning(s, text) == RESURF_OK ? RESURF_OK : oom(error, doc_path);
 }
 

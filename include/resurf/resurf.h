@@ -894,8 +894,9 @@ RESURF_API resurf_status resurf_simplify_lods(const resurf_mesh *in, const resur
  *
  * Images: external image files are read when the scene loads, their uri resolved relative to the document's
  * folder (percent-encoding, "./", ".." and Windows '\' separators understood); one that cannot be read fails the
- * load with RESURF_ERR_IO naming images[i], the path tried and the uri (a warning with
- * resurf_load_options.allow_missing_images). Outputs are whole by themselves: see resurf_scene_save(). */
+ * load with RESURF_ERR_IO naming images[i], the path tried and the uri, and one that names no file of the folder
+ * (a scheme such as http:, a drive letter, an encoded NUL, or any file of a document loaded from memory) with
+ * RESURF_ERR_UNSUPPORTED (either is a warning with resurf_load_options.allow_missing_images). Outputs are whole by themselves: see resurf_scene_save(). */
 
 typedef struct resurf_scene resurf_scene;
 
