@@ -4,8 +4,9 @@
  * targets, points), the level-of-detail layouts, and hostile documents.
  *
  * Independent checks: the Khronos glTF validator (tools/validate-gltf.js, npm gltf-validator) on every file written,
- * Google's draco_decoder on Draco output, and small node scripts that read the written JSON for structure the
- * validator does not check (MSFT_lod). */
+ * Google's draco_decoder on Draco output, small node scripts that read the written JSON for structure the
+ * validator does not check (MSFT_lod, image bytes against their source files), and tests/gltf_dead_bytes.js, a
+ * byte accounting of every buffer written by a parser of its own. */
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
