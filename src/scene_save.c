@@ -809,8 +809,8 @@ static int pending_has(const pending_list *list, const char *path)
 }
 
 /* The images of a document at path (embedded, else copied beside it: each copy is written once per call). */
-static resurf_status plan_images(save_ctx *c, pending_list *files, const char *path, int embed,
-                                 resurfi_gltf_plan *plan, resurf_scene_save_report *report)
+static resurf_status plan_images(save_ctx *c, pending_list *files, const char *path, const char *bin_path,
+                                 int embed, resurfi_gltf_plan *plan, resurf_scene_save_report *report)
 {
     const resurf_scene *s = c->s;
     if (!s->doc || s->image_count == 0)
@@ -821,6 +821,10 @@ static resurf_status plan_images(save_ctx *c, pending_list *files, const char *p
     for (size_t i = 0; i < s->image_count; ++i) {
         char *copy_to = NULL;
         resurf_status status = resurfi_scene_out_image(s, i, path, embed, &images[i], &copy_to, c->error);
+        if (status == RESURF_OK && copy_to && (!strcmp(copy_to, path) || !strcmp(copy_to, bin_path)))
+            status = resurfi_fail(c->error, RESURF_ERR_UNSUPPORTED, path, 0, -1,
+                                  "images[%zu]: its copy would replace the output itself (%s): choose another "
+                                  "name or embed the images", i, copy_to);
         if (status == RESURF_OK && copy_to && !pending_has(files, copy_to)) {
             status = resurfi_make_parent_folders(copy_to, c->error);
             if (status == RESURF_OK)
@@ -876,7 +880,7 @@ static resurf_status write_document(save_ctx *c, pending_list *files, const char
     plan.container = format == OUT_GLB ? RESURFI_GLTF_GLB : c->o->embed_buffers ? RESURFI_GLTF_EMBEDDED
                                                                                 : RESURFI_GLTF_SEPARATE;
     plan.bin_uri = uri;
-    status = plan_images(c, files, path, format == OUT_GLB || c->o->embed_buffers, &plan, report);
+    status = plan_images(c, files, path, bin_path, format == OUT_GLB || c->o->embed_buffers, &plan, report);
     if (status != RESURF_OK)
         return status;
     unsigned char *json = NULL, *bin = NULL;
