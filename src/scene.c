@@ -44,7 +44,7 @@ int resurfi_ends_with_nocase(const char *s, const char *suffix)
     return 1;
 }
 
-static resurf_status add_warning(resurf_scene *s, const char *text)
+resurf_status resurfi_scene_add_warning(resurf_scene *s, const char *text)
 {
     char **list = resurfi_realloc(&s->alloc, s->warnings, s->warning_count + 1, sizeof *list);
     if (!list)
@@ -87,6 +87,7 @@ void resurf_scene_free(resurf_scene *scene)
     for (size_t i = 0; i < scene->warning_count; ++i)
         resurfi_free(a, scene->warnings[i]);
     resurfi_free(a, scene->warnings);
+    resurfi_scene_free_images(scene);
     resurfi_gltf_doc_free(scene->doc);
     resurfi_free(a, scene);
 }
@@ -507,8 +508,6 @@ static resurf_status build_scene(load_ctx *c, resurfi_gltf_doc *doc, resurf_scen
     for (size_t i = 0; i < v->extension_used_count; ++i) {
         if (!strcmp(v->extensions_used[i], "KHR_mesh_quantization"))
             s->quantized = 1;
-        if (!resurfi_gltf_extension_known(v->extensions_used[i]))
-            s->unknown_extensions = 1;
     }
     status = resurfi_scene_check_nodes(c, s);
     size_t k = 0;
@@ -527,8 +526,11 @@ static resurf_status build_scene(load_ctx *c, resurfi_gltf_doc *doc, resurf_scen
     }
     s->mesh_first[v->mesh_count] = prim_count;
     for (size_t i = 0; i < v->warning_count && status == RESURF_OK; ++i)
-        if (add_warning(s, v->warnings[i]) != RESURF_OK)
+        if (resurfi_scene_add_warning(s, v->warnings[i]) != RESURF_OK)
             status = oom(c);
+    s->unknown_extensions = status == RESURF_OK && resurfi_scene_unknown_references(s);
+    if (status == RESURF_OK && resurfi_scene_warn_dropped_extensions(s) != RESURF_OK)
+        status = oom(c);
     if (status != RESURF_OK) {
         resurf_scene_free(s);
         return status;
@@ -714,6 +716,13 @@ static resurf_status load_document(const unsigned char *data, size_t size, scene
         status = build_scene(&c, doc, out_scene);
         if (status != RESURF_OK)
             resurfi_gltf_doc_free(doc);
+    }
+    if (status == RESURF_OK) {
+        status = resurfi_scene_load_images(*out_scene, dir, path, opts->allow_missing_images, error);
+        if (status != RESURF_OK) {
+            resurf_scene_free(*out_scene);
+            *out_scene = NULL;
+        }
     }
     /* Messages quote names from the document (extensions, attributes, JSON keys), which JSON escapes may fill
      * with line breaks and other control characters: the message stays one printable line. */

@@ -141,7 +141,7 @@ resurf_status resurfi_scene_check_document(load_ctx *c)
         return FAIL(c, "%zu numbers of the JSON are not finite (the first at %s)", v->nonfinite_count,
                     v->first_nonfinite);
     for (size_t i = 0; i < v->extension_required_count; ++i)
-        if (!resurfi_gltf_extension_known(v->extensions_required[i]))
+        if (!resurfi_scene_extension_known(v->extensions_required[i]))
             return resurfi_fail(c->error, RESURF_ERR_UNSUPPORTED, c->path, 0, -1,
                                 "the document requires the extension %s, which resurf does not support",
                                 v->extensions_required[i]);
@@ -158,26 +158,6 @@ resurf_status resurfi_scene_check_document(load_ctx *c)
 }
 
 /* ---- extensions and nodes ------------------------------------------------------------------------------------ */
-
-/* Extensions that refer to no accessor or bufferView: the writer may renumber those freely when they are all the
- * document uses. Prefixes cover the material and texture families. */
-int resurfi_gltf_extension_known(const char *name)
-{
-    static const char *const exact[] = {
-        "KHR_draco_mesh_compression", "KHR_mesh_quantization", "KHR_lights_punctual", "KHR_materials_variants",
-        "KHR_xmp", "KHR_xmp_json_ld", "KHR_animation_pointer", "KHR_node_visibility", "MSFT_lod",
-        "EXT_lights_image_based",
-    };
-    static const char *const prefixes[] = {"KHR_materials_", "KHR_texture_", "EXT_texture_", "MSFT_texture_",
-                                           "MSFT_packing_"};
-    for (size_t i = 0; i < sizeof exact / sizeof *exact; ++i)
-        if (!strcmp(name, exact[i]))
-            return 1;
-    for (size_t i = 0; i < sizeof prefixes / sizeof *prefixes; ++i)
-        if (!strncmp(name, prefixes[i], strlen(prefixes[i])))
-            return 1;
-    return 0;
-}
 
 /* Local transform of a node, column-major: its matrix, or T · R · S. */
 static void node_local(const resurfi_gltf_node *n, double m[16])

@@ -658,8 +658,10 @@ static resurf_status build_plan(save_ctx *c, int level, resurfi_gltf_layout layo
         unsigned char *restructure = own(c, resurfi_calloc(c->alloc, s->view->node_count + 1, 1));
         if (!restructure)
             return oom(c);
+        /* Only an animated transform needs the mesh in a child: a skinned mesh ignores its node's transform, so
+         * its level nodes stand beside the node, which stays as it was (a skinned child would not be a root). */
         for (size_t i = 0; i < s->view->node_count; ++i)
-            restructure[i] = s->view->nodes[i].child_count > 0 || s->view->nodes[i].animated;
+            restructure[i] = s->view->nodes[i].animated && s->view->nodes[i].skin < 0;
         plan->restructure = restructure;
     }
     if (plan->layout == RESURFI_GLTF_SIDE_BY_SIDE)
@@ -671,6 +673,8 @@ static resurf_status build_plan(save_ctx *c, int level, resurfi_gltf_layout layo
     plan->accessor_count = c->acc_count;
     plan->accessors = c->acc;
     plan->keep_all_source_data = s->unknown_extensions;
+    plan->kept_extension_count = resurfi_kept_primitive_extension_count;
+    plan->kept_extensions = resurfi_kept_primitive_extensions;
     plan->draco_used = c->draco_used;
     plan->quantization_used = s->quantized && c->verbatim_any;
     plan->synthesize_graph = s->doc == NULL;
@@ -685,15 +689,21 @@ typedef struct pending {
 } pending;
 
 typedef struct pending_list {
-    pending items[2 * RESURF_SCENE_MAX_LEVELS];
-    size_t count;
+    pending *items;
+    size_t count, cap;
 } pending_list;
 
 /* Writes data to a new temporary file beside path (resurfi_temp_create) and records it. */
 static resurf_status write_temp(save_ctx *c, pending_list *list, const char *path, const void *data, size_t size)
 {
-    if (list->count == sizeof list->items / sizeof *list->items)
-        return resurfi_fail(c->error, RESURF_ERR_INTERNAL, path, 0, -1, "too many output files");
+    if (list->count == list->cap) {
+        size_t cap = list->cap ? 2 * list->cap : 2 * RESURF_SCENE_MAX_LEVELS;
+        pending *items = resurfi_realloc(c->alloc, list->items, cap, sizeof *items);
+        if (!items)
+            return oom(c);
+        list->items = items;
+        list->cap = cap;
+    }
     char *copy = resurfi_strdup(c->alloc, path), *tmp = NULL;
     int fd = -1;
     if (!copy)
@@ -731,6 +741,49 @@ static resurf_status finish_files(save_ctx *c, pending_list *list, int commit)
     }
     list->count = 0;
     return status;
+}
+
+/* Has the call written (to a temporary file) `path` already? */
+static int pending_has(const pending_list *list, const char *path)
+{
+    for (size_t i = 0; i < list->count; ++i)
+        if (!strcmp(list->items[i].path, path))
+            return 1;
+    return 0;
+}
+
+/* The images of a document at path (embedded, else copied beside it: each copy is written once per call). */
+static resurf_status plan_images(save_ctx *c, pending_list *files, const char *path, const char *bin_path,
+                                 int embed, resurfi_gltf_plan *plan, resurf_scene_save_report *report)
+{
+    const resurf_scene *s = c->s;
+    if (!s->doc || s->image_count == 0)
+        return RESURF_OK;
+    resurfi_gltf_out_image *images = own(c, resurfi_calloc(c->alloc, s->image_count, sizeof *images));
+    if (!images)
+        return oom(c);
+    for (size_t i = 0; i < s->image_count; ++i) {
+        char *copy_to = NULL;
+        resurf_status status = resurfi_scene_out_image(s, i, path, embed, &images[i], &copy_to, c->error);
+        if (status == RESURF_OK && copy_to && (!strcmp(copy_to, path) || !strcmp(copy_to, bin_path)))
+            status = resurfi_fail(c->error, RESURF_ERR_UNSUPPORTED, path, 0, -1,
+                                  "images[%zu]: its copy would replace the output itself (%s): choose another "
+                                  "name or embed the images", i, copy_to);
+        if (status == RESURF_OK && copy_to && !pending_has(files, copy_to)) {
+            status = resurfi_make_parent_folders(copy_to, c->error);
+            if (status == RESURF_OK)
+                status = write_temp(c, files, copy_to, s->images[i].data, s->images[i].size);
+            if (status == RESURF_OK) {
+                report->files++;
+                report->total_bytes += s->images[i].size;
+            }
+        }
+        resurfi_free(&s->alloc, copy_to);
+        if (status != RESURF_OK)
+            return status;
+    }
+    plan->images = images;
+    return RESURF_OK;
 }
 
 /* The name of a .gltf's .bin, as a URI (percent-encoded) and as a path beside the .gltf. */
@@ -771,6 +824,9 @@ static resurf_status write_document(save_ctx *c, pending_list *files, const char
     plan.container = format == OUT_GLB ? RESURFI_GLTF_GLB : c->o->embed_buffers ? RESURFI_GLTF_EMBEDDED
                                                                                 : RESURFI_GLTF_SEPARATE;
     plan.bin_uri = uri;
+    status = plan_images(c, files, path, bin_path, format == OUT_GLB || c->o->embed_buffers, &plan, report);
+    if (status != RESURF_OK)
+        return status;
     unsigned char *json = NULL, *bin = NULL;
     size_t json_size = 0, bin_size = 0;
     resurf_error werr;
@@ -906,9 +962,12 @@ resurf_status resurf_scene_save(const resurf_scene *scene, const char *path, con
         for (size_t i = 0; i < scene->prim_count; ++i)
             if (scene->prims[i].mesh)
                 report.level_triangles[k] += resurfi_scene_level_mesh(&scene->prims[i], k)->triangle_count;
-    if (files)
+    if (files) {
         status = finish_files(&c, files, status == RESURF_OK) == RESURF_OK ? status : RESURF_ERR_IO;
+        resurfi_free(c.alloc, files->items);
+    }
     resurfi_free(c.alloc, files);
+    report.dropped_extensions = resurfi_scene_dropped_extensions(scene);
     free_owned(&c);
     if (status == RESURF_OK) {
         (void)resurfi_progress(&o.progress, RESURF_STAGE_SAVE, 1.0);

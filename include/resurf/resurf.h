@@ -450,6 +450,9 @@ typedef struct resurf_load_options {
     size_t max_triangles;       /* refuse larger inputs with RESURF_ERR_LIMIT; default 100,000,000; 0 = no limit */
     resurf_progress progress;
     const resurf_allocator *allocator; /* NULL (default): the input mesh's (or the C heap); see resurf_allocator */
+    /* glTF scenes (issue 20). */
+    bool allow_missing_images;  /* true: an external image that cannot be read is a warning, and the output refers to
+                                   it by its uri as it was; default 0: an error naming it */
 } resurf_load_options;
 
 RESURF_API resurf_load_options resurf_load_options_default(void);
@@ -922,8 +925,11 @@ RESURF_API resurf_status resurf_simplify_lods(const resurf_mesh *in, const doubl
  * undecoded). Known limit of the Draco library itself (Debian's 1.5.5): a corrupt texture-coordinate count inside a
  * payload can cost it seconds and some hundred MB before it fails cleanly.
  *
- * External image files (a relative `uri`) are referenced, not copied: write the output next to the input, or copy
- * the images. Embedded images (data: URIs, bufferViews) are carried into the output. */
+ * Images: external image files are read when the scene loads, their uri resolved relative to the document's
+ * folder (percent-encoding, "./", ".." and Windows '\' separators understood); one that cannot be read fails the
+ * load with RESURF_ERR_IO naming images[i], the path tried and the uri, and one that names no file of the folder
+ * (a scheme such as http:, a drive letter, an encoded NUL, or any file of a document loaded from memory) with
+ * RESURF_ERR_UNSUPPORTED (either is a warning with resurf_load_options.allow_missing_images). Outputs are whole by themselves: see resurf_scene_save(). */
 
 typedef struct resurf_scene resurf_scene;
 
@@ -1109,8 +1115,12 @@ typedef struct resurf_scene_save_report {
     size_t level_bytes[RESURF_SCENE_MAX_LEVELS];     /* geometry bytes of each level: the Draco payloads, or the
                                                         index and vertex data, of its triangle primitives (morphed,
                                                         point and line primitives, copied untouched, not counted) */
-    size_t files;                                    /* files written, .bin files included */
+    size_t files;                                    /* files written, .bin files and image copies included */
     size_t total_bytes;                              /* their total size */
+    /* issue 20 */
+    size_t dropped_extensions;                       /* primitive extensions left off rewritten triangle
+                                                        primitives (FB_ngon_encoding, unknown ones; counted per
+                                                        primitive; the load warnings name them) */
 } resurf_scene_save_report;
 
 /* Writes the scene by path's extension: .gltf (JSON; NAME.bin beside it unless embed_buffers), .glb (binary) or
@@ -1120,7 +1130,14 @@ typedef struct resurf_scene_save_report {
  * checked against what was meant (counts, attributes, positions within the quantization step) before it is
  * written; its accessors carry the decoded count and POSITION min/max. Each file goes to a temporary file in its
  * folder and is renamed into place only when every file of the call is complete: a failure leaves no new file and
- * no partial file. out_report may be NULL. */
+ * no partial file. out_report may be NULL.
+ * Images: a .glb (and a .gltf with embed_buffers) holds every image in a bufferView, with the mimeType its bytes
+ * show; a .gltf otherwise gets a copy of each external image beside itself under its relative name (one that was
+ * outside the input's folder under its file name: nothing is written outside the output's folder). Extensions of
+ * triangle primitives that may describe the source's triangulation or vertex order (FB_ngon_encoding, unknown
+ * ones) are left off the rewritten primitives (report.dropped_extensions); KHR_materials_variants stays. Source
+ * accessors, bufferViews and buffers that nothing written refers to are not copied (all are kept, at their
+ * indices, when an unknown extension elsewhere may refer to them). */
 RESURF_API resurf_status resurf_scene_save(const resurf_scene *scene, const char *path,
                                            const resurf_scene_save_options *options,
                                            resurf_scene_save_report *out_report, resurf_error *error);
@@ -1130,8 +1147,18 @@ RESURF_API resurf_status resurf_scene_save(const resurf_scene *scene, const char
  * returns the length the full name needs, like snprintf. */
 RESURF_API size_t resurf_scene_level_path(char *dst, size_t dst_size, const char *path, unsigned level);
 
-/* Problems that did not stop the load (an external image that is referenced, not copied; a tinygltf warning), one
- * line each. resurf_scene_warning returns NULL for an index out of range; the strings live as long as the scene. */
+/* A description of the scene, as text lines for people (as_json 0) or as one JSON object: its scenes, nodes (mesh,
+ * skin, camera, children, extensions), meshes and their primitives (triangles and vertices as decoded, mode,
+ * material, attribute names, morph targets and their attributes, Draco, extensions), materials (textures,
+ * extensions), textures, images (uri, bufferView or embedded; mimeType; bytes; missing), skins, animations
+ * (channels, samplers, animated paths), cameras and the extensions used and required. A scene made from a mesh
+ * (a .drc, a mesh file) is one mesh with one primitive. Written into dst like snprintf (NUL-terminated when
+ * dst_size > 0; dst may be NULL with dst_size 0); *out_length gets the length of the whole description. */
+RESURF_API resurf_status resurf_scene_describe(const resurf_scene *scene, int as_json, char *dst, size_t dst_size,
+                                               size_t *out_length, resurf_error *error);
+
+/* Problems that did not stop the load (a missing image allowed by allow_missing_images, primitive extensions that
+ * saving drops, a tinygltf warning), one line each. resurf_scene_warning returns NULL for an index out of range; the strings live as long as the scene. */
 RESURF_API size_t resurf_scene_warning_count(const resurf_scene *scene);
 RESURF_API const char *resurf_scene_warning(const resurf_scene *scene, size_t index);
 

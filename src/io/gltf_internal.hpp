@@ -27,6 +27,7 @@ struct resurfi_gltf_doc {
     size_t nonfinite_count = 0;
     std::string first_nonfinite;
     std::vector<std::string> warnings;
+    std::vector<std::string> outside_extensions; // found on anything but a primitive, each once
 
     // Storage of the view (each pointer in it points into one of these).
     resurfi_gltf_view view{};
@@ -43,7 +44,9 @@ struct resurfi_gltf_doc {
     std::vector<std::vector<long long>> scene_nodes;
     std::vector<resurfi_gltf_scene> scenes;
     std::vector<resurfi_gltf_ref> refs;
-    std::vector<const char *> ext_used, ext_required, warning_ptrs;
+    std::vector<const char *> ext_used, ext_required, warning_ptrs, outside_ptrs;
+    std::vector<std::vector<const char *>> prim_extensions;
+    std::vector<resurfi_gltf_image> images;
 };
 
 #endif

@@ -10,6 +10,7 @@
 // them, and scene_check.c checks them (the Khronos glTF 2.0 specification, sections 3.6-3.7 and 5).
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -108,6 +109,61 @@ long long external_buffer(const nlohmann::json &root, std::string *uri)
         return (long long)i;
     }
     return -1;
+}
+
+// The names of the extensions found anywhere but on a mesh primitive, each once: only those can refer to data
+// that a rewritten primitive no longer carries. Extras are walked too (a name found there is kept, to be safe).
+void add_extension_names(const nlohmann::json &j, std::vector<std::string> &out)
+{
+    auto e = j.find("extensions");
+    if (e != j.end() && e->is_object())
+        for (auto it = e->begin(); it != e->end(); ++it)
+            if (std::find(out.begin(), out.end(), it.key()) == out.end())
+                out.push_back(it.key());
+}
+
+void all_extensions(const nlohmann::json &j, std::vector<std::string> &out)
+{
+    if (j.is_object()) {
+        add_extension_names(j, out);
+        for (const nlohmann::json &x : j)
+            all_extensions(x, out);
+    } else if (j.is_array()) {
+        for (const nlohmann::json &x : j)
+            all_extensions(x, out);
+    }
+}
+
+void outside_extensions(const nlohmann::json &root, std::vector<std::string> &out)
+{
+    add_extension_names(root, out);
+    for (auto it = root.begin(); it != root.end(); ++it) {
+        if (it.key() != "meshes" || !it->is_array()) {
+            all_extensions(it.value(), out);
+            continue;
+        }
+        for (const nlohmann::json &mesh : *it) {
+            if (!mesh.is_object())
+                continue;
+            add_extension_names(mesh, out);
+            for (auto m = mesh.begin(); m != mesh.end(); ++m) {
+                if (m.key() != "primitives" || !m->is_array()) {
+                    all_extensions(m.value(), out);
+                    continue;
+                }
+                for (const nlohmann::json &p : *m) // a primitive's own extensions are left out, not their content
+                    if (p.is_object())
+                        for (auto f = p.begin(); f != p.end(); ++f) {
+                            if (f.key() != "extensions" || !f->is_object()) {
+                                all_extensions(f.value(), out);
+                                continue;
+                            }
+                            for (const nlohmann::json &x : *f)
+                                all_extensions(x, out);
+                        }
+            }
+        }
+    }
 }
 
 // Takes the Draco extensions (and their primitives' indices) out of the document. Returns true when it changed.
@@ -311,6 +367,7 @@ void build_view(resurfi_gltf_doc *doc)
     for (const tinygltf::Mesh &mesh : m.meshes)
         prim_total += mesh.primitives.size();
     doc->prims.resize(prim_total);
+    doc->prim_extensions.resize(prim_total);
     doc->named.resize(prim_total * 3);
     doc->target_begin.resize(prim_total);
     size_t k = 0;
@@ -338,6 +395,10 @@ void build_view(resurfi_gltf_doc *doc)
             c.target_count = p.targets.size();
             c.target_begin = begin.data();
             c.target_attributes = targets.data();
+            for (const auto &e : p.extensions)
+                doc->prim_extensions[k].push_back(keep(doc, e.first));
+            c.extension_count = doc->prim_extensions[k].size();
+            c.extensions = doc->prim_extensions[k].data();
             if (p.material != -1)
                 add_ref(doc, "meshes[" + std::to_string(mi) + "].primitives[" + std::to_string(pi) + "].material",
                         p.material, m.materials.size());
@@ -426,9 +487,13 @@ void build_view(resurfi_gltf_doc *doc)
         const tinygltf::Image &img = m.images[i];
         if (img.bufferView != -1)
             add_ref(doc, "images[" + std::to_string(i) + "].bufferView", img.bufferView, m.bufferViews.size());
-        else if (!img.uri.empty())
-            doc->warnings.push_back("images[" + std::to_string(i) + "] refers to the external file '" + img.uri +
-                                    "': it is referenced by the output, not copied");
+        resurfi_gltf_image c;
+        c.uri = keep(doc, img.uri);
+        c.mime_type = keep(doc, img.mimeType);
+        c.buffer_view = img.bufferView < 0 ? RESURFI_GLTF_NONE : img.bufferView;
+        c.data = img.bufferView < 0 && img.uri.empty() && !img.image.empty() ? img.image.data() : nullptr;
+        c.size = c.data ? img.image.size() : 0;
+        doc->images.push_back(c);
     }
     for (size_t i = 0; i < m.skins.size(); ++i) {
         const tinygltf::Skin &s = m.skins[i];
@@ -462,6 +527,8 @@ void build_view(resurfi_gltf_doc *doc)
         doc->ext_required.push_back(keep(doc, e));
     for (const std::string &w : doc->warnings)
         doc->warning_ptrs.push_back(w.c_str());
+    for (const std::string &e : doc->outside_extensions)
+        doc->outside_ptrs.push_back(e.c_str());
 
     v.buffer_count = doc->buffers.size();
     v.buffers = doc->buffers.data();
@@ -486,6 +553,10 @@ void build_view(resurfi_gltf_doc *doc)
     v.extensions_required = doc->ext_required.data();
     v.warning_count = doc->warning_ptrs.size();
     v.warnings = doc->warning_ptrs.data();
+    v.image_count = doc->images.size();
+    v.images = doc->images.data();
+    v.outside_extension_count = doc->outside_ptrs.size();
+    v.outside_extensions = doc->outside_ptrs.data();
 }
 
 resurf_status parse(const char *json, size_t json_size, const unsigned char *bin, size_t bin_size, int is_glb,
@@ -523,6 +594,7 @@ resurf_status parse(const char *json, size_t json_size, const unsigned char *bin
     }
     std::string where;
     find_nonfinite(root, where, doc->nonfinite_count, doc->first_nonfinite);
+    outside_extensions(root, doc->outside_extensions);
     std::string rewritten;
     if (take_draco(root, doc->draco))
         rewritten = root.dump();

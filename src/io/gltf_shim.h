@@ -81,6 +81,8 @@ typedef struct resurfi_gltf_primitive {
     long long draco_view;      /* its bufferView */
     size_t draco_attribute_count;
     const resurfi_gltf_named *draco_attributes; /* name → Draco unique id (RESURFI_GLTF_BAD: not an integer) */
+    size_t extension_count;    /* the names of its other extensions (FB_ngon_encoding, KHR_materials_variants...) */
+    const char *const *extensions;
 } resurfi_gltf_primitive;
 
 typedef struct resurfi_gltf_mesh {
@@ -111,6 +113,15 @@ typedef struct resurfi_gltf_ref {
     size_t limit;
 } resurfi_gltf_ref;
 
+/* An image as the file gives it. */
+typedef struct resurfi_gltf_image {
+    const char *uri;           /* "" when absent; a data: URI's bytes are in data */
+    const char *mime_type;     /* "" when absent */
+    long long buffer_view;     /* RESURFI_GLTF_NONE when absent */
+    const unsigned char *data; /* the decoded bytes of a data: URI, else NULL */
+    size_t size;
+} resurfi_gltf_image;
+
 typedef struct resurfi_gltf_view {
     size_t buffer_count, buffer_view_count, accessor_count, mesh_count, node_count, scene_count;
     const resurfi_gltf_buffer *buffers;
@@ -129,6 +140,10 @@ typedef struct resurfi_gltf_view {
     const char *const *extensions_required;
     size_t warning_count;      /* tinygltf's warnings and ours, one line each */
     const char *const *warnings;
+    size_t image_count;
+    const resurfi_gltf_image *images;
+    size_t outside_extension_count; /* extensions that appear on anything but a mesh primitive (each name once) */
+    const char *const *outside_extensions;
 } resurfi_gltf_view;
 
 typedef struct resurfi_gltf_doc resurfi_gltf_doc;
@@ -178,6 +193,15 @@ typedef struct resurfi_gltf_out_mesh {
     const resurfi_gltf_out_primitive *primitives;
 } resurfi_gltf_out_mesh;
 
+/* How one source image is written. */
+typedef struct resurfi_gltf_out_image {
+    const unsigned char *data; /* bytes to embed in a bufferView of the output, with mime_type; NULL: see uri */
+    size_t size;
+    const char *mime_type;
+    const char *uri;           /* data NULL: this uri (a file beside the output, or the source's own uri); both
+                                  NULL: as the source has it (its bufferView) */
+} resurfi_gltf_out_image;
+
 typedef enum resurfi_gltf_layout {
     RESURFI_GLTF_PLAIN = 0,    /* level 0 meshes only */
     RESURFI_GLTF_MSFT_LOD,
@@ -209,6 +233,9 @@ typedef struct resurfi_gltf_plan {
                                   the known list may refer to them) */
     int draco_used, quantization_used; /* what extensionsUsed/Required must list */
     int synthesize_graph;      /* no source document: one scene, one node per level-0 mesh */
+    const resurfi_gltf_out_image *images; /* one per source image */
+    size_t kept_extension_count; /* rewritten primitives keep only these of their source's extensions */
+    const char *const *kept_extensions;
     const char *generator;
     resurfi_gltf_container container;
     const char *bin_uri;       /* RESURFI_GLTF_SEPARATE */
@@ -219,6 +246,29 @@ typedef struct resurfi_gltf_plan {
 resurf_status resurfi_gltf_write(const resurfi_gltf_doc *doc, const resurfi_gltf_plan *plan,
                                  unsigned char **out_json, size_t *out_json_size, unsigned char **out_bin,
                                  size_t *out_bin_size, resurf_error *error);
+
+/* ---- describing (gltf_describe.cpp) -------------------------------------------------------------------------- */
+
+/* What the C side knows of each primitive (in file order). */
+typedef struct resurfi_describe_prim {
+    int has_mesh;              /* decoded into a mesh: triangles and vertices are its counts */
+    size_t triangles, vertices;
+    size_t attribute_count;    /* without a document only: the mesh's attribute names */
+    const char *const *attributes;
+} resurfi_describe_prim;
+
+/* What the C side knows of each image of the document. */
+typedef struct resurfi_describe_image {
+    size_t bytes;
+    int missing;
+    const char *mime_type;     /* from its bytes, or NULL */
+} resurfi_describe_image;
+
+/* Describes the document (doc NULL: the one mesh prims[0]) as JSON (as_json) or text into dst, snprintf-like:
+ * *out_length is the length of the whole description. */
+resurf_status resurfi_gltf_describe(const resurfi_gltf_doc *doc, const resurfi_describe_prim *prims,
+                                    const resurfi_describe_image *images, int as_json, char *dst, size_t dst_size,
+                                    size_t *out_length, resurf_error *error);
 
 /* ---- Draco (draco.cpp) -------------------------------------------------------------------------------------- */
 

@@ -3,8 +3,8 @@
 // the plan decides what the output contains.
 //
 // Layout of the output: one buffer. It holds, in this order, the source bufferViews that are still needed
-// (animations, skins, images, untouched primitives), the plan's new accessors, the Draco payloads and the embedded
-// images that came from data: URIs. Each bufferView starts on a 4-byte boundary (glTF 2.0, 3.6.2.4).
+// (animations, skins, images, untouched primitives), the images the plan embeds (external files, data: URIs), the
+// plan's new accessors and the Draco payloads. Each bufferView starts on a 4-byte boundary (glTF 2.0, 3.6.2.4).
 // MSFT_lod (Microsoft vendor extension) and the side-by-side copies are built here from the plan's level table.
 #include <algorithm>
 #include <cstdlib>
@@ -12,6 +12,7 @@
 #include <map>
 #include <memory>
 #include <new>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -31,6 +32,7 @@ struct Writer {
     std::vector<unsigned char> bin;
     std::vector<long long> accessor_map, view_map; // source index → output index, -1 when dropped
     std::map<const unsigned char *, int> draco_views;
+    std::set<std::string> dropped; // extensions left off rewritten primitives
 
     Writer(const tinygltf::Model &s, const resurfi_gltf_doc *d, const resurfi_gltf_plan &p) : src(s), doc(d), plan(p) {}
 
@@ -139,10 +141,12 @@ struct Writer {
         }
     }
 
-    // Embedded images from data: URIs move into the buffer (a .glb cannot hold data: URIs worth having).
+    // Images as the plan says: bytes into the buffer (external files for a .glb, data: URIs always: a .glb
+    // cannot hold data: URIs worth having), a new uri (a copy beside a .gltf), or the source's bufferView.
     void copy_images()
     {
-        for (const tinygltf::Image &img : src.images) {
+        for (size_t i = 0; i < src.images.size(); ++i) {
+            const tinygltf::Image &img = src.images[i];
             tinygltf::Image o;
             o.name = img.name;
             o.uri = img.uri;
@@ -150,15 +154,13 @@ struct Writer {
             o.extras = img.extras;
             o.extensions = img.extensions;
             o.bufferView = map_view(img.bufferView);
-            if (img.bufferView < 0 && img.uri.empty() && !img.image.empty()) {
-                const std::vector<unsigned char> &b = img.image;
-                if (o.mimeType.empty()) {
-                    if (b.size() >= 4 && b[0] == 0x89 && b[1] == 'P' && b[2] == 'N' && b[3] == 'G')
-                        o.mimeType = "image/png";
-                    else if (b.size() >= 3 && b[0] == 0xFF && b[1] == 0xD8 && b[2] == 0xFF)
-                        o.mimeType = "image/jpeg";
-                }
-                o.bufferView = add_view(b.data(), b.size(), 0, 0);
+            const resurfi_gltf_out_image *p = plan.images ? &plan.images[i] : nullptr;
+            if (p && p->data) {
+                o.uri.clear();
+                o.mimeType = p->mime_type;
+                o.bufferView = add_view(p->data, p->size, 0, 0);
+            } else if (p && p->uri) {
+                o.uri = p->uri;
             }
             out.images.push_back(o);
         }
@@ -222,8 +224,17 @@ struct Writer {
         if (sp) {
             o.material = sp->material;
             o.extras = sp->extras;
-            o.extensions = sp->extensions;
-            o.extensions.erase("KHR_draco_mesh_compression");
+            // Only the extensions that hold with new triangles and vertices stay (not FB_ngon_encoding, which
+            // describes the source's triangle order, nor any that may).
+            for (const auto &e : sp->extensions) {
+                bool kept = false;
+                for (size_t k = 0; k < plan.kept_extension_count && !kept; ++k)
+                    kept = e.first == plan.kept_extensions[k];
+                if (kept)
+                    o.extensions.insert(e);
+                else
+                    dropped.insert(e.first);
+            }
         }
         o.mode = TINYGLTF_MODE_TRIANGLES;
         for (size_t i = 0; i < p.attribute_count; ++i)
@@ -471,12 +482,21 @@ struct Writer {
             out.defaultScene = 0;
         }
 
-        // Extensions: what the source declared, minus what this plan decides itself.
+        // Extensions: what the source declared, minus what this plan decides itself and what was left off the
+        // rewritten primitives and is found nowhere else.
+        std::set<std::string> gone = dropped;
+        if (doc)
+            for (const std::string &e : doc->outside_extensions)
+                gone.erase(e);
+        for (const tinygltf::Mesh &m : out.meshes)
+            for (const tinygltf::Primitive &p : m.primitives)
+                for (const auto &e : p.extensions)
+                    gone.erase(e.first);
         for (const std::string &e : src.extensionsUsed)
-            if (e != "KHR_draco_mesh_compression" && e != "KHR_mesh_quantization" && e != "MSFT_lod")
+            if (e != "KHR_draco_mesh_compression" && e != "KHR_mesh_quantization" && e != "MSFT_lod" && !gone.count(e))
                 out.extensionsUsed.push_back(e);
         for (const std::string &e : src.extensionsRequired)
-            if (e != "KHR_draco_mesh_compression" && e != "KHR_mesh_quantization")
+            if (e != "KHR_draco_mesh_compression" && e != "KHR_mesh_quantization" && !gone.count(e))
                 out.extensionsRequired.push_back(e);
         if (plan.draco_used) {
             out.extensionsUsed.push_back("KHR_draco_mesh_compression");
@@ -546,9 +566,30 @@ std::string base64(const std::vector<unsigned char> &data)
     return out;
 }
 
-// What tinygltf 2.7 serialises wrongly: an absent perspective zfar (an infinite projection) comes out as 0.
+// An empty object comes out of tinygltf as null ("scenes":[null], a node {}, an extension {}, extras {}): null
+// is no glTF value, so every null is an empty object again, except inside extras, where a null may be the
+// source's own.
+void nulls_to_objects(nlohmann::json &j)
+{
+    if (j.is_null()) {
+        j = nlohmann::json::object();
+    } else if (j.is_object()) {
+        for (auto it = j.begin(); it != j.end(); ++it)
+            if (it.key() != "extras")
+                nulls_to_objects(it.value());
+            else if (it->is_null())
+                *it = nlohmann::json::object();
+    } else if (j.is_array()) {
+        for (nlohmann::json &x : j)
+            nulls_to_objects(x);
+    }
+}
+
+// What tinygltf 2.7 serialises wrongly: empty objects (above), and an absent perspective zfar (an infinite
+// projection) comes out as 0.
 void fix_json(nlohmann::json &root)
 {
+    nulls_to_objects(root);
     auto cameras = root.find("cameras");
     if (cameras != root.end() && cameras->is_array())
         for (nlohmann::json &c : *cameras) {

@@ -2,7 +2,7 @@
  * _GLB, _DRC). No input may crash, hang, read outside its bytes or the file system, or allocate beyond what its size
  * justifies (ASan and libFuzzer's -rss_limit_mb catch that). A scene that loads must keep the loader's promises:
  * every primitive's mesh has its indices in range, finite positions, attribute arrays as long as their counts say,
- * and passes validation. A refusal must carry a parse, unsupported or limit status and a one-line message.
+ * and passes validation, and its description (resurf_scene_describe) is as long as it says. A refusal must carry a parse, unsupported or limit status and a one-line message.
  * A broken promise traps, so libFuzzer keeps the input. */
 #include <math.h>
 #include <stddef.h>
@@ -73,6 +73,14 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     }
     for (size_t i = 0; i < resurf_scene_warning_count(scene); ++i)
         REQUIRE(resurf_scene_warning(scene, i) != NULL);
+    /* resurf info's description, both forms: its length as promised, the text cut where dst ends. */
+    for (int json = 0; json < 2; ++json) {
+        size_t length = 0, again = 0;
+        char small[64];
+        REQUIRE(resurf_scene_describe(scene, json, small, sizeof small, &length, NULL) == RESURF_OK);
+        REQUIRE(strlen(small) == (length < sizeof small ? length : sizeof small - 1));
+        REQUIRE(resurf_scene_describe(scene, json, NULL, 0, &again, NULL) == RESURF_OK && again == length);
+    }
     resurf_scene_free(scene);
     sink = sum;
     return 0;

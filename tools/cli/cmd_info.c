@@ -1,4 +1,5 @@
-/* resurf info FILE: counts, topology, bounds and attributes. */
+/* resurf info FILE: counts, topology, bounds and attributes of a mesh; the content of a scene (.gltf, .glb, .drc). */
+#include <stdlib.h>
 #include <string.h>
 
 #include "cli.h"
@@ -8,7 +9,10 @@ static const char usage[] =
     "Prints vertices, triangles, distinct positions, connected components, boundary loops and edges,\n"
     "non-manifold edges and vertices, degenerate and zero-area triangles, inconsistently oriented edges,\n"
     "unreferenced vertices, the bounding box and the attributes of a mesh.\n"
-    "Topology is counted over welded positions, so attribute seams are not boundaries.\n\n"
+    "Topology is counted over welded positions, so attribute seams are not boundaries.\n"
+    "A scene (.gltf, .glb, .drc) is described instead: its scenes, nodes, meshes and primitives (triangles,\n"
+    "vertices, attributes, morph targets, Draco), materials, textures, images, skins, animations, cameras and\n"
+    "extensions.\n\n"
     "  --json           machine-readable output on stdout\n"
     "  --format FMT     read as FMT whatever the file name says\n"
     CLI_MAX_TRIANGLES_HELP;
@@ -78,6 +82,52 @@ static void print_json(const char *path, const resurf_mesh *m, const resurf_vali
     printf("]}, \"groups\": %zu}\n", m->group_count);
 }
 
+static int ends_with(const char *s, const char *suffix)
+{
+    size_t n = strlen(s), k = strlen(suffix);
+    if (n < k)
+        return 0;
+    for (size_t i = 0; i < k; ++i)
+        if ((s[n - k + i] | 0x20) != suffix[i])
+            return 0;
+    return 1;
+}
+
+/* A scene: the library's description of it. */
+static int scene_info(const char *path, int json)
+{
+    resurf_load_options lo = resurf_load_options_default();
+    lo.max_triangles = cli_max_triangles();
+    lo.allow_missing_images = 1; /* a missing image is part of what info reports ("missing") */
+    lo.progress = cli_progress();
+    resurf_scene *scene = NULL;
+    resurf_error error;
+    resurf_status s = resurf_scene_load(path, &lo, &scene, &error);
+    cli_progress_done();
+    if (s != RESURF_OK)
+        return cli_fail_error(&error);
+    size_t length = 0;
+    char *text = NULL;
+    s = resurf_scene_describe(scene, json, NULL, 0, &length, &error);
+    int rc = s == RESURF_OK ? CLI_OK : cli_fail_error(&error);
+    if (rc == CLI_OK && !(text = malloc(length + 1)))
+        rc = cli_fail("out of memory");
+    if (rc == CLI_OK && resurf_scene_describe(scene, json, text, length + 1, &length, &error) != RESURF_OK)
+        rc = cli_fail_error(&error);
+    if (rc == CLI_OK && json) {
+        if (length && text[length - 1] == '\n')
+            text[length - 1] = 0;
+        printf("{\"file\": ");
+        cli_json_string(stdout, path);
+        printf(", \"scene\": %s}\n", text);
+    } else if (rc == CLI_OK) {
+        printf("file                %s\n%s", path, text);
+    }
+    free(text);
+    resurf_scene_free(scene);
+    return rc;
+}
+
 int cmd_info(int argc, char **argv)
 {
     static const struct option options[] = {
@@ -104,6 +154,8 @@ int cmd_info(int argc, char **argv)
     if (argc - optind != 1)
         return cli_usage("info", "expected one FILE");
     const char *path = argv[optind];
+    if (format == RESURF_FORMAT_AUTO && (ends_with(path, ".gltf") || ends_with(path, ".glb") || ends_with(path, ".drc")))
+        return scene_info(path, json);
 
     resurf_mesh *mesh = NULL;
     if (cli_load(path, format, &mesh))

@@ -23,7 +23,10 @@ static const char usage[] =
     "  --draco, --no-draco    KHR_draco_mesh_compression on (default) or off\n"
     "  --layout L             msft_lod (default: MSFT_lod, one file), files (OUT's name + _lodK per level, level 0\n"
     "                         the full detail) or side-by-side (all levels visible next to each other)\n"
-    "  --embed                .gltf: put the binary data in the file (default: NAME.bin beside it)\n"
+    "  --embed                .gltf: put the binary data and the images in the file (default: NAME.bin and\n"
+    "                         copies of the external images beside it; a .glb always holds its images)\n"
+    "  --allow-missing-images an image file that cannot be read is a warning, not an error (the output refers\n"
+    "                         to it by its uri as it was)\n"
     "  --qp/--qn/--qt/--qc/--qg BITS  Draco quantization of positions (14), normals (10), texture coordinates (12),\n"
     "                         colours (8) and other float attributes (12)\n"
     "  --compression-level N  Draco 0 (fastest) .. 10 (smallest), default 7\n"
@@ -54,6 +57,7 @@ int cmd_lod(int argc, char **argv)
         {"no-draco", no_argument, NULL, 'D'},
         {"layout", required_argument, NULL, 'l'},
         {"embed", no_argument, NULL, 'e'},
+        {"allow-missing-images", no_argument, NULL, 'm'},
         {"qp", required_argument, NULL, '1'},
         {"qn", required_argument, NULL, '2'},
         {"qt", required_argument, NULL, '3'},
@@ -71,7 +75,7 @@ int cmd_lod(int argc, char **argv)
     const char *out = NULL;
     double ratios[MAX_LEVELS] = {0.5, 0.25, 0.1}, pixels = 1, height = 1080;
     size_t ratio_count = 3;
-    int json = 0;
+    int json = 0, allow_missing_images = 0;
     unsigned long n;
     resurf_scene_save_options so = resurf_scene_save_options_default();
     so.draco = true;
@@ -97,6 +101,7 @@ int cmd_lod(int argc, char **argv)
                 return cli_usage("lod", "unknown --layout '%s' (msft_lod, files, side-by-side)", optarg);
             break;
         case 'e': so.embed_buffers = true; break;
+        case 'm': allow_missing_images = 1; break;
         case '1': if (parse_bits("qp", optarg, &so.position_bits)) return CLI_USAGE; break;
         case '2': if (parse_bits("qn", optarg, &so.normal_bits)) return CLI_USAGE; break;
         case '3': if (parse_bits("qt", optarg, &so.texcoord_bits)) return CLI_USAGE; break;
@@ -157,6 +162,7 @@ int cmd_lod(int argc, char **argv)
 
     resurf_load_options lo = resurf_load_options_default();
     lo.max_triangles = cli_max_triangles();
+    lo.allow_missing_images = allow_missing_images;
     resurf_error error;
     resurf_scene *scene = NULL;
     lo.progress = cli_progress();
@@ -210,7 +216,7 @@ int cmd_lod(int argc, char **argv)
                 cli_json_number(stdout, lod_report.level_error_rel[k]);
                 printf(", \"bytes\": %zu}", report.level_bytes[k]);
             }
-            printf("]}\n");
+            printf("], \"dropped_extensions\": %zu}\n", report.dropped_extensions);
         } else {
             printf("%-6s %-6s %12s %14s %12s\n", "level", "ratio", "triangles", "error (rel)", "bytes");
             for (size_t k = 0; k < report.levels; ++k)
