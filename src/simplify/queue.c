@@ -174,7 +174,8 @@ static int refresh_block(void *ctx, size_t begin, size_t end, unsigned worker)
             j->sorted = sort_stable(q->fresh.data, q->sorted, j->fresh_kept);
         } else {
             size_t lo = job == 0 ? 0 : j->half, hi = job == 0 ? j->half : q->list.count;
-            j->kept[job] = keep_current(j->gen, q->list.data + lo, hi - lo);
+            /* (an empty list may have no buffer: no pointer arithmetic on NULL) */
+            j->kept[job] = hi > lo ? keep_current(j->gen, q->list.data + lo, hi - lo) : 0;
         }
     }
     return 0;
