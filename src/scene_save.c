@@ -658,10 +658,13 @@ static resurf_status build_plan(save_ctx *c, int level, resurfi_gltf_layout layo
         unsigned char *restructure = own(c, resurfi_calloc(c->alloc, s->view->node_count + 1, 1));
         if (!restructure)
             return oom(c);
-        /* Only an animated transform needs the mesh in a child: a skinned mesh ignores its node's transform, so
-         * its level nodes stand beside the node, which stays as it was (a skinned child would not be a root). */
-        for (size_t i = 0; i < s->view->node_count; ++i)
-            restructure[i] = s->view->nodes[i].animated && s->view->nodes[i].skin < 0;
+        /* A node whose transform is animated, or whose children a viewer would hide with it when it swaps in a
+         * level, moves its mesh into a child of its own, which carries MSFT_lod. A skinned mesh stays on its node
+         * (a skinned child would not be a root) and its level nodes stand beside it. */
+        for (size_t i = 0; i < s->view->node_count; ++i) {
+            const resurfi_gltf_node *node = &s->view->nodes[i];
+            restructure[i] = (node->animated || node->child_count > 0) && node->skin < 0;
+        }
         plan->restructure = restructure;
     }
     if (plan->layout == RESURFI_GLTF_SIDE_BY_SIDE)

@@ -450,9 +450,9 @@ typedef struct resurf_load_options {
     size_t max_triangles;       /* refuse larger inputs with RESURF_ERR_LIMIT; default 100,000,000; 0 = no limit */
     resurf_progress progress;
     const resurf_allocator *allocator; /* NULL (default): the input mesh's (or the C heap); see resurf_allocator */
-    /* glTF scenes (issue 20). */
+    /* glTF scenes */
     bool allow_missing_images;  /* true: an external image that cannot be read is a warning, and the output refers to
-                                   it by its uri as it was; default 0: an error naming it */
+                                   it by its uri as it was; default false: an error naming it */
 } resurf_load_options;
 
 RESURF_API resurf_load_options resurf_load_options_default(void);
@@ -1117,7 +1117,6 @@ typedef struct resurf_scene_save_report {
                                                         point and line primitives, copied untouched, not counted) */
     size_t files;                                    /* files written, .bin files and image copies included */
     size_t total_bytes;                              /* their total size */
-    /* issue 20 */
     size_t dropped_extensions;                       /* primitive extensions left off rewritten triangle
                                                         primitives (FB_ngon_encoding, unknown ones; counted per
                                                         primitive; the load warnings name them) */
