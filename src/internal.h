@@ -46,6 +46,14 @@ int resurfi_progress(const resurf_progress *progress, const char *stage, double 
                                  #type ": the allocator needs allocate, reallocate and release (or none)");     \
     } while (0)
 
+/* ---- whole files (io.c) ------------------------------------------------------------------------------------- */
+
+/* Writes size bytes to path atomically: a temporary file in path's folder, renamed over path only once it is
+ * complete (an existing file keeps its permissions); on failure no new file and no partial file is left.
+ * RESURF_ERR_IO with a message naming path, or RESURF_ERR_OUT_OF_MEMORY. */
+resurf_status resurfi_save_file(const char *path, const void *data, size_t size, const resurf_allocator *alloc,
+                                resurf_error *error);
+
 /* ---- memory (mesh.c) ----------------------------------------------------------------------------------------- */
 
 /* Every heap block of the library comes from these four, through the call's allocator `a` (NULL, or one whose

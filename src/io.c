@@ -514,3 +514,46 @@ done:
     resurfi_free(alloc, w.buf);
     return status;
 }
+
+resurf_status resurfi_save_file(const char *path, const void *data, size_t size, const resurf_allocator *alloc,
+                                resurf_error *error)
+{
+    const char *slash = strrchr(path, '/');
+    if (!(slash ? slash[1] : path[0]))
+        return resurfi_fail(error, RESURF_ERR_INVALID_ARGUMENT, path, 0, -1, "the path names a folder, not a file");
+    size_t tmp_size = strlen(path) + 32;
+    char *tmp = resurfi_alloc(alloc, tmp_size, 1);
+    if (!tmp)
+        return resurfi_fail(error, RESURF_ERR_OUT_OF_MEMORY, path, 0, -1, "out of memory");
+    resurf_status status = RESURF_OK;
+    int fd = create_temp(path, tmp, tmp_size);
+    if (fd < 0) {
+        int e = errno;
+        int dir_len = slash ? (slash == path ? 1 : (int)(slash - path)) : 1;
+        status = resurfi_fail(error, RESURF_ERR_IO, path, 0, -1, "cannot create a temporary file in '%.*s': %s",
+                              dir_len, slash ? path : ".", strerror(e));
+        resurfi_free(alloc, tmp);
+        return status;
+    }
+    struct stat st;
+    if (stat(path, &st) == 0 && S_ISREG(st.st_mode))
+        (void)fchmod(fd, st.st_mode & 07777);
+    int err = 0;
+    for (const char *p = data, *end = p + size; p < end && !err;) {
+        ssize_t n = write(fd, p, (size_t)(end - p));
+        if (n > 0)
+            p += n;
+        else if (n < 0 && errno != EINTR)
+            err = errno;
+    }
+    if (close(fd) != 0 && !err)
+        err = errno ? errno : EIO;
+    if (err)
+        status = resurfi_fail(error, RESURF_ERR_IO, path, 0, -1, "cannot write: %s", strerror(err));
+    else if (rename(tmp, path) != 0)
+        status = resurfi_fail(error, RESURF_ERR_IO, path, 0, -1, "cannot replace the file: %s", strerror(errno));
+    if (status != RESURF_OK)
+        unlink(tmp);
+    resurfi_free(alloc, tmp);
+    return status;
+}

@@ -26,6 +26,12 @@ int cmd_smooth(int argc, char **argv);
 int cmd_compare(int argc, char **argv);
 int cmd_simplify(int argc, char **argv);
 int cmd_lod(int argc, char **argv);
+int cmd_preview(int argc, char **argv);
+
+/* Renders scene's preview sheet with options and writes it to path (a PNG); prints the table of levels when
+ * print_table, then "wrote PATH". Returns CLI_OK or CLI_FAILED after printing the error. (cmd_preview.c) */
+int cli_write_preview(const resurf_scene *scene, const char *path, const resurf_preview_options *options,
+                      int print_table);
 
 /* Prints "resurf: <message>" on stderr and returns CLI_FAILED. */
 int cli_fail(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
