@@ -1139,7 +1139,9 @@ typedef struct resurf_preview_options {
                                  visible point of the level to level 0's surface (exact, per pixel), one colour
                                  scale for all levels, with a colour bar in scene units at the bottom; default 0 */
     unsigned char background[4]; /* RGBA; default 255, 255, 255, 255 */
-    size_t compare_samples;   /* resurf_compare's samples for each level's error; default 100000; 0 = vertices */
+    int measure;              /* 1 (default): measure each level's error with resurf_compare; 0: skip it (the
+                                 labels and report then say nothing about errors: NaN) */
+    size_t compare_samples;   /* resurf_compare's samples for each level's error; default 20000; 0 = vertices */
     unsigned threads;         /* 0 = all cores (the error measure and the heat map's distances) */
     resurf_progress progress; /* stage "preview"; a cancel returns RESURF_ERR_CANCELLED */
     const resurf_allocator *allocator; /* NULL (default): the scene's; see resurf_allocator */

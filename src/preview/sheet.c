@@ -16,7 +16,8 @@ resurf_preview_options resurf_preview_options_default(void)
         .width = 1600,
         .height = 900,
         .background = {255, 255, 255, 255},
-        .compare_samples = 100000,
+        .measure = 1,
+        .compare_samples = 20000,
     };
 }
 
@@ -324,6 +325,8 @@ static resurf_status draw_level(sheet *s, size_t k, const resurf_mesh *mesh, res
     snprintf(line[0], sizeof line[0], "LEVEL %zu  %s TRIANGLES", k, count);
     if (k == 0)
         snprintf(line[1], sizeof line[1], "FULL DETAIL");
+    else if (!s->o.measure)
+        line[1][0] = 0;
     else if (isnan(rep->level_error[k]))
         snprintf(line[1], sizeof line[1], "ERROR N/A");
     else
@@ -500,7 +503,7 @@ static resurf_status render(sheet *s, resurf_preview_report *rep)
         }
         rep->level_triangles[k] = mesh->triangle_count;
         rep->level_coverage[k] = coverage_of(scene, k, levels);
-        if (k > 0 && mesh->triangle_count > 0 && s->level0->triangle_count > 0) {
+        if (k > 0 && s->o.measure && mesh->triangle_count > 0 && s->level0->triangle_count > 0) {
             resurf_metrics m;
             status = resurf_compare(s->level0, mesh, &co, &m, NULL, s->error);
             if (status == RESURF_ERR_OUT_OF_MEMORY || status == RESURF_ERR_CANCELLED) {

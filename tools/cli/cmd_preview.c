@@ -27,7 +27,8 @@ static const char usage[] =
     "  --size WxH             the sheet in pixels (default 1600x900; at most 16384 a side, 67108864 in all)\n"
     "  --background COLOUR    RRGGBB or RRGGBBAA in hex (a leading # is allowed), or white (default), black,\n"
     "                         transparent\n"
-    "  --samples N            sample points per surface for the error (default 100000; 0 = vertices only)\n"
+    "  --samples N            sample points per surface for the error (default 20000; 0 = vertices only)\n"
+    "  --no-error             do not measure the errors (faster; the labels then show none)\n"
     "  --threads N            worker threads, 0 = all cores (default)\n" CLI_MAX_TRIANGLES_HELP;
 
 static int parse_size(const char *text, resurf_preview_options *o)
@@ -124,6 +125,7 @@ int cmd_preview(int argc, char **argv)
         {"size", required_argument, NULL, 's'},
         {"background", required_argument, NULL, 'b'},
         {"samples", required_argument, NULL, 'S'},
+        {"no-error", no_argument, NULL, 'E'},
         {"threads", required_argument, NULL, 't'},
         CLI_MAX_TRIANGLES_OPTION,
         {"help", no_argument, NULL, 'h'},
@@ -169,6 +171,7 @@ int cmd_preview(int argc, char **argv)
                 return CLI_USAGE;
             o.compare_samples = n;
             break;
+        case 'E': o.measure = 0; break;
         case 't':
             if (cli_parse_threads("preview", optarg, &o.threads))
                 return CLI_USAGE;
