@@ -182,7 +182,7 @@ enum { LABEL_LINES = 3 };
 /* The grid of cells whose pictures are largest (their smaller side), for `levels` cells. */
 static layout make_layout(unsigned w, unsigned h, size_t levels, int heatmap)
 {
-    layout l = {.scale = w >= 1000 && h >= 500 ? 2 : 1};
+    layout l = {.scale = w / levels >= 240 && h >= 400 ? 2 : 1}; /* labels of 20 characters at twice the size */
     l.line_h = (RP_GLYPH_H + 3) * l.scale;
     l.label_h = LABEL_LINES * l.line_h + 2 * l.scale;
     l.footer_h = heatmap ? 3 * l.line_h + 4 * l.scale : 0;
@@ -222,13 +222,10 @@ static void thousands(char *dst, size_t size, size_t n)
     dst[o] = 0;
 }
 
-/* A line centred in [x, x + w) at row y: at the layout's scale, or at scale 1 when that does not fit. */
-static void draw_line(resurf_preview_image *img, const layout *l, unsigned x, unsigned w, unsigned y,
+/* A line centred in [x, x + w) at row y, at scale. */
+static void draw_line(resurf_preview_image *img, const layout *l, unsigned scale, unsigned x, unsigned w, unsigned y,
                       const char *text, const unsigned char ink[3])
 {
-    unsigned scale = l->scale;
-    if (scale > 1 && rp_text_width(text, scale) + 4 > w)
-        scale = 1;
     unsigned tw = rp_text_width(text, scale);
     int left = (int)x + (tw < w ? (int)(w - tw) / 2 : 0);
     int top = (int)y + (int)((l->line_h - RP_GLYPH_H * scale) / 2);
@@ -322,7 +319,7 @@ static resurf_status draw_level(sheet *s, size_t k, const resurf_mesh *mesh, res
     }
     char line[LABEL_LINES][96], count[32];
     thousands(count, sizeof count, rep->level_triangles[k]);
-    snprintf(line[0], sizeof line[0], "LEVEL %zu  %s TRIANGLES", k, count);
+    snprintf(line[0], sizeof line[0], "LEVEL %zu  %s TRIS", k, count);
     if (k == 0)
         snprintf(line[1], sizeof line[1], "FULL DETAIL");
     else if (!s->o.measure)
@@ -343,8 +340,13 @@ static resurf_status draw_level(sheet *s, size_t k, const resurf_mesh *mesh, res
         snprintf(line[2], sizeof line[2], "COVERAGE %.3g-%.3g%%", 100 * from, 100 * to);
     unsigned pictures = s->o.heatmap ? 2 : 1;
     unsigned y = cy + pictures * l->panel_h + l->scale;
+    /* One size for the cell's lines: the layout's, or the smallest when one of them would not fit. */
+    unsigned scale = l->scale;
+    for (int i = 0; i < LABEL_LINES; ++i)
+        if (rp_text_width(line[i], scale) + 4 > l->cell_w)
+            scale = 1;
     for (int i = 0; i < LABEL_LINES; ++i, y += l->line_h)
-        draw_line(&s->img, l, cx, l->cell_w, y, line[i], s->ink);
+        draw_line(&s->img, l, scale, cx, l->cell_w, y, line[i], s->ink);
     return RESURF_OK;
 }
 
@@ -367,7 +369,7 @@ static void draw_heat(sheet *s, double heat_max)
     const layout *l = &s->l;
     unsigned w = s->img.width, top = s->img.height - l->footer_h;
     unsigned x0 = w / 5, x1 = w - w / 5, bar_h = l->line_h;
-    draw_line(&s->img, l, 0, w, top + l->scale, "DISTANCE TO LEVEL 0 (SCENE UNITS)", s->ink);
+    draw_line(&s->img, l, l->scale, 0, w, top + l->scale, "DISTANCE TO LEVEL 0 (SCENE UNITS)", s->ink);
     unsigned bar_y = top + l->line_h + 2 * l->scale;
     for (unsigned x = x0; x < x1; ++x) {
         unsigned char c[3];
@@ -385,7 +387,7 @@ static void draw_heat(sheet *s, double heat_max)
         snprintf(text, sizeof text, "%.3g", heat_max * k / 2);
         unsigned centre = x0 + (unsigned)k * tick_w;
         unsigned half = tick_w / 2;
-        draw_line(&s->img, l, centre > half ? centre - half : 0, tick_w, ty, text, s->ink);
+        draw_line(&s->img, l, l->scale, centre > half ? centre - half : 0, tick_w, ty, text, s->ink);
     }
 }
 

@@ -31,6 +31,7 @@ static const char usage[] =
     "  --screen-height H      ... on a screen H pixels high (default 1080)\n"
     "  --threads N            worker threads, 0 = all cores (default)\n"
     "  --preview SHEET.png    also draw every level with its error, as 'resurf preview' does\n"
+    "  --preview-size WxH     the sheet's size (default 1600x900)\n"
     "  --json                 print the table as JSON on stdout\n" CLI_MAX_TRIANGLES_HELP;
 
 enum { MAX_LEVELS = RESURF_SCENE_MAX_LEVELS - 1 };
@@ -66,6 +67,7 @@ int cmd_lod(int argc, char **argv)
         {"threads", required_argument, NULL, 't'},
         {"json", no_argument, NULL, 'j'},
         {"preview", required_argument, NULL, 'P'},
+        {"preview-size", required_argument, NULL, 'Z'},
         CLI_MAX_TRIANGLES_OPTION,
         {"help", no_argument, NULL, 'h'},
         {NULL, 0, NULL, 0},
@@ -74,6 +76,7 @@ int cmd_lod(int argc, char **argv)
     double ratios[MAX_LEVELS] = {0.5, 0.25, 0.1}, pixels = 1, height = 1080;
     size_t ratio_count = 3;
     int json = 0;
+    resurf_preview_options po = resurf_preview_options_default();
     unsigned long n;
     resurf_scene_save_options so = resurf_scene_save_options_default();
     so.draco = 1;
@@ -127,6 +130,10 @@ int cmd_lod(int argc, char **argv)
             break;
         case 'j': json = 1; break;
         case 'P': preview = optarg; break;
+        case 'Z':
+            if (cli_parse_preview_size("lod", "preview-size", optarg, &po))
+                return CLI_USAGE;
+            break;
         case 'T':
             if (cli_set_max_triangles("lod", optarg))
                 return CLI_USAGE;
@@ -228,9 +235,8 @@ int cmd_lod(int argc, char **argv)
         }
     }
     if (rc == CLI_OK && preview) {
-        resurf_preview_options po = resurf_preview_options_default();
         po.threads = sim.threads;
-        rc = cli_write_preview(scene, preview, &po, 0);
+        rc = cli_write_preview(scene, preview, &po, json ? 0 : 1);
     }
     resurf_scene_free(scene);
     return rc;

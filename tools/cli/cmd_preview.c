@@ -31,17 +31,17 @@ static const char usage[] =
     "  --no-error             do not measure the errors (faster; the labels then show none)\n"
     "  --threads N            worker threads, 0 = all cores (default)\n" CLI_MAX_TRIANGLES_HELP;
 
-static int parse_size(const char *text, resurf_preview_options *o)
+int cli_parse_preview_size(const char *command, const char *option, const char *text, resurf_preview_options *o)
 {
     char *end = NULL;
     unsigned long w = strtoul(text, &end, 10);
     if (end == text || (*end != 'x' && *end != 'X'))
-        return cli_usage("preview", "--size needs WxH, not '%s'", text);
+        return cli_usage(command, "--%s needs WxH, not '%s'", option, text);
     const char *rest = end + 1;
     unsigned long h = strtoul(rest, &end, 10);
     if (end == rest || *end || w > 1000000 || h > 1000000 || !isdigit((unsigned char)text[0]) ||
         !isdigit((unsigned char)rest[0]))
-        return cli_usage("preview", "--size needs WxH, not '%s'", text);
+        return cli_usage(command, "--%s needs WxH, not '%s'", option, text);
     o->width = (unsigned)w;
     o->height = (unsigned)h;
     return 0;
@@ -75,7 +75,7 @@ static int parse_background(const char *text, unsigned char rgba[4])
 }
 
 int cli_write_preview(const resurf_scene *scene, const char *path, const resurf_preview_options *options,
-                      int print_table)
+                      int verbosity)
 {
     resurf_preview_image image;
     resurf_preview_report report;
@@ -95,7 +95,7 @@ int cli_write_preview(const resurf_scene *scene, const char *path, const resurf_
         return CLI_FAILED;
     if (s != RESURF_OK)
         return cli_fail_error(&error);
-    if (print_table) {
+    if (verbosity >= 2) {
         printf("%-6s %12s %14s %14s %10s\n", "level", "triangles", "error (rel)", "error", "coverage");
         for (size_t k = 0; k < report.levels; ++k) {
             printf("%-6zu %12zu %14.3e %14.3e ", k, report.level_triangles[k], report.level_error_rel[k],
@@ -108,8 +108,9 @@ int cli_write_preview(const resurf_scene *scene, const char *path, const resurf_
         if (o.heatmap)
             printf("heat map: 0 .. %.3e scene units\n", report.heat_max);
     }
-    printf("wrote %s (%u x %u, %zu level%s)\n", path, image.width ? image.width : o.width,
-           image.height ? image.height : o.height, report.levels, report.levels == 1 ? "" : "s");
+    if (verbosity >= 1)
+        printf("wrote %s (%u x %u, %zu level%s)\n", path, o.width, o.height, report.levels,
+               report.levels == 1 ? "" : "s");
     return CLI_OK;
 }
 
@@ -159,7 +160,7 @@ int cmd_preview(int argc, char **argv)
         case 'w': o.wireframe = 1; break;
         case 'm': o.heatmap = 1; break;
         case 's':
-            if (parse_size(optarg, &o))
+            if (cli_parse_preview_size("preview", "size", optarg, &o))
                 return CLI_USAGE;
             break;
         case 'b':
@@ -206,7 +207,7 @@ int cmd_preview(int argc, char **argv)
         return cli_fail_error(&error);
     for (size_t i = 0; i < resurf_scene_warning_count(scene); ++i)
         fprintf(stderr, "resurf: warning: %s\n", resurf_scene_warning(scene, i));
-    int rc = cli_write_preview(scene, out, &o, 1);
+    int rc = cli_write_preview(scene, out, &o, 2);
     resurf_scene_free(scene);
     return rc;
 }
