@@ -341,6 +341,42 @@ START_TEST(preview_png_written_whole_or_not_at_all)
     resurf_scene_free(scene);
     resurf_mesh_free(cube);
     tu_rmtree(dir);
+    free(dir);
+}
+END_TEST
+
+/* A scene written with MSFT_lod and loaded again shows the same levels: their triangles and the screen coverage
+ * the file carries. */
+START_TEST(preview_reads_msft_lod_back)
+{
+    char *dir = tu_tempdir();
+    char *glb = tu_path(dir, "sphere.glb");
+    resurf_scene *scene = sphere_scene(6000);
+    resurf_preview_options o = resurf_preview_options_default();
+    o.width = 480;
+    o.height = 240;
+    o.compare_samples = 0;
+    resurf_preview_image img;
+    resurf_preview_report before, after;
+    ck_assert_int_eq(resurf_preview_render(scene, &o, &img, &before, NULL), RESURF_OK);
+    resurf_preview_image_free(&img);
+    ck_assert_int_eq(resurf_scene_save(scene, glb, NULL, NULL, NULL), RESURF_OK);
+    resurf_scene *loaded = NULL;
+    ck_assert_int_eq(resurf_scene_load(glb, NULL, &loaded, NULL), RESURF_OK);
+    ck_assert_int_eq(resurf_preview_render(loaded, &o, &img, &after, NULL), RESURF_OK);
+    ck_assert_uint_eq(after.levels, 3);
+    for (size_t k = 0; k < 3; ++k) {
+        ck_assert_uint_eq(after.level_triangles[k], before.level_triangles[k]);
+        ck_assert_double_eq_tol(after.level_coverage[k], before.level_coverage[k], 1e-6);
+        ck_assert_double_eq_tol(after.level_error[k], before.level_error[k], 1e-4); /* float positions in a file */
+    }
+    ck_assert(after.level_triangles[2] < after.level_triangles[1] && after.level_triangles[1] < 6000);
+    resurf_preview_image_free(&img);
+    resurf_scene_free(loaded);
+    resurf_scene_free(scene);
+    free(glb);
+    tu_rmtree(dir);
+    free(dir);
 }
 END_TEST
 
@@ -373,6 +409,7 @@ START_TEST(preview_cli)
     free(obj);
     free(png);
     tu_rmtree(dir);
+    free(dir);
 }
 END_TEST
 
@@ -388,6 +425,7 @@ Suite *make_suite(void)
     tcase_add_test(tc, preview_refuses_huge_sizes);
     tcase_add_test(tc, preview_draws_empty_and_degenerate_meshes);
     tcase_add_test(tc, preview_png_written_whole_or_not_at_all);
+    tcase_add_test(tc, preview_reads_msft_lod_back);
     tcase_add_test(tc, preview_cli);
     suite_add_tcase(s, tc);
     return s;

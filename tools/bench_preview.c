@@ -81,7 +81,8 @@ int main(int argc, char **argv)
             }
             qsort(t, (size_t)repeats, sizeof *t, compare_doubles);
             char name[64];
-            snprintf(name, sizeof name, "%s%s", measure ? "sheet with errors" : "drawing alone", heat ? " + heat map" : "");
+            snprintf(name, sizeof name, "%s%s", measure ? "sheet with errors" : "drawing alone",
+                     heat ? " + heat map" : "");
             printf("%-28s %10.3f %10.3f\n", name, t[0], t[repeats / 2]);
             if (rep.levels != 4) {
                 fprintf(stderr, "bench-preview: %zu levels, not 4\n", rep.levels);

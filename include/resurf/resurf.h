@@ -1165,17 +1165,18 @@ typedef struct resurf_preview_report {
                                                         NaN when not measurable: a level without triangles) */
     double level_error_rel[RESURF_SCENE_MAX_LEVELS]; /* the same over level 0's bounding-box diagonal */
     double level_coverage[RESURF_SCENE_MAX_LEVELS];  /* MSFT_lod screen coverage from which the level shows (the
-                                                        first mesh with levels: its set values, else the defaults
-                                                        resurf_scene_save writes), -1 with a single level */
+                                                        first node with levels: its file's values, its set values,
+                                                        else the defaults resurf_scene_save writes), -1 with a single
+                                                        level or when unknown */
     double diagonal;                                 /* of level 0's bounding box in world space */
     double heat_max;                                 /* the colour bar's top in scene units (0 without heatmap) */
-    int lod_not_read;                                /* 1 when the file uses MSFT_lod, whose levels resurf_scene_load
-                                                        does not read back: only level 0 is drawn */
 } resurf_preview_report;
 
-/* Draws the sheet of scene (its levels set by resurf_scene_set_lods or resurf_scene_build_lods) into *out_image
- * (required; on failure it is zeroed). A scene without triangles gives empty panels; degenerate triangles are
- * skipped. out_report may be NULL. */
+/* Draws the sheet of scene into *out_image (required; on failure it is zeroed). A node's levels are those set on
+ * its mesh's primitives (resurf_scene_set_lods, resurf_scene_build_lods), else those its MSFT_lod extension names
+ * in the loaded file (each level node's mesh, drawn with the transform of the node it stands in for, as resurf
+ * writes them; an extension naming a node without a mesh is ignored), with extras.MSFT_screencoverage. A scene
+ * without triangles gives empty panels; degenerate triangles are skipped. out_report may be NULL. */
 RESURF_API resurf_status resurf_preview_render(const resurf_scene *scene, const resurf_preview_options *options,
                                                resurf_preview_image *out_image, resurf_preview_report *out_report,
                                                resurf_error *error);

@@ -14,10 +14,9 @@ static const char usage[] =
     "Draws one picture per level of detail of IN (.gltf, .glb, .drc or a mesh file), all from the same camera,\n"
     "shaded with each level's own normals, with the level, its triangles, its error (the two-sided distance to\n"
     "level 0 measured as 'resurf compare' does, relative to the diagonal and in scene units) and its screen\n"
-    "coverage under each. Nodes are drawn with their transforms. Materials and textures are not drawn. The levels\n"
-    "of a file written with MSFT_lod are not read back: such a file shows level 0 alone (with a warning); use\n"
-    "'resurf lod ... --preview SHEET.png' to see the levels it makes. The same input and options give the same\n"
-    "PNG bytes on any thread count.\n\n"
+    "coverage under each. The levels are those of MSFT_lod (as 'resurf lod' writes them). Nodes are drawn with\n"
+    "their transforms. Materials and textures are not drawn. The same input and options give the same PNG bytes\n"
+    "on any thread count.\n\n"
     "  -o, --output SHEET.png the picture (written atomically)\n"
     "  --view V               three-quarter (default), front (from +z), side (from +x), top (from +y) or iso\n"
     "  --yaw DEG, --pitch DEG turn the camera about the vertical, raise it: added to the view's angles\n"
@@ -86,9 +85,6 @@ int cli_write_preview(const resurf_scene *scene, const char *path, const resurf_
     cli_progress_done();
     if (s != RESURF_OK)
         return cli_fail_error(&error);
-    if (report.lod_not_read)
-        fprintf(stderr, "resurf: warning: the input's MSFT_lod levels are not read back: %s shows level 0 alone\n",
-                path);
     s = cli_interrupted() ? RESURF_ERR_CANCELLED : resurf_preview_save_png(&image, path, &error);
     resurf_preview_image_free(&image);
     if (s == RESURF_ERR_CANCELLED)
