@@ -294,6 +294,22 @@ START_TEST(preview_draws_empty_and_degenerate_meshes)
     static const double s[] = {-1e300, 0, 0, 1e300, 0, 0, 0, 1e300, 0};
     resurf_mesh *huge = tu_mesh(s, 3, u, 1);
     (void)drawn_pixels(huge, &rep);
+    /* The smallest sheets, with every option: drawn, no write out of the image (ASan, valgrind). */
+    resurf_scene *scene = sphere_scene(2000);
+    static const unsigned sizes[][2] = {{16, 16}, {16, 900}, {900, 16}, {17, 33}};
+    for (size_t i = 0; i < sizeof sizes / sizeof sizes[0]; ++i) {
+        resurf_preview_options o = resurf_preview_options_default();
+        o.width = sizes[i][0];
+        o.height = sizes[i][1];
+        o.heatmap = o.wireframe = 1;
+        o.compare_samples = 0;
+        resurf_preview_image img;
+        ck_assert_int_eq(resurf_preview_render(scene, &o, &img, &rep, NULL), RESURF_OK);
+        ck_assert_uint_eq(img.width, sizes[i][0]);
+        ck_assert_uint_eq(rep.levels, 3);
+        resurf_preview_image_free(&img);
+    }
+    resurf_scene_free(scene);
     resurf_mesh_free(empty);
     resurf_mesh_free(flat);
     resurf_mesh_free(point);

@@ -1113,8 +1113,9 @@ RESURF_API const char *resurf_scene_warning(const resurf_scene *scene, size_t in
  * 0's diagonal and in scene units) and its MSFT_lod screen coverage. Every node that shows a mesh is drawn with its
  * world transform, as a viewer would; primitives with morph targets at rest; points and lines are not drawn.
  * Materials and textures are not drawn (every surface is one grey).
- * Deterministic: the same scene and options give the same pixels for any thread count, and, with the same libpng
- * and zlib, the same PNG bytes. */
+ * Deterministic: the same scene and options give the same pixels for any thread count and on any machine whose C
+ * library computes the camera's sin, cos, tan and atan alike (the drawing itself uses exact IEEE operations only),
+ * and, with the same libpng and zlib, the same PNG bytes. */
 
 typedef enum resurf_preview_view {
     RESURF_PREVIEW_THREE_QUARTER = 0, /* default: yaw 35°, pitch 20° (in front, to the right, above) */

@@ -1,6 +1,7 @@
 /* The preview's rasterizer: triangles into a panel with a z-buffer, perspective-correct interpolation, Lambert +
  * ambient lighting from a light fixed to the camera and an optional wireframe. Everything runs in double precision
- * in a fixed order on one thread, so a panel's pixels depend on the mesh and camera alone. */
+ * (+, -, *, /, sqrt: exact IEEE operations, no libm call) in a fixed order on one thread, so a panel's pixels depend
+ * on the mesh and camera alone. */
 #include <math.h>
 #include <string.h>
 
@@ -110,7 +111,8 @@ resurf_status rp_draw_mesh(rp_panel *panel, const rp_camera *cam, const resurf_m
         double len[3];
         for (int m = 0; m < 3; ++m) {
             const corner *u = k[(m + 1) % 3], *v = k[(m + 2) % 3];
-            len[m] = hypot(v->sx - u->sx, v->sy - u->sy);
+            double dx = v->sx - u->sx, dy = v->sy - u->sy;
+            len[m] = sqrt(dx * dx + dy * dy); /* sqrt is exact in IEEE arithmetic; hypot differs between libms */
         }
         vec3 face = v3_normalize(v3_cross(v3_sub(k[1]->c, k[0]->c), v3_sub(k[2]->c, k[0]->c)));
         vec3 normal[3];

@@ -403,6 +403,8 @@ static void draw_heat(sheet *s, double heat_max)
         px[3] = 255;
     }
     const layout *l = &s->l;
+    if (l->footer_h > s->img.height) /* a sheet too small for the bar keeps the coloured pictures alone */
+        return;
     unsigned w = s->img.width, top = s->img.height - l->footer_h;
     unsigned x0 = w / 5, x1 = w - w / 5, bar_h = l->line_h;
     draw_line(&s->img, l, l->scale, 0, w, top + l->scale, "DISTANCE TO LEVEL 0 (SCENE UNITS)", s->ink);
