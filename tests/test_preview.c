@@ -415,6 +415,34 @@ START_TEST(preview_cli)
     ck_assert_ptr_nonnull(strstr(out, "wrote"));
     ck_assert_int_eq(tu_count_entries(dir), 2);
     free(out);
+    /* A glTF whose material's base-colour image is missing: drawn (untextured, as every surface is), with the
+     * loader's warning about the image. */
+    char *gltf = tu_path(dir, "textured.gltf");
+    resurf_scene *scene = NULL;
+    ck_assert_int_eq(resurf_scene_from_mesh(cube, &scene, NULL), RESURF_OK);
+    resurf_scene_save_options so = resurf_scene_save_options_default();
+    so.embed_buffers = 1;
+    ck_assert_int_eq(resurf_scene_save(scene, gltf, &so, NULL, NULL), RESURF_OK);
+    resurf_scene_free(scene);
+    size_t size;
+    char *json = tu_read_file(gltf, &size);
+    char *last = strrchr(json, '}');
+    ck_assert_ptr_nonnull(last);
+    *last = 0;
+    static const char material[] = ",\"images\":[{\"uri\":\"missing.png\"}],\"textures\":[{\"source\":0}],"
+                                   "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}}}]}";
+    char *edited = malloc(size + sizeof material);
+    snprintf(edited, size + sizeof material, "%s%s", json, material);
+    ck_assert_int_eq(tu_write_file(gltf, edited, strlen(edited)), 0);
+    snprintf(cmd, sizeof cmd, "%s preview %s -o %s --size 200x100", RESURF_CLI, gltf, png);
+    ck_assert_int_eq(tu_run(cmd, &out), 0);
+    ck_assert_ptr_nonnull(strstr(out, "missing.png"));
+    ck_assert_ptr_nonnull(strstr(out, "warning"));
+    ck_assert_ptr_nonnull(strstr(out, "wrote"));
+    free(out);
+    free(json);
+    free(edited);
+    free(gltf);
     snprintf(cmd, sizeof cmd, "%s preview %s -o %s --size 3x", RESURF_CLI, obj, png);
     ck_assert_int_eq(tu_run(cmd, &out), 2);
     free(out);
