@@ -443,6 +443,23 @@ START_TEST(preview_cli)
     free(json);
     free(edited);
     free(gltf);
+    /* lod --preview: the sheet of the levels just made, beside the glTF; with --json, stdout stays JSON. */
+    char *sphere = tu_path(dir, "sphere.ply"), *glb = tu_path(dir, "sphere.glb"), *sheet = tu_path(dir, "lod.png");
+    resurf_mesh *ball = shape_mesh(SHAPE_SPHERE, 2000, 0.2, 1, 0);
+    ck_assert_int_eq(resurf_mesh_save(ball, sphere, NULL, NULL), RESURF_OK);
+    snprintf(cmd, sizeof cmd, "%s lod %s -o %s --levels 0.5,0.2 --json --preview %s --preview-size 400x200",
+             RESURF_CLI, sphere, glb, sheet);
+    ck_assert_int_eq(tu_run(cmd, &out), 0);
+    ck_assert_msg(out[0] == '{' && strchr(out, '\n') == out + strlen(out) - 1, "%s", out);
+    free(out);
+    char *png_bytes = tu_read_file(sheet, &size);
+    ck_assert_ptr_nonnull(png_bytes);
+    ck_assert_mem_eq(png_bytes, "\x89PNG", 4);
+    free(png_bytes);
+    resurf_mesh_free(ball);
+    free(sphere);
+    free(glb);
+    free(sheet);
     snprintf(cmd, sizeof cmd, "%s preview %s -o %s --size 3x", RESURF_CLI, obj, png);
     ck_assert_int_eq(tu_run(cmd, &out), 2);
     free(out);
