@@ -1142,7 +1142,7 @@ typedef struct resurf_preview_options {
     unsigned char background[4]; /* RGBA; default 255, 255, 255, 255 */
     int measure;              /* 1 (default): measure each level's error with resurf_compare; 0: skip it (the
                                  labels and report then say nothing about errors: NaN) */
-    size_t compare_samples;   /* resurf_compare's samples for each level's error; default 20000; 0 = vertices */
+    size_t compare_samples;   /* resurf_compare's samples for each level's error; default 10000; 0 = vertices */
     unsigned threads;         /* 0 = all cores (the error measure and the heat map's distances) */
     resurf_progress progress; /* stage "preview"; a cancel returns RESURF_ERR_CANCELLED */
     const resurf_allocator *allocator; /* NULL (default): the scene's; see resurf_allocator */

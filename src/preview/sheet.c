@@ -17,7 +17,7 @@ resurf_preview_options resurf_preview_options_default(void)
         .height = 900,
         .background = {255, 255, 255, 255},
         .measure = 1,
-        .compare_samples = 20000,
+        .compare_samples = 10000,
     };
 }
 

@@ -26,7 +26,7 @@ static const char usage[] =
     "  --size WxH             the sheet in pixels (default 1600x900; at most 16384 a side, 67108864 in all)\n"
     "  --background COLOUR    RRGGBB or RRGGBBAA in hex (a leading # is allowed), or white (default), black,\n"
     "                         transparent\n"
-    "  --samples N            sample points per surface for the error (default 20000; 0 = vertices only)\n"
+    "  --samples N            sample points per surface for the error (default 10000; 0 = vertices only)\n"
     "  --no-error             do not measure the errors (faster; the labels then show none)\n"
     "  --threads N            worker threads, 0 = all cores (default)\n" CLI_MAX_TRIANGLES_HELP;
 
