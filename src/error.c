@@ -94,8 +94,8 @@ size_t resurf_format_error(char *dst, size_t dst_size, const resurf_error *error
 
 const char *resurf_stage_name(resurf_stage stage)
 {
-    static const char *const names[RESURF_STAGE_COUNT] = {"load",    "save",    "restore",  "smooth",
-                                                          "compare", "prepare", "simplify", "finish"};
+    static const char *const names[RESURF_STAGE_COUNT] = {"load",    "save",     "restore", "smooth", "compare",
+                                                          "prepare", "simplify", "finish",  "preview"};
     return (unsigned)stage < RESURF_STAGE_COUNT ? names[stage] : "unknown";
 }
 

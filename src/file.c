@@ -226,3 +226,21 @@ void resurfi_temp_discard(const resurf_allocator *alloc, char *tmp)
     unlink(tmp);
     resurfi_free(alloc, tmp);
 }
+
+resurf_status resurfi_save_file(const resurf_allocator *alloc, const char *path, const void *data, size_t size,
+                                resurf_error *error)
+{
+    char *tmp = NULL;
+    int fd = -1;
+    resurf_status status = resurfi_temp_create(alloc, path, &tmp, &fd, error);
+    if (status != RESURF_OK)
+        return status;
+    int err = resurfi_write_all(fd, data, size);
+    if (close(fd) != 0 && !err)
+        err = errno ? errno : EIO;
+    if (err) {
+        resurfi_temp_discard(alloc, tmp);
+        return resurfi_fail(error, RESURF_ERR_IO, path, 0, -1, "cannot write: %s", strerror(err));
+    }
+    return resurfi_temp_commit(alloc, tmp, path, error);
+}

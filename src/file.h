@@ -28,6 +28,11 @@ resurf_status resurfi_temp_commit(const resurf_allocator *alloc, char *tmp, cons
 /* Removes the temporary file tmp and frees its name (NULL: nothing to do). */
 void resurfi_temp_discard(const resurf_allocator *alloc, char *tmp);
 
+/* Writes size bytes to path atomically: a temporary file beside it (resurfi_temp_create), renamed over path once
+ * complete; on failure no new file and no partial file is left. Errors name path. */
+resurf_status resurfi_save_file(const resurf_allocator *alloc, const char *path, const void *data, size_t size,
+                                resurf_error *error);
+
 /* Writes size bytes to fd, again after a signal interrupts; returns 0, or the errno of the failure (EIO when the
  * system accepts nothing). */
 int resurfi_write_all(int fd, const void *data, size_t size);

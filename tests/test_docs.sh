@@ -12,6 +12,6 @@ if ! diff -u "$src/docs/reference.md" "$copy"; then
     echo "docs/reference.md is out of date: run 'bash tools/reference.sh build/tools/resurf'" >&2
     exit 1
 fi
-for command in info convert restore smooth compare simplify lod; do
+for command in info convert restore smooth compare simplify lod preview; do
     grep -q "^<!-- help:$command -->\$" "$src/docs/reference.md" || { echo "no help block for '$command'" >&2; exit 1; }
 done

@@ -41,6 +41,8 @@ struct resurfi_gltf_doc {
     std::vector<resurfi_gltf_mesh> meshes;
     std::vector<std::vector<long long>> children;
     std::vector<resurfi_gltf_node> nodes;
+    std::vector<std::vector<long long>> lod_ids;   // per node: MSFT_lod ids
+    std::vector<std::vector<double>> coverage;     // per node: extras.MSFT_screencoverage
     std::vector<std::vector<long long>> scene_nodes;
     std::vector<resurfi_gltf_scene> scenes;
     std::vector<resurfi_gltf_ref> refs;

@@ -429,6 +429,8 @@ void build_view(resurfi_gltf_doc *doc)
                 (c.target_path == "translation" || c.target_path == "rotation" || c.target_path == "scale"))
                 animated[(size_t)c.target_node] = 1;
     doc->children.resize(m.nodes.size());
+    doc->lod_ids.resize(m.nodes.size());
+    doc->coverage.resize(m.nodes.size());
     for (size_t ni = 0; ni < m.nodes.size(); ++ni) {
         const tinygltf::Node &n = m.nodes[ni];
         resurfi_gltf_node c;
@@ -452,6 +454,26 @@ void build_view(resurfi_gltf_doc *doc)
             c.rotation[i] = n.rotation[i];
         for (size_t i = 0; i < n.scale.size() && i < 3; ++i)
             c.scale[i] = n.scale[i];
+        auto lod = n.extensions.find("MSFT_lod");
+        if (lod != n.extensions.end() && lod->second.IsObject() && lod->second.Has("ids") &&
+            lod->second.Get("ids").IsArray()) {
+            const tinygltf::Value &ids = lod->second.Get("ids");
+            for (size_t i = 0; i < ids.ArrayLen(); ++i)
+                doc->lod_ids[ni].push_back(ids.Get((int)i).IsInt() ? (long long)ids.Get((int)i).GetNumberAsInt()
+                                                                   : RESURFI_GLTF_BAD);
+            if (n.extras.IsObject() && n.extras.Has("MSFT_screencoverage") &&
+                n.extras.Get("MSFT_screencoverage").IsArray()) {
+                const tinygltf::Value &cov = n.extras.Get("MSFT_screencoverage");
+                for (size_t i = 0; i < cov.ArrayLen() && cov.Get((int)i).IsNumber(); ++i)
+                    doc->coverage[ni].push_back(cov.Get((int)i).GetNumberAsDouble());
+                if (doc->coverage[ni].size() != cov.ArrayLen())
+                    doc->coverage[ni].clear();
+            }
+        }
+        c.lod_count = doc->lod_ids[ni].size();
+        c.lod_ids = doc->lod_ids[ni].data();
+        c.coverage_count = doc->coverage[ni].size();
+        c.coverage = doc->coverage[ni].data();
         doc->nodes.push_back(c);
         std::string where = "nodes[" + std::to_string(ni) + "]";
         if (n.skin != -1)

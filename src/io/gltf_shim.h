@@ -98,6 +98,11 @@ typedef struct resurfi_gltf_node {
     const long long *children;
     size_t matrix_count, translation_count, rotation_count, scale_count; /* numbers the file gives (0: absent) */
     double matrix[16], translation[3], rotation[4], scale[3]; /* the first of them (matrix column-major) */
+    size_t lod_count;          /* MSFT_lod: the level nodes' ids as the file gives them (unchecked; RESURFI_GLTF_BAD
+                                  for a value that is not an integer), lod_count 0 without the extension */
+    const long long *lod_ids;
+    size_t coverage_count;     /* extras.MSFT_screencoverage's numbers (0 when absent or not all numbers) */
+    const double *coverage;
 } resurfi_gltf_node;
 
 typedef struct resurfi_gltf_scene {

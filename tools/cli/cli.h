@@ -26,6 +26,15 @@ int cmd_smooth(int argc, char **argv);
 int cmd_compare(int argc, char **argv);
 int cmd_simplify(int argc, char **argv);
 int cmd_lod(int argc, char **argv);
+int cmd_preview(int argc, char **argv);
+
+/* Renders scene's preview sheet with options and writes it to path (a PNG); prints on stdout the table of levels
+ * (verbosity 2) and "wrote PATH" (1 and 2), nothing with 0. Returns CLI_OK or CLI_FAILED after printing the error.
+ * (cmd_preview.c) */
+int cli_write_preview(const resurf_scene *scene, const char *path, const resurf_preview_options *options,
+                      int verbosity);
+/* --size WxH into options->width and height (the library checks the range); CLI_USAGE after an error, else 0. */
+int cli_parse_preview_size(const char *command, const char *option, const char *text, resurf_preview_options *o);
 
 /* Prints "resurf: <message>" on stderr and returns CLI_FAILED. */
 int cli_fail(const char *fmt, ...) __attribute__((format(printf, 1, 2)));

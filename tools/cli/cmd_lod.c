@@ -33,6 +33,8 @@ static const char usage[] =
     "  --pixels P             MSFT_lod switching: a level shows once its error covers at most P pixels (default 1)\n"
     "  --screen-height H      ... on a screen H pixels high (default 1080)\n"
     "  --threads N            worker threads, 0 = all cores (default)\n"
+    "  --preview SHEET.png    also draw every level with its error, as 'resurf preview' does\n"
+    "  --preview-size WxH     the sheet's size (default 1600x900)\n"
     "  --json                 print the table as JSON on stdout\n" CLI_MAX_TRIANGLES_HELP;
 
 enum { MAX_LEVELS = RESURF_SCENE_MAX_LEVELS - 1 };
@@ -68,14 +70,17 @@ int cmd_lod(int argc, char **argv)
         {"screen-height", required_argument, NULL, 'H'},
         {"threads", required_argument, NULL, 't'},
         {"json", no_argument, NULL, 'j'},
+        {"preview", required_argument, NULL, 'P'},
+        {"preview-size", required_argument, NULL, 'Z'},
         CLI_MAX_TRIANGLES_OPTION,
         {"help", no_argument, NULL, 'h'},
         {NULL, 0, NULL, 0},
     };
-    const char *out = NULL;
+    const char *out = NULL, *preview = NULL;
     double ratios[MAX_LEVELS] = {0.5, 0.25, 0.1}, pixels = 1, height = 1080;
     size_t ratio_count = 3;
     int json = 0, allow_missing_images = 0;
+    resurf_preview_options po = resurf_preview_options_default();
     unsigned long n;
     resurf_scene_save_options so = resurf_scene_save_options_default();
     so.draco = true;
@@ -129,6 +134,11 @@ int cmd_lod(int argc, char **argv)
                 return CLI_USAGE;
             break;
         case 'j': json = 1; break;
+        case 'P': preview = optarg; break;
+        case 'Z':
+            if (cli_parse_preview_size("lod", "preview-size", optarg, &po))
+                return CLI_USAGE;
+            break;
         case 'T':
             if (cli_set_max_triangles("lod", optarg))
                 return CLI_USAGE;
@@ -149,6 +159,10 @@ int cmd_lod(int argc, char **argv)
     if (drc && so.layout != RESURF_LOD_FILES)
         return cli_usage("lod", "a .drc holds one level: add --layout files");
     const char *input = argv[optind];
+    if (preview && (strlen(preview) < 4 || strcmp(preview + strlen(preview) - 4, ".png")))
+        return cli_usage("lod", "the --preview sheet must end in .png: '%s'", preview);
+    if (preview && cli_check_output(preview, &input, 1))
+        return CLI_FAILED;
     size_t levels = ratio_count + 1;
     for (size_t k = 0; k < (so.layout == RESURF_LOD_FILES ? levels : 1); ++k) {
         char path[4096];
@@ -225,6 +239,10 @@ int cmd_lod(int argc, char **argv)
             printf("wrote %s (%s%s, %zu file%s, %zu bytes)\n", out, layouts[so.layout], so.draco ? ", Draco" : "",
                    report.files, report.files == 1 ? "" : "s", report.total_bytes);
         }
+    }
+    if (rc == CLI_OK && preview) {
+        po.threads = sim.threads;
+        rc = cli_write_preview(scene, preview, &po, json ? 0 : 1);
     }
     resurf_scene_free(scene);
     return rc;

@@ -12,6 +12,7 @@ static const cli_command commands[] = {
     {"compare", "measure the distance between two meshes' surfaces and triangle quality", cmd_compare},
     {"simplify", "simplify a mesh by edge collapses restored onto its smooth surface (levels of detail)", cmd_simplify},
     {"lod", "levels of detail of a glTF scene (or mesh) as MSFT_lod, files or side by side, Draco-compressed", cmd_lod},
+    {"preview", "draw every level of detail of a scene with its error into a PNG sheet", cmd_preview},
 };
 
 static void print_help(FILE *f)

@@ -1,0 +1,642 @@
+/* The preview sheet: the public calls. Gathers each level of the scene into one world-space mesh (every node that
+ * shows a mesh, with its world transform), measures its error against level 0, lays out one cell per level, draws
+ * it (raster.c), the heat map's distances (the BVH of level 0, per pixel), the labels (font.c) and the colour bar.
+ * Memory: the image, level 0 and the level being drawn (plus level 0's BVH for a heat map). */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "file.h"
+#include "preview/preview_internal.h"
+#include "scene_internal.h"
+
+resurf_preview_options resurf_preview_options_default(void)
+{
+    return (resurf_preview_options){
+        .struct_size = sizeof(resurf_preview_options),
+        .width = 1600,
+        .height = 900,
+        .background = {255, 255, 255, 255},
+        .measure = true,
+        .compare_samples = 10000,
+    };
+}
+
+void resurf_preview_image_free(resurf_preview_image *image)
+{
+    if (!image)
+        return;
+    resurfi_free(&image->allocator, image->rgba);
+    memset(image, 0, sizeof *image);
+}
+
+/* ---- the scene's drawn primitives ---------------------------------------------------------------------------- */
+
+/* One mesh as one node shows it, with its levels: those set on its primitives (resurf_scene_set_lods), or the
+ * meshes of the level nodes its MSFT_lod extension names (a file written with levels), drawn with the node's own
+ * world transform (resurf writes level nodes with the transform of the node they stand in for). */
+typedef struct draw_item {
+    size_t mesh;
+    const double *world;             /* column-major 4 × 4, or NULL for the identity */
+    size_t lod_count;                /* MSFT_lod levels: lod_mesh[k - 1] is level k's mesh */
+    size_t lod_mesh[RESURF_SCENE_MAX_LEVELS - 1];
+    size_t coverage_count;           /* extras.MSFT_screencoverage, or 0 */
+    const double *coverage;
+} draw_item;
+
+typedef struct draw_list {
+    size_t count;
+    draw_item *items;
+} draw_list;
+
+/* The glTF mesh of level k of item, and the level of its primitives to take. */
+static size_t item_mesh(const draw_item *item, size_t k, size_t *prim_level)
+{
+    *prim_level = item->lod_count ? 0 : k;
+    if (k == 0 || item->lod_count == 0)
+        return item->mesh;
+    return item->lod_mesh[(k < item->lod_count ? k : item->lod_count) - 1];
+}
+
+/* A node's MSFT_lod levels, when every id names a node with a mesh (else none: the node shows level 0 alone). */
+static void read_msft_lod(const resurfi_gltf_view *v, const resurfi_gltf_node *node, draw_item *item)
+{
+    if (node->lod_count == 0 || node->lod_count > RESURF_SCENE_MAX_LEVELS - 1)
+        return;
+    for (size_t k = 0; k < node->lod_count; ++k) {
+        long long id = node->lod_ids[k];
+        if (id < 0 || (size_t)id >= v->node_count || v->nodes[id].mesh < 0)
+            return;
+        item->lod_mesh[k] = (size_t)v->nodes[id].mesh;
+    }
+    item->lod_count = node->lod_count;
+    item->coverage_count = node->coverage_count;
+    item->coverage = node->coverage;
+}
+
+/* Every node with a mesh that the default scene (else scene 0, else every root node) reaches, depth first; a scene
+ * made from a mesh file has no nodes: its meshes untransformed. */
+static resurf_status gather(const resurf_scene *scene, const resurf_allocator *alloc, draw_list *out)
+{
+    const resurfi_gltf_view *v = scene->view;
+    size_t node_count = v ? v->node_count : 0;
+    size_t cap = node_count > scene->mesh_count ? node_count : scene->mesh_count;
+    out->count = 0;
+    out->items = resurfi_calloc(alloc, cap ? cap : 1, sizeof *out->items);
+    if (!out->items)
+        return RESURF_ERR_OUT_OF_MEMORY;
+    if (!v || node_count == 0) {
+        for (size_t m = 0; m < scene->mesh_count; ++m)
+            out->items[out->count++] = (draw_item){.mesh = m};
+        return RESURF_OK;
+    }
+    /* Each node has at most one parent and the graph has no cycle (checked by the loader), so a walk visits each
+     * node once and a stack of node_count entries holds it. */
+    long long *stack = resurfi_alloc(alloc, node_count, sizeof *stack);
+    unsigned char *is_child = resurfi_calloc(alloc, node_count, 1);
+    if (!stack || !is_child) {
+        resurfi_free(alloc, stack);
+        resurfi_free(alloc, is_child);
+        return RESURF_ERR_OUT_OF_MEMORY;
+    }
+    size_t top = 0;
+    long long chosen = v->default_scene != RESURFI_GLTF_NONE ? v->default_scene : v->scene_count ? 0 : -1;
+    if (chosen >= 0) {
+        const resurfi_gltf_scene *sc = &v->scenes[chosen];
+        for (size_t k = sc->node_count; k-- > 0 && top < node_count;)
+            stack[top++] = sc->nodes[k];
+    } else {
+        for (size_t n = 0; n < node_count; ++n)
+            for (size_t c = 0; c < v->nodes[n].child_count; ++c)
+                is_child[v->nodes[n].children[c]] = 1;
+        for (size_t n = node_count; n-- > 0;)
+            if (!is_child[n])
+                stack[top++] = (long long)n;
+    }
+    while (top > 0) {
+        long long n = stack[--top];
+        const resurfi_gltf_node *node = &v->nodes[n];
+        if (node->mesh >= 0 && out->count < cap) {
+            draw_item *item = &out->items[out->count++];
+            *item = (draw_item){.mesh = (size_t)node->mesh, .world = scene->world[n]};
+            read_msft_lod(v, node, item);
+        }
+        for (size_t c = node->child_count; c-- > 0 && top < node_count;)
+            stack[top++] = node->children[c];
+    }
+    resurfi_free(alloc, stack);
+    resurfi_free(alloc, is_child);
+    return RESURF_OK;
+}
+
+/* Primitive p's mesh at level k (NULL for points and lines). */
+static const resurf_mesh *prim_mesh(const resurf_scene *scene, size_t p, size_t k)
+{
+    return scene->prims[p].mesh ? resurfi_scene_level_mesh(&scene->prims[p], k) : NULL;
+}
+
+/* Appends m moved by the world matrix a (column-major; NULL = identity) to w from vertex *vbase and triangle
+ * *tbase: positions by the matrix, normals (when w has them) by its inverse transpose, renormalised. */
+static void append(resurf_mesh *w, const resurf_mesh *m, const double *a, size_t *vbase, size_t *tbase)
+{
+    static const double identity[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+    if (!a)
+        a = identity;
+    vec3 c0 = v3(a[0], a[1], a[2]), c1 = v3(a[4], a[5], a[6]), c2 = v3(a[8], a[9], a[10]);
+    vec3 t = v3(a[12], a[13], a[14]);
+    /* The inverse transpose's columns up to the determinant, whose sign alone matters here. */
+    double sign = v3_dot(c0, v3_cross(c1, c2)) < 0 ? -1 : 1;
+    vec3 n0 = v3_scale(v3_cross(c1, c2), sign), n1 = v3_scale(v3_cross(c2, c0), sign),
+         n2 = v3_scale(v3_cross(c0, c1), sign);
+    for (size_t k = 0; k < m->vertex_count; ++k) {
+        const double *p = m->positions + 3 * k;
+        vec3 q = v3_add(t, v3_add(v3_scale(c0, p[0]), v3_add(v3_scale(c1, p[1]), v3_scale(c2, p[2]))));
+        v3_store(w->positions + 3 * (*vbase + k), q);
+        if (w->normals) {
+            const double *n = m->normals + 3 * k;
+            vec3 r = v3_add(v3_scale(n0, n[0]), v3_add(v3_scale(n1, n[1]), v3_scale(n2, n[2])));
+            v3_store(w->normals + 3 * (*vbase + k), v3_normalize(r));
+        }
+    }
+    for (size_t k = 0; k < 3 * m->triangle_count; ++k)
+        w->indices[3 * *tbase + k] = (uint32_t)(*vbase + m->indices[k]);
+    *vbase += m->vertex_count;
+    *tbase += m->triangle_count;
+}
+
+/* Level `level` of every drawn node in one world-space mesh (normals kept only when every primitive has them). */
+static resurf_status flatten(const resurf_scene *scene, const draw_list *list, size_t level,
+                             const resurf_allocator *alloc, resurf_mesh **out, resurf_error *error)
+{
+    size_t vertices = 0, triangles = 0;
+    int normals = 1;
+    for (size_t i = 0; i < list->count; ++i) {
+        size_t k, mesh = item_mesh(&list->items[i], level, &k);
+        for (size_t p = scene->mesh_first[mesh]; p < scene->mesh_first[mesh + 1]; ++p) {
+            const resurf_mesh *m = prim_mesh(scene, p, k);
+            if (!m)
+                continue;
+            vertices += m->vertex_count;
+            triangles += m->triangle_count;
+            normals = normals && m->normals;
+            if (vertices > UINT32_MAX || triangles > UINT32_MAX)
+                return resurfi_error(error, RESURF_ERR_LIMIT, "level %zu draws more than 2^32 vertices or triangles",
+                                     level);
+        }
+    }
+    resurf_mesh *w = NULL;
+    resurf_status status =
+        resurf_mesh_create_with(vertices, triangles, normals ? RESURF_ATTR_NORMALS : 0, alloc, &w, error);
+    if (status != RESURF_OK)
+        return status;
+    size_t vbase = 0, tbase = 0;
+    for (size_t i = 0; i < list->count; ++i) {
+        size_t k, mesh = item_mesh(&list->items[i], level, &k);
+        for (size_t p = scene->mesh_first[mesh]; p < scene->mesh_first[mesh + 1]; ++p) {
+            const resurf_mesh *m = prim_mesh(scene, p, k);
+            if (m)
+                append(w, m, list->items[i].world, &vbase, &tbase);
+        }
+    }
+    *out = w;
+    return RESURF_OK;
+}
+
+/* ---- layout ------------------------------------------------------------------------------------------------ */
+
+typedef struct layout {
+    unsigned scale;         /* of the font */
+    unsigned line_h;        /* a text line's height */
+    unsigned cols, rows;    /* cells */
+    unsigned cell_w, cell_h;
+    unsigned panel_h;       /* each picture in a cell (two with a heat map) */
+    unsigned label_h;
+    unsigned footer_h;      /* the colour bar's strip */
+} layout;
+
+enum { LABEL_LINES = 3 };
+
+/* The grid of cells whose pictures are largest (their smaller side), for `levels` cells. */
+static layout make_layout(unsigned w, unsigned h, size_t levels, int heatmap)
+{
+    layout l = {.scale = w / levels >= 240 && h >= 400 ? 2 : 1}; /* labels of 20 characters at twice the size */
+    l.line_h = (RP_GLYPH_H + 3) * l.scale;
+    l.label_h = LABEL_LINES * l.line_h + 2 * l.scale;
+    l.footer_h = heatmap ? 3 * l.line_h + 4 * l.scale : 0;
+    unsigned pictures = heatmap ? 2 : 1;
+    unsigned avail = h > l.footer_h ? h - l.footer_h : 0;
+    long long best = -1;
+    for (unsigned cols = 1; cols <= levels; ++cols) {
+        unsigned rows = (unsigned)((levels + cols - 1) / cols);
+        unsigned cell_w = w / cols, cell_h = avail / rows;
+        unsigned panel_h = cell_h > l.label_h ? (cell_h - l.label_h) / pictures : 0;
+        long long side = cell_w < panel_h ? cell_w : panel_h;
+        if (side > best) {
+            best = side;
+            l.cols = cols;
+            l.rows = rows;
+            l.cell_w = cell_w;
+            l.cell_h = cell_h;
+            l.panel_h = panel_h;
+        }
+    }
+    return l;
+}
+
+/* ---- text ---------------------------------------------------------------------------------------------------- */
+
+/* n with thousands separators ("1,234,567"). */
+static void thousands(char *dst, size_t size, size_t n)
+{
+    char digits[32];
+    int len = snprintf(digits, sizeof digits, "%zu", n);
+    size_t o = 0;
+    for (int i = 0; i < len && o + 2 < size; ++i) {
+        if (i > 0 && (len - i) % 3 == 0)
+            dst[o++] = ',';
+        dst[o++] = digits[i];
+    }
+    dst[o] = 0;
+}
+
+/* A line centred in [x, x + w) at row y, at scale. */
+static void draw_line(resurf_preview_image *img, const layout *l, unsigned scale, unsigned x, unsigned w, unsigned y,
+                      const char *text, const unsigned char ink[3])
+{
+    unsigned tw = rp_text_width(text, scale);
+    int left = (int)x + (tw < w ? (int)(w - tw) / 2 : 0);
+    int top = (int)y + (int)((l->line_h - RP_GLYPH_H * scale) / 2);
+    rp_draw_text(img->rgba, img->width, img->height, left, top, scale, text, ink);
+}
+
+/* ---- heat map ------------------------------------------------------------------------------------------------ */
+
+typedef struct heat_job {
+    const resurfi_bvh *bvh;
+    const rp_panel *panel;
+    float *distance;        /* the sheet's heat distances, width × height, NaN where nothing is shown */
+    unsigned width;
+} heat_job;
+
+/* The distance from each covered pixel's world point to level 0's surface, row by row (each pixel is its own:
+ * the result is the same for any split over threads). */
+static int heat_rows(void *ctx, size_t begin, size_t end, unsigned worker)
+{
+    (void)worker;
+    const heat_job *job = ctx;
+    const rp_panel *p = job->panel;
+    for (size_t j = begin; j < end; ++j)
+        for (unsigned i = 0; i < p->w; ++i) {
+            size_t at = j * p->w + i;
+            if (!(p->depth[at] > 0))
+                continue;
+            double d2 = INFINITY;
+            resurfi_bvh_closest(job->bvh, v3_load(p->position + 3 * at), INFINITY, NULL, NULL, &d2);
+            job->distance[(p->y0 + j) * (size_t)job->width + p->x0 + i] = isfinite(d2) ? (float)sqrt(d2) : 0.0f;
+        }
+    return 0;
+}
+
+/* ---- the sheet ----------------------------------------------------------------------------------------------- */
+
+typedef struct sheet {
+    const resurf_scene *scene;
+    resurf_preview_options o;
+    const resurf_allocator *alloc;
+    resurf_error *error;
+    resurf_preview_image img;
+    layout l;
+    rp_camera camera;
+    draw_list list;
+    resurf_mesh *level0;
+    resurfi_bvh *bvh;
+    double *depth, *position;
+    float *panel_shade;      /* heat map: a panel's lighting factors, */
+    float *shade, *distance; /* and the sheet's, with the distances */
+    unsigned char ink[3];
+} sheet;
+
+static void clear_panel(sheet *s, rp_panel *p)
+{
+    for (size_t k = 0; k < (size_t)p->w * p->h; ++k)
+        s->depth[k] = 0;
+}
+
+static const double base_colour[3] = {0.80, 0.78, 0.74};
+
+/* Level k's cell: its picture, its heat picture, its labels. */
+static resurf_status draw_level(sheet *s, size_t k, const resurf_mesh *mesh, resurf_preview_report *rep)
+{
+    const layout *l = &s->l;
+    unsigned cx = (unsigned)(k % l->cols) * l->cell_w, cy = (unsigned)(k / l->cols) * l->cell_h;
+    rp_style style = {.base = {base_colour[0], base_colour[1], base_colour[2]}, .wireframe = s->o.wireframe};
+    if (l->panel_h > 0 && l->cell_w > 0) {
+        rp_panel p = {s->img.rgba, s->img.width, cx, cy, l->cell_w, l->panel_h, s->depth, NULL, NULL};
+        clear_panel(s, &p);
+        if (rp_draw_mesh(&p, &s->camera, mesh, &style, s->alloc) != RESURF_OK)
+            return resurfi_error(s->error, RESURF_ERR_OUT_OF_MEMORY, "out of memory drawing level %zu", k);
+        if (s->o.heatmap) {
+            rp_panel h = {s->img.rgba, s->img.width, cx, cy + l->panel_h, l->cell_w, l->panel_h, s->depth,
+                          s->position, s->panel_shade};
+            clear_panel(s, &h);
+            if (rp_draw_mesh(&h, &s->camera, mesh, &style, s->alloc) != RESURF_OK)
+                return resurfi_error(s->error, RESURF_ERR_OUT_OF_MEMORY, "out of memory drawing level %zu", k);
+            heat_job job = {s->bvh, &h, s->distance, s->img.width};
+            if (s->bvh)
+                resurfi_parallel_for(h.h, 8, s->o.threads, heat_rows, &job);
+            /* The lighting factors move into the sheet-sized array, beside the distances. */
+            for (unsigned j = 0; j < h.h; ++j)
+                for (unsigned i = 0; i < h.w; ++i) {
+                    size_t at = (size_t)j * h.w + i;
+                    size_t sheet_at = (size_t)(h.y0 + j) * s->img.width + h.x0 + i;
+                    if (h.depth[at] > 0)
+                        s->shade[sheet_at] = h.shade[at];
+                }
+        }
+    }
+    char line[LABEL_LINES][96], count[32];
+    thousands(count, sizeof count, rep->level_triangles[k]);
+    snprintf(line[0], sizeof line[0], "LEVEL %zu  %s TRIS", k, count);
+    if (k == 0)
+        snprintf(line[1], sizeof line[1], "FULL DETAIL");
+    else if (!s->o.measure)
+        line[1][0] = 0;
+    else if (isnan(rep->level_error[k]))
+        snprintf(line[1], sizeof line[1], "ERROR N/A");
+    else
+        snprintf(line[1], sizeof line[1], "ERROR %.3g%% = %.3g", 100 * rep->level_error_rel[k], rep->level_error[k]);
+    /* Level k shows from its coverage up to the previous level's (MSFT_lod). */
+    double from = rep->level_coverage[k], to = k > 0 ? rep->level_coverage[k - 1] : 1;
+    if (from < 0)
+        line[2][0] = 0;
+    else if (k == 0 || to >= 1)
+        snprintf(line[2], sizeof line[2], "COVERAGE >= %.3g%%", 100 * from);
+    else if (from <= 0)
+        snprintf(line[2], sizeof line[2], "COVERAGE < %.3g%%", 100 * to);
+    else
+        snprintf(line[2], sizeof line[2], "COVERAGE %.3g-%.3g%%", 100 * from, 100 * to);
+    unsigned pictures = s->o.heatmap ? 2 : 1;
+    unsigned y = cy + pictures * l->panel_h + l->scale;
+    /* One size for the cell's lines: the layout's, or the smallest when one of them would not fit. */
+    unsigned scale = l->scale;
+    for (int i = 0; i < LABEL_LINES; ++i)
+        if (rp_text_width(line[i], scale) + 4 > l->cell_w)
+            scale = 1;
+    for (int i = 0; i < LABEL_LINES; ++i, y += l->line_h)
+        draw_line(&s->img, l, scale, cx, l->cell_w, y, line[i], s->ink);
+    return RESURF_OK;
+}
+
+/* The heat pictures' colours (one scale for all levels) and the colour bar under the cells. */
+static void draw_heat(sheet *s, double heat_max)
+{
+    size_t n = (size_t)s->img.width * s->img.height;
+    const float *shade = s->shade;
+    for (size_t at = 0; at < n; ++at) {
+        if (isnan(s->distance[at]))
+            continue;
+        unsigned char c[3];
+        rp_heat_colour(heat_max > 0 ? s->distance[at] / heat_max : 0, c);
+        double f = 0.35 + 0.65 * shade[at];
+        unsigned char *px = s->img.rgba + 4 * at;
+        for (int k = 0; k < 3; ++k)
+            px[k] = (unsigned char)(c[k] * f + 0.5);
+        px[3] = 255;
+    }
+    const layout *l = &s->l;
+    if (l->footer_h > s->img.height) /* a sheet too small for the bar keeps the coloured pictures alone */
+        return;
+    unsigned w = s->img.width, top = s->img.height - l->footer_h;
+    unsigned x0 = w / 5, x1 = w - w / 5, bar_h = l->line_h;
+    draw_line(&s->img, l, l->scale, 0, w, top + l->scale, "DISTANCE TO LEVEL 0 (SCENE UNITS)", s->ink);
+    unsigned bar_y = top + l->line_h + 2 * l->scale;
+    for (unsigned x = x0; x < x1; ++x) {
+        unsigned char c[3];
+        rp_heat_colour((double)(x - x0) / (double)(x1 - x0 - 1), c);
+        for (unsigned y = bar_y; y < bar_y + bar_h && y < s->img.height; ++y) {
+            unsigned char *px = s->img.rgba + 4 * ((size_t)y * w + x);
+            memcpy(px, c, 3);
+            px[3] = 255;
+        }
+    }
+    char text[48];
+    unsigned ty = bar_y + bar_h + l->scale;
+    unsigned tick_w = (x1 - x0) / 2;
+    for (int k = 0; k < 3; ++k) {
+        snprintf(text, sizeof text, "%.3g", heat_max * k / 2);
+        unsigned centre = x0 + (unsigned)k * tick_w;
+        unsigned half = tick_w / 2;
+        draw_line(&s->img, l, l->scale, centre > half ? centre - half : 0, tick_w, ty, text, s->ink);
+    }
+}
+
+static resurf_status check_options(const resurf_preview_options *o, resurf_error *error)
+{
+    if (o->width < 16 || o->height < 16 || o->width > RESURF_PREVIEW_MAX_SIDE || o->height > RESURF_PREVIEW_MAX_SIDE ||
+        (uint64_t)o->width * o->height > RESURF_PREVIEW_MAX_PIXELS)
+        return resurfi_error(error, RESURF_ERR_LIMIT,
+                             "a sheet of %u x %u pixels: each side must be in 16..%d and the whole at most %u pixels",
+                             o->width, o->height, RESURF_PREVIEW_MAX_SIDE, RESURF_PREVIEW_MAX_PIXELS);
+    if ((unsigned)o->view >= RESURF_PREVIEW_VIEW_COUNT)
+        return resurfi_error(error, RESURF_ERR_INVALID_OPTIONS, "unknown view %d", (int)o->view);
+    if (!isfinite(o->yaw_deg) || !isfinite(o->pitch_deg))
+        return resurfi_error(error, RESURF_ERR_INVALID_OPTIONS, "yaw and pitch must be finite");
+    if (o->compare_samples > 1000000000)
+        return resurfi_error(error, RESURF_ERR_INVALID_OPTIONS, "compare_samples %zu is above 10^9",
+                             o->compare_samples);
+    return RESURF_OK;
+}
+
+/* The levels of item: 1 + its MSFT_lod levels, or 1 + the most levels set on its primitives. */
+static size_t item_levels(const resurf_scene *scene, const draw_item *item)
+{
+    if (item->lod_count)
+        return 1 + item->lod_count;
+    size_t most = 0;
+    for (size_t p = scene->mesh_first[item->mesh]; p < scene->mesh_first[item->mesh + 1]; ++p)
+        if (scene->prims[p].lod_count > most)
+            most = scene->prims[p].lod_count;
+    return 1 + most;
+}
+
+/* The coverage from which level k shows, from the first item with levels: its file's MSFT_screencoverage, or the
+ * values set on its mesh, or the defaults resurf_scene_save writes; -1 when unknown. */
+static double coverage_of(const resurf_scene *scene, const draw_list *list, size_t k, size_t levels)
+{
+    if (levels < 2)
+        return -1;
+    for (size_t i = 0; i < list->count; ++i) {
+        const draw_item *item = &list->items[i];
+        size_t n = item_levels(scene, item);
+        if (n < 2)
+            continue;
+        if (item->lod_count)
+            return k < item->coverage_count ? item->coverage[k] : -1;
+        size_t m = item->mesh;
+        if (scene->coverage && scene->coverage[m] && k < scene->coverage_count[m])
+            return scene->coverage[m][k];
+        return k + 1 >= n ? 0 : ldexp(1, -(int)(k + 1));
+    }
+    return -1;
+}
+
+static resurf_status render(sheet *s, resurf_preview_report *rep)
+{
+    const resurf_scene *scene = s->scene;
+    resurf_status status = gather(scene, s->alloc, &s->list);
+    if (status != RESURF_OK)
+        return resurfi_error(s->error, status, "out of memory gathering the scene");
+    size_t levels = 1;
+    for (size_t i = 0; i < s->list.count; ++i) {
+        size_t n = item_levels(scene, &s->list.items[i]);
+        levels = n > levels ? n : levels;
+    }
+    rep->levels = levels;
+    status = flatten(scene, &s->list, 0, s->alloc, &s->level0, s->error);
+    if (status != RESURF_OK)
+        return status;
+    double lo[3], hi[3];
+    rep->diagonal = resurf_mesh_bounds(s->level0, lo, hi);
+    vec3 centre = v3_scale(v3_add(v3_load(lo), v3_load(hi)), 0.5);
+    s->l = make_layout(s->o.width, s->o.height, levels, s->o.heatmap);
+    static const double angles[RESURF_PREVIEW_VIEW_COUNT][2] = {{35, 20}, {0, 0}, {90, 0}, {0, 90}, {45, 35.26439}};
+    s->camera = rp_camera_frame(centre, 0.5 * rep->diagonal, angles[s->o.view][0] + s->o.yaw_deg,
+                                angles[s->o.view][1] + s->o.pitch_deg, s->l.cell_w, s->l.panel_h ? s->l.panel_h : 1);
+    rp_camera_fit(&s->camera, centre, s->level0, s->l.cell_w, s->l.panel_h ? s->l.panel_h : 1);
+
+    size_t pixels = (size_t)s->o.width * s->o.height, panel = (size_t)s->l.cell_w * s->l.panel_h;
+    s->img.rgba = resurfi_alloc(s->alloc, pixels, 4);
+    s->depth = resurfi_alloc(s->alloc, panel ? panel : 1, sizeof *s->depth);
+    if (s->o.heatmap) {
+        s->position = resurfi_alloc(s->alloc, panel ? panel : 1, 3 * sizeof *s->position);
+        s->panel_shade = resurfi_alloc(s->alloc, panel ? panel : 1, sizeof *s->panel_shade);
+        s->shade = resurfi_alloc(s->alloc, pixels, sizeof *s->shade);
+        s->distance = resurfi_alloc(s->alloc, pixels, sizeof *s->distance);
+    }
+    if (!s->img.rgba || !s->depth || (s->o.heatmap && (!s->position || !s->panel_shade || !s->shade || !s->distance)))
+        return resurfi_error(s->error, RESURF_ERR_OUT_OF_MEMORY, "out of memory for a %u x %u sheet", s->o.width,
+                             s->o.height);
+    s->img.width = s->o.width;
+    s->img.height = s->o.height;
+    for (size_t k = 0; k < pixels; ++k)
+        memcpy(s->img.rgba + 4 * k, s->o.background, 4);
+    const unsigned char *bg = s->o.background;
+    int dark = 299 * bg[0] + 587 * bg[1] + 114 * bg[2] < 128000 && bg[3] >= 128;
+    memset(s->ink, dark ? 230 : 25, 3);
+    if (s->o.heatmap) {
+        for (size_t k = 0; k < pixels; ++k)
+            s->distance[k] = NAN;
+        if (s->level0->triangle_count > 0) {
+            status = resurfi_bvh_build_threads(s->alloc, s->level0->positions, s->level0->vertex_count,
+                                               s->level0->indices, s->level0->triangle_count, s->o.threads, &s->bvh);
+            if (status != RESURF_OK)
+                return resurfi_error(s->error, status, "out of memory building level 0's search tree");
+        }
+    }
+
+    resurf_compare_options co = resurf_compare_options_default();
+    co.samples = s->o.compare_samples;
+    co.threads = s->o.threads;
+    co.allocator = s->alloc;
+    for (size_t k = 0; k < levels; ++k) {
+        if (resurfi_progress(&s->o.progress, RESURF_STAGE_PREVIEW, (double)k / (double)levels))
+            return resurfi_error(s->error, RESURF_ERR_CANCELLED, "cancelled by the progress callback");
+        resurf_mesh *mesh = s->level0;
+        if (k > 0) {
+            status = flatten(scene, &s->list, k, s->alloc, &mesh, s->error);
+            if (status != RESURF_OK)
+                return status;
+        }
+        rep->level_triangles[k] = mesh->triangle_count;
+        rep->level_coverage[k] = coverage_of(scene, &s->list, k, levels);
+        if (k > 0 && s->o.measure && mesh->triangle_count > 0 && s->level0->triangle_count > 0) {
+            resurf_compare_report m;
+            status = resurf_compare(s->level0, mesh, &co, &m, NULL, s->error);
+            if (status == RESURF_ERR_OUT_OF_MEMORY || status == RESURF_ERR_CANCELLED) {
+                resurf_mesh_free(mesh);
+                return status;
+            }
+            rep->level_error[k] = status == RESURF_OK ? m.hausdorff : NAN;
+            rep->level_error_rel[k] = status == RESURF_OK && m.diagonal > 0 ? m.hausdorff / m.diagonal : NAN;
+        } else {
+            rep->level_error[k] = k == 0 ? 0 : NAN;
+            rep->level_error_rel[k] = k == 0 ? 0 : NAN;
+        }
+        status = draw_level(s, k, mesh, rep);
+        if (mesh != s->level0)
+            resurf_mesh_free(mesh);
+        if (status != RESURF_OK)
+            return status;
+    }
+    if (s->o.heatmap) {
+        /* Distances within rounding of the scene's size are none (level 0 against itself). */
+        double heat_max = 0, noise = 1e-12 * rep->diagonal;
+        for (size_t k = 0; k < pixels; ++k) {
+            if (s->distance[k] <= noise)
+                s->distance[k] = s->distance[k] >= 0 ? 0 : s->distance[k];
+            if (s->distance[k] > heat_max)
+                heat_max = s->distance[k];
+        }
+        rep->heat_max = heat_max;
+        draw_heat(s, heat_max);
+    }
+    (void)resurfi_progress(&s->o.progress, RESURF_STAGE_PREVIEW, 1.0);
+    return RESURF_OK;
+}
+
+resurf_status resurf_preview_render(const resurf_scene *scene, const resurf_preview_options *options,
+                                    resurf_preview_image *out_image, resurf_preview_report *out_report,
+                                    resurf_error *error)
+{
+    if (out_image)
+        memset(out_image, 0, sizeof *out_image);
+    if (!scene || !out_image)
+        return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "scene or out_image is NULL");
+    RESURFI_CHECK_OPTIONS_ALLOC(options, resurf_preview_options, error);
+    sheet s = {.scene = scene, .o = options ? *options : resurf_preview_options_default(), .error = error};
+    resurf_status status = check_options(&s.o, error);
+    if (status != RESURF_OK)
+        return status;
+    s.alloc = s.o.allocator ? s.o.allocator : &scene->alloc;
+    s.img.allocator = s.alloc->allocate ? *s.alloc : (resurf_allocator){0};
+    resurf_preview_report rep;
+    memset(&rep, 0, sizeof rep);
+    status = render(&s, &rep);
+    resurfi_bvh_free(s.bvh);
+    resurf_mesh_free(s.level0);
+    resurfi_free(s.alloc, s.list.items);
+    resurfi_free(s.alloc, s.depth);
+    resurfi_free(s.alloc, s.position);
+    resurfi_free(s.alloc, s.panel_shade);
+    resurfi_free(s.alloc, s.shade);
+    resurfi_free(s.alloc, s.distance);
+    if (status != RESURF_OK) {
+        resurfi_free(s.alloc, s.img.rgba);
+        return status;
+    }
+    *out_image = s.img;
+    if (out_report)
+        *out_report = rep;
+    resurfi_clear_error(error);
+    return RESURF_OK;
+}
+
+resurf_status resurf_preview_save_png(const resurf_preview_image *image, const char *path, resurf_error *error)
+{
+    if (!image || !image->rgba || !path || !*path)
+        return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "image, its pixels or path is NULL or empty");
+    if (image->width == 0 || image->height == 0 || image->width > RESURF_PREVIEW_MAX_SIDE ||
+        image->height > RESURF_PREVIEW_MAX_SIDE || (uint64_t)image->width * image->height > RESURF_PREVIEW_MAX_PIXELS)
+        return resurfi_error(error, RESURF_ERR_LIMIT, "an image of %u x %u pixels", image->width, image->height);
+    unsigned char *data = NULL;
+    size_t size = 0;
+    resurf_status status = rp_png_encode(image->rgba, image->width, image->height, &image->allocator, &data, &size,
+                                         error);
+    if (status != RESURF_OK)
+        return status;
+    status = resurfi_save_file(&image->allocator, path, data, size, error);
+    resurfi_free(&image->allocator, data);
+    if (status == RESURF_OK)
+        resurfi_clear_error(error);
+    return status;
+}
