@@ -1,5 +1,5 @@
-/* An axis-aligned bounding-box tree over triangles and exact closest-point queries on it (notes §2: the closest
- * triangle of M, never a brute-force scan).
+/* An axis-aligned bounding-box tree over triangles and exact closest-point queries on it (docs/restoring.md §2:
+ * the closest triangle of M, never a brute-force scan).
  *
  * Build: binned surface-area heuristic on triangle-box centroids (Wald 2007, "On fast construction of SAH-based
  * bounding volume hierarchies"), 16 bins on each axis, leaves of at most 4 triangles. The tree is a flat array of

@@ -230,6 +230,9 @@ void resurfi_temp_discard(const resurf_allocator *alloc, char *tmp)
 resurf_status resurfi_save_file(const resurf_allocator *alloc, const char *path, const void *data, size_t size,
                                 resurf_error *error)
 {
+    const char *slash = strrchr(path, '/');
+    if (!(slash ? slash[1] : path[0]))
+        return resurfi_fail(error, RESURF_ERR_INVALID_ARGUMENT, path, 0, -1, "the path names a folder, not a file");
     char *tmp = NULL;
     int fd = -1;
     resurf_status status = resurfi_temp_create(alloc, path, &tmp, &fd, error);

@@ -29,7 +29,8 @@ resurf_status resurfi_temp_commit(const resurf_allocator *alloc, char *tmp, cons
 void resurfi_temp_discard(const resurf_allocator *alloc, char *tmp);
 
 /* Writes size bytes to path atomically: a temporary file beside it (resurfi_temp_create), renamed over path once
- * complete; on failure no new file and no partial file is left. Errors name path. */
+ * complete; on failure no new file and no partial file is left. A path that names a folder (ending in /) is
+ * RESURF_ERR_INVALID_ARGUMENT. Errors name path. */
 resurf_status resurfi_save_file(const resurf_allocator *alloc, const char *path, const void *data, size_t size,
                                 resurf_error *error);
 

@@ -1,5 +1,5 @@
 /* The gliding-normal displacement of one triangle corner (Semenova, Savchenko, Hagiwara, §3.2 formula (2);
- * notes/restoring.md §4 and §9).
+ * docs/restoring.md §4 and §9).
  *
  * The surface near the corner p_j is taken to be a circular arc that leaves p_j with normal N_j and meets the line
  * l = {p + δ N_opt} with normal N_opt. Write the chord c = p_j − p as c = (N_opt·c) N_opt + u, u ⟂ N_opt. The arc
@@ -12,8 +12,8 @@
  * Evaluated this way there is no division by d_j (a corner at p gives δ = N_opt·c = 0) and tan(α/2) is taken as
  * |N_opt × N_j| / (1 + N_opt·N_j), accurate for the small angles that matter.
  *
- * The normal-section variant (notes §9) keeps only the part of N_j in the plane spanned by N_opt and u, the normal
- * section of the chord: its angle α' to N_opt is signed (positive when N_j leans away from l towards p_j, as on a
+ * The normal-section variant (docs/restoring.md §9) keeps only the part of N_j in the plane spanned by N_opt and
+ * u, the normal section of the chord: its angle α' to N_opt is signed (positive when N_j leans away from l towards p_j, as on a
  * convex surface), so the max/min choice comes out of the geometry, and the twist of the normal across the chord
  * (the part of N_j out of that plane), which formula (2) wrongly counts as bending, is ignored. */
 #include "internal.h"

@@ -244,9 +244,9 @@ resurf_status resurfi_principal_curvatures(const resurf_allocator *alloc, const 
 
 /* ---- optimal direction (optdir.c) ---------------------------------------------------------------------------- */
 
-/* Solves p = Σ b_j (p_j + t N_j) for barycentric b (Σ b_j = 1) and scalar t (notes §3): the line through the foot
- * p0 = Σ b_j p_j along the interpolated normal Σ b_j N_j passes through p. The cubic in t is solved in closed form
- * in units of the longest edge and polished by Newton steps. Returns the number of distinct real roots (0..3) in
+/* Solves p = Σ b_j (p_j + t N_j) for barycentric b (Σ b_j = 1) and scalar t (docs/restoring.md §3): the line
+ * through the foot p0 = Σ b_j p_j along the interpolated normal Σ b_j N_j passes through p. The cubic in t is
+ * solved in closed form in units of the longest edge and polished by Newton steps. Returns the number of distinct real roots (0..3) in
  * roots[], ranked: roots inside the triangle (outside <= RESURFI_OPTDIR_INSIDE_TOL) first by |t|, then the others
  * by how far outside, ties by |t|. 0 roots for a triangle whose equation vanishes identically (zero area and equal
  * normals) or has no real solution. nj need not be unit vectors; t is not the distance to the triangle. */
@@ -264,8 +264,8 @@ int resurfi_optdir_near(vec3 p, const vec3 pj[3], const vec3 nj[3], double t_gue
 
 /* ---- gliding-normal displacement (glide.c) ------------------------------------------------------------------- */
 
-/* δ_j of formula (2), signed (notes §4): p' moves by δ along n_opt. side = +1 max-algorithm, −1 min-algorithm
- * (ignored by the normal-section variant, whose sign comes from the geometry). */
+/* δ_j of formula (2), signed (docs/restoring.md §4): p' moves by δ along n_opt. side = +1 max-algorithm,
+ * −1 min-algorithm (ignored by the normal-section variant, whose sign comes from the geometry). */
 double resurfi_glide_paper(vec3 p, vec3 pj, vec3 nj, vec3 n_opt, int side);
 double resurfi_glide_normal_section(vec3 p, vec3 pj, vec3 nj, vec3 n_opt);
 

@@ -1,5 +1,5 @@
-/* Vertex normals of a triangle mesh (notes §1): the paper's weighting by inverse areas and the usual alternatives,
- * all as weighted sums of face normals over the 1-ring, plus a normal fitted to the 2-ring.
+/* Vertex normals of a triangle mesh (docs/restoring.md §1): the paper's weighting by inverse areas and the usual
+ * alternatives, all as weighted sums of face normals over the 1-ring, plus a normal fitted to the 2-ring.
  *
  *   inverse area  Σ n_f / A_f          the paper (section 2.1), after the analysis it cites as [13]
  *   area          Σ n_f A_f

@@ -1,5 +1,5 @@
 /* The "optimal direction" of the restoring projection (Semenova, Savchenko, Hagiwara, "Reconstruction of Shapes
- * Based on Normals Analysis", §3.1; notes/restoring.md §3): for a point p and a triangle (p_j, N_j), find t and
+ * Based on Normals Analysis", §3.1; docs/restoring.md §3): for a point p and a triangle (p_j, N_j), find t and
  * barycentrics b with p = Σ b_j (p_j + t N_j), i.e. the line through the foot p0 = Σ b_j p_j along the interpolated
  * normal Σ b_j N_j that passes through p.
  *

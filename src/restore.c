@@ -1,6 +1,7 @@
 /* The restoring projection: move points (the vertices of a processed mesh M') onto the smooth surface S that the
  * original mesh M approximates. Semenova, Savchenko, Hagiwara, "Reconstruction of Shapes Based on Normals
- * Analysis" (§3), with the open points fixed as in notes/restoring.md (§3–§7) and the normal-section variant of §9.
+ * Analysis" (§3), with the open points fixed as in docs/restoring.md (§3–§7) and the normal-section variant of
+ * its §9.
  *
  * Per point p, repeated `iterations` times (or until the step is below tolerance_rel × local edge length):
  *   1. the closest triangle T of M (BVH, exact);
@@ -16,7 +17,7 @@
  * has left the triangle. This saves a tree walk and a cubic solve per step (the paper's 5 steps cost little more
  * than one).
  *
- * Where S is not smooth (notes §7):
+ * Where S is not smooth (docs/restoring.md §7):
  *   - Creases: an edge whose faces' normals differ by more than crease_angle_deg (or, with input_normals, whose
  *     input normals are split along it) is a crease. At each vertex the incident faces are grouped into fans
  *     separated by crease (and non-manifold) edges; each fan gets its own normal and curvature, computed on the mesh
@@ -266,7 +267,7 @@ static int choose_root(const resurfi_restorer *r, uint32_t t, vec3 p, root_choic
     return out->triangle != UINT32_MAX;
 }
 
-/* Max (+1) or min (−1) algorithm at corner k of triangle t (notes §5). */
+/* Max (+1) or min (−1) algorithm at corner k of triangle t (docs/restoring.md §5). */
 static int corner_side(const resurfi_restorer *r, uint32_t t, int k, vec3 p, vec3 pj, vec3 nj, vec3 n_opt, vec3 p0)
 {
     if (r->opt.side_rule == RESURF_SIDE_LOCAL || !r->k1)

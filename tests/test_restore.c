@@ -95,7 +95,7 @@ static resurf_restore_options one_step(resurf_normal_scheme normals, resurf_disp
 
 /* With exact normals (Max's weights are exact when a vertex and its ring lie on a sphere, and the shape's own
  * normals used as input), one step of k = 1/3 puts every point on the sphere: each δ_j is the exact displacement
- * (notes §4). Points from inside and outside, up to half an edge length away. */
+ * (docs/restoring.md §4). Points from inside and outside, up to half an edge length away. */
 START_TEST(sphere_exact_normals_land_exactly)
 {
     resurf_mesh *M = shape_mesh(SHAPE_SPHERE, 3000, 0.3, 11, 1);
@@ -325,7 +325,7 @@ END_TEST
 /* M's vertices are on S: restoring M onto itself moves nothing, with either preset. Points of S that are not
  * vertices of M (edge midpoints pushed onto the sphere) move by less than 2e-3 of an edge with the default
  * (measured 1.0e-3; the paper's preset, with inverse-area normals, moves them up to 0.17 edge): the step is not
- * idempotent with estimated normals (notes §9), and this is its stated bound. */
+ * idempotent with estimated normals (docs/restoring.md §9), and this is its stated bound. */
 START_TEST(mesh_onto_itself)
 {
     resurf_mesh *M = shape_mesh(SHAPE_SPHERE, 4000, 0.3, 2, 0);

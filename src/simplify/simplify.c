@@ -5,7 +5,7 @@
  * (1999) for wedges (attribute vertices that share a position); Dey, Edelsbrunner, Guha & Nekhayev, "Topology
  * preserving edge contraction" (1999) for the link condition; Semenova, Savchenko & Hagiwara, "Reconstruction of
  * Shapes Based on Normals Analysis", §4.2, for restoring every new vertex onto S as an intermediate step
- * (notes/restoring.md §8–§9).
+ * (docs/restoring.md §8–§9).
  *
  * A call runs three phases: the first once, the other two for each target (one, or one per level of a LOD chain):
  *   simplify_start    (setup.c) the working mesh: positions welded exactly, attribute vertices with equal

@@ -195,6 +195,7 @@ int cmd_preview(int argc, char **argv)
     resurf_load_options lo = resurf_load_options_default();
     lo.max_triangles = cli_max_triangles();
     lo.progress = cli_progress();
+    lo.allow_missing_images = true; /* drawn untextured: the sheet shows the geometry, with the loader's warning */
     resurf_error error;
     resurf_scene *scene = NULL;
     resurf_status s = resurf_scene_load(input, &lo, &scene, &error);
