@@ -159,8 +159,8 @@ int resurfi_parallel_for(size_t count, size_t block_size, unsigned threads,
                          int (*fn)(void *ctx, size_t begin, size_t end, unsigned worker), void *ctx);
 
 /* A call's own team of threads, for many short parallel loops in a row (the simplifier's chunks): starting and
- * joining a thread costs about 40 µs, handing a loop to a waiting one a few. Workers spin briefly for the next
- * loop, then sleep. Owned by one call, never shared between calls: no global state. */
+ * joining a thread costs about 40 µs, handing a loop to a waiting one a few. Waiting workers sleep (they never
+ * spin). Owned by one call, never shared between calls: no global state. */
 typedef struct resurfi_pool resurfi_pool;
 /* A pool of `threads` threads, the calling one included (threads - 1 are started). *out is NULL, and loops then
  * run on the calling thread alone, when threads < 2 or a thread cannot be started. */

@@ -15,8 +15,7 @@
  * - Threads: the library has no global state. Calls on different meshes may run at the same time from different
  *   threads; calls that modify a mesh need exclusive use of it. Some calls use worker threads of their own
  *   (`threads` option: 0 = all cores); their results do not depend on the thread count. A call's threads end
- *   before it returns (the simplifier keeps its own waiting between its many short parallel steps, briefly
- *   spinning, then sleeping).
+ *   before it returns (the simplifier keeps its own waiting, asleep, between its many short parallel steps).
  * - The library never prints, never exits and never aborts on bad input.
  * - Progress: a resurf_progress {fn, user} is called at a bounded rate with a stage name and a fraction in [0,1].
  *   A non-zero return cancels the call: it returns RESURF_ERR_CANCELLED and leaves the caller's data valid.
