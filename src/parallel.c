@@ -76,7 +76,7 @@ int resurfi_parallel_for(size_t count, size_t block_size, unsigned threads,
     return atomic_load(&j.failed);
 }
 
-/* ---- a call's own team ------------------------------------------------------------------------------------- */
+/* ---- a call's team: threads of its own, or the host's pool ------------------------------------------------- */
 
 /* Waits block (condition variables, futexes underneath) and never spin: on a machine busy with other work a
  * spinning waiter takes the core from the thread it waits for (issue 20: 2 threads 1.75x slower than 1 on 20k
@@ -89,7 +89,8 @@ typedef struct pool_member {
 
 struct resurfi_pool {
     const resurf_allocator *alloc;
-    unsigned threads; /* the creating thread included */
+    unsigned threads;              /* the creating thread included; with a host pool, the tasks of each loop */
+    const resurf_thread_pool *host; /* NULL: the threads below */
     pthread_mutex_t lock;
     pthread_cond_t wake, done;
     uint_fast64_t round; /* bumped for each loop handed out (under lock) */
@@ -124,7 +125,8 @@ static void *pool_worker(void *p)
     }
 }
 
-resurf_status resurfi_pool_create(const resurf_allocator *alloc, unsigned threads, resurfi_pool **out)
+resurf_status resurfi_pool_create(const resurf_allocator *alloc, unsigned threads, const resurf_thread_pool *host,
+                                  resurfi_pool **out)
 {
     *out = NULL;
     if (threads > 256)
@@ -138,6 +140,12 @@ resurf_status resurfi_pool_create(const resurf_allocator *alloc, unsigned thread
     pthread_mutex_init(&pool->lock, NULL);
     pthread_cond_init(&pool->wake, NULL);
     pthread_cond_init(&pool->done, NULL);
+    if (host) { /* no threads of ours: each loop goes to the host as `threads` tasks */
+        pool->host = host;
+        pool->threads = threads;
+        *out = pool;
+        return RESURF_OK;
+    }
     pool->threads = 1;
     for (unsigned w = 1; w < threads; ++w) {
         pool->members[w] = (pool_member){pool, w};
@@ -161,12 +169,19 @@ void resurfi_pool_free(resurfi_pool *pool)
     pool->stop = 1;
     pthread_cond_broadcast(&pool->wake);
     pthread_mutex_unlock(&pool->lock);
-    for (unsigned w = 1; w < pool->threads; ++w)
+    for (unsigned w = 1; w < pool->threads && !pool->host; ++w)
         pthread_join(pool->tid[w], NULL);
     pthread_cond_destroy(&pool->wake);
     pthread_cond_destroy(&pool->done);
     pthread_mutex_destroy(&pool->lock);
     resurfi_free(pool->alloc, pool);
+}
+
+/* A host task: the host's index is the worker id (below the pool's thread count, as the callers' scratch needs). */
+static void host_task(void *ctx, unsigned index)
+{
+    worker_arg mine = {ctx, index};
+    run_blocks(&mine);
 }
 
 int resurfi_pool_for(resurfi_pool *pool, size_t count, size_t block_size,
@@ -181,6 +196,13 @@ int resurfi_pool_for(resurfi_pool *pool, size_t count, size_t block_size,
     atomic_init(&j.failed, 0);
     worker_arg self = {&j, 0};
     if (!pool || count <= block_size) { /* one block: no one to wake */
+        run_blocks(&self);
+        return atomic_load(&j.failed);
+    }
+    if (pool->host) {
+        pool->host->run(pool->host->user, host_task, &j, pool->threads);
+        /* Every task the host started has returned; blocks that none took (a host that started fewer tasks) are
+         * done here, as worker 0, whose task is over or never began. */
         run_blocks(&self);
         return atomic_load(&j.failed);
     }
