@@ -80,7 +80,9 @@ int resurfi_parallel_for(size_t count, size_t block_size, unsigned threads,
 
 /* Waits block (condition variables, futexes underneath) and never spin: on a machine busy with other work a
  * spinning waiter takes the core from the thread it waits for (issue 20: 2 threads 1.75x slower than 1 on 20k
- * triangles while other processes kept both cores busy). */
+ * triangles while other processes kept both cores busy). Nor does a loop wait for a worker that has not woken
+ * yet: once the calling thread has taken the last block, the loop closes, it waits only for the workers inside it
+ * (those running blocks), and a worker that wakes later finds it closed and sleeps again. */
 
 typedef struct pool_member {
     struct resurfi_pool *pool;
@@ -93,10 +95,11 @@ struct resurfi_pool {
     const resurf_thread_pool *host; /* NULL: the threads below */
     pthread_mutex_t lock;
     pthread_cond_t wake, done;
-    uint_fast64_t round; /* bumped for each loop handed out (under lock) */
-    unsigned busy;       /* workers still in the current loop (under lock) */
+    /* under lock: */
+    uint_fast64_t round; /* bumped for each loop handed out */
+    job *job;            /* the open loop, NULL once closed */
+    unsigned inside;     /* workers that joined the loop and are still in it */
     int stop;
-    job *job;
     pthread_t tid[256];
     pool_member members[256];
 };
@@ -106,23 +109,25 @@ static void *pool_worker(void *p)
     const pool_member *me = p;
     resurfi_pool *pool = me->pool;
     uint_fast64_t seen = 0;
+    pthread_mutex_lock(&pool->lock);
     for (;;) {
-        pthread_mutex_lock(&pool->lock);
-        while (pool->round == seen && !pool->stop)
+        while (!pool->stop && (pool->round == seen || !pool->job)) {
+            seen = pool->round; /* a loop closed before this worker woke is none of its business */
             pthread_cond_wait(&pool->wake, &pool->lock);
-        int stop = pool->stop;
+        }
+        if (pool->stop)
+            break;
         seen = pool->round;
-        job *j = pool->job;
+        worker_arg mine = {pool->job, me->worker};
+        pool->inside++;
         pthread_mutex_unlock(&pool->lock);
-        if (stop)
-            return NULL;
-        worker_arg mine = {j, me->worker};
         run_blocks(&mine);
         pthread_mutex_lock(&pool->lock);
-        if (--pool->busy == 0)
+        if (--pool->inside == 0)
             pthread_cond_signal(&pool->done);
-        pthread_mutex_unlock(&pool->lock);
     }
+    pthread_mutex_unlock(&pool->lock);
+    return NULL;
 }
 
 resurf_status resurfi_pool_create(const resurf_allocator *alloc, unsigned threads, const resurf_thread_pool *host,
@@ -208,13 +213,13 @@ int resurfi_pool_for(resurfi_pool *pool, size_t count, size_t block_size,
     }
     pthread_mutex_lock(&pool->lock);
     pool->job = &j;
-    pool->busy = pool->threads - 1;
     pool->round++;
     pthread_cond_broadcast(&pool->wake);
     pthread_mutex_unlock(&pool->lock);
-    run_blocks(&self);
+    run_blocks(&self); /* returns once every block is taken (or one failed) */
     pthread_mutex_lock(&pool->lock);
-    while (pool->busy != 0)
+    pool->job = NULL;
+    while (pool->inside != 0)
         pthread_cond_wait(&pool->done, &pool->lock);
     pthread_mutex_unlock(&pool->lock);
     return atomic_load(&j.failed);
