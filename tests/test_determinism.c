@@ -2,7 +2,8 @@
  * whatever the thread count (1, 2, 3), for every command that computes something: restore, simplify (one level and
  * a chain of levels), smooth, compare (JSON and the heatmap) and convert. The input is a jittered torus of about 20,000 triangles, big enough that the work of the
  * multi-threaded calls is split into many blocks (so a result that depended on which thread did what, or on the
- * order in which partial sums are combined, would show). */
+ * order in which partial sums are combined, would show). And the simplifier in the library at three sizes (a few
+ * hundred triangles, 20k, 200k) on 1 to 8 threads, every restoration mode: the same mesh and report figures. */
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
@@ -208,6 +209,76 @@ START_TEST(determinism_convert)
 }
 END_TEST
 
+/* ---- the library at several sizes, 1 to 8 threads --------------------------------------------------------- */
+
+/* resurf_simplify of a jittered torus of about `triangles` triangles to 10%, with `threads` threads. */
+static resurf_mesh *simplify_torus(const resurf_mesh *in, resurf_restore_mode restore, unsigned threads,
+                                   resurf_simplify_report *report)
+{
+    resurf_simplify_options o = resurf_simplify_options_default();
+    o.target_ratio = 0.1;
+    o.restore = restore;
+    o.threads = threads;
+    o.measure_samples = 20000;
+    resurf_mesh *out = NULL;
+    resurf_error e;
+    ck_assert_msg(resurf_simplify(in, &o, &out, report, &e) == RESURF_OK, "%s", e.message);
+    return out;
+}
+
+static void expect_same_result(const resurf_mesh *a, const resurf_simplify_report *ra, const resurf_mesh *b,
+                               const resurf_simplify_report *rb, size_t size, unsigned threads)
+{
+    ck_assert_msg(a->vertex_count == b->vertex_count && a->triangle_count == b->triangle_count &&
+                      !memcmp(a->positions, b->positions, 3 * a->vertex_count * sizeof *a->positions) &&
+                      !memcmp(a->indices, b->indices, 3 * a->triangle_count * sizeof *a->indices) &&
+                      !memcmp(a->normals, b->normals, 3 * a->vertex_count * sizeof *a->normals),
+                  "%zu triangles: %u threads give another mesh than 1", size, threads);
+    /* The report's figures too: its measurement runs on the threads (bits compared, NaN included). */
+    ck_assert(ra->collapses == rb->collapses && ra->restored == rb->restored &&
+              ra->restore_left == rb->restore_left && ra->blocked_flip == rb->blocked_flip &&
+              ra->blocked_link == rb->blocked_link && ra->blocked_distance == rb->blocked_distance);
+    ck_assert(!memcmp(&ra->max_distance, &rb->max_distance, sizeof ra->max_distance) &&
+              !memcmp(&ra->mean_distance, &rb->mean_distance, sizeof ra->mean_distance) &&
+              !memcmp(&ra->max_error_estimate, &rb->max_error_estimate, sizeof ra->max_error_estimate));
+}
+
+/* Each size, each restoration mode: threads 2 to 8 give what 1 gives. Sizes: a few hundred triangles (passes of a
+ * few collapses, no parallel chunk), 20k (chunks of about 150 candidates applied on the threads), 200k (full
+ * chunks of 1024, many per pass, and arrays big enough for the huge-page hint). With RESURF_TEST_LIGHT (the sanitizer and
+ * valgrind runs, where 200k costs minutes) the largest size runs with inline restoration (the mode with the most
+ * parallel steps) on 1 and 3 threads only; the smaller sizes run in full. */
+static void deterministic_at(size_t triangles)
+{
+    resurf_mesh *in = shape_mesh(SHAPE_TORUS, triangles, 0.3, 11, 1);
+    ck_assert_ptr_nonnull(in);
+    const resurf_restore_mode modes[] = {RESURF_RESTORE_INLINE, RESURF_RESTORE_POST, RESURF_RESTORE_NONE};
+    int light = tu_light() && triangles > 100000;
+    for (size_t m = 0; m < (light ? 1 : 3); ++m) {
+        resurf_simplify_report first_report, report;
+        resurf_mesh *first = simplify_torus(in, modes[m], 1, &first_report);
+        ck_assert_uint_lt(first->triangle_count, triangles / 5);
+        for (unsigned t = 2; t <= 8; ++t) {
+            if (light && t != 3)
+                continue;
+            resurf_mesh *again = simplify_torus(in, modes[m], t, &report);
+            expect_same_result(first, &first_report, again, &report, triangles, t);
+            resurf_mesh_free(again);
+        }
+        resurf_mesh_free(first);
+    }
+    resurf_mesh_free(in);
+}
+
+START_TEST(determinism_small) { deterministic_at(400); }
+END_TEST
+
+START_TEST(determinism_20k) { deterministic_at(20000); }
+END_TEST
+
+START_TEST(determinism_200k) { deterministic_at(200000); }
+END_TEST
+
 Suite *make_suite(void)
 {
     Suite *s = suite_create("determinism");
@@ -219,6 +290,11 @@ Suite *make_suite(void)
     tcase_add_test(tc, determinism_simplify_across_threads);
     tcase_add_test(tc, determinism_convert);
     suite_add_tcase(s, tc);
+    TCase *sizes = tcase_create("sizes");
+    tcase_add_test(sizes, determinism_small);
+    tcase_add_test(sizes, determinism_20k);
+    tcase_add_test(sizes, determinism_200k);
+    suite_add_tcase(s, sizes);
     return s;
 }
 

@@ -32,6 +32,9 @@ char *tu_read_file(const char *path, size_t *size);
 int tu_run(const char *command, char **out);
 /* Number of entries in a directory (excluding . and ..). */
 int tu_count_entries(const char *dir);
+/* Whether the suite runs under a sanitizer or valgrind (RESURF_TEST_LIGHT, set by tests/meson.build), where the
+ * few inputs that cost minutes there shrink or run fewer times, taking the same code paths. */
+int tu_light(void);
 
 /* A mesh from literal arrays (copies them). */
 resurf_mesh *tu_mesh(const double *positions, size_t vertex_count, const uint32_t *indices, size_t triangle_count);
