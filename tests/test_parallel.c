@@ -442,7 +442,7 @@ END_TEST
 Suite *make_suite(void)
 {
     Suite *s = suite_create("parallel");
-    TCase *tc = tcase_create("parallel");
+    TCase *tc = tcase_create("loops");
     tcase_add_test(tc, parallel_visits_every_index_once);
     tcase_add_test(tc, parallel_stops_after_failure_single_thread);
     tcase_add_test(tc, parallel_stops_after_failure_many_threads);

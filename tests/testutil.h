@@ -8,13 +8,14 @@
 #include "internal.h"
 #include "shapes.h"
 
-/* Each test file defines `Suite *make_suite(void)` and ends with RESURF_TEST_MAIN(). */
+/* Each test file defines `Suite *make_suite(void)` and ends with RESURF_TEST_MAIN(). A run that ran no test (a
+ * CK_RUN_CASE naming no case) fails. */
 #define RESURF_TEST_MAIN()                                                                                      \
     int main(void)                                                                                              \
     {                                                                                                           \
         SRunner *runner = srunner_create(make_suite());                                                         \
         srunner_run_all(runner, CK_NORMAL);                                                                     \
-        int failed = srunner_ntests_failed(runner);                                                             \
+        int failed = srunner_ntests_failed(runner) + (srunner_ntests_run(runner) == 0);                         \
         srunner_free(runner);                                                                                   \
         return failed == 0 ? EXIT_SUCCESS : EXIT_FAILURE;                                                       \
     }
