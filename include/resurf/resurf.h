@@ -725,7 +725,8 @@ typedef enum resurf_restore_mode {
  * does which block changes nothing: the result is byte-identical to that of resurf's own threads and of one
  * thread. Tasks use resurf_allocator from those threads (it must be thread-safe, as always). With threads < 2 run
  * is never called. The search trees that measure the result and carry attributes are built on the calling thread
- * alone when a pool is given. */
+ * alone when a pool is given. Known exception: restore_options with normals = RESURF_NORMALS_JET fits the jet
+ * normals on threads of the restorer's own (all cores). */
 typedef struct resurf_thread_pool {
     void (*run)(void *user, void (*task)(void *task_context, unsigned task_index), void *task_context,
                 unsigned task_count);
