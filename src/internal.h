@@ -159,8 +159,8 @@ int resurfi_parallel_for(size_t count, size_t block_size, unsigned threads,
                          int (*fn)(void *ctx, size_t begin, size_t end, unsigned worker), void *ctx);
 
 /* A call's own team of threads, for many short parallel loops in a row (the simplifier's chunks): starting and
- * joining a thread costs about 40 µs, handing a loop to a waiting one a few. Waiting workers sleep (they never
- * spin). With a host pool (resurf_thread_pool) the team is the host's: each loop is handed to it as `threads`
+ * joining a thread costs about 40 µs, handing a loop to a sleeping one a wake-up (a futex call). Waiting workers
+ * sleep (they never spin). With a host pool (resurf_thread_pool) the team is the host's: each loop is handed to it as `threads`
  * tasks and no thread is started. Owned by one call, never shared between calls: no global state. */
 typedef struct resurfi_pool resurfi_pool;
 /* A pool of `threads` threads, the calling one included (threads - 1 are started, none with a host pool). *out is
