@@ -719,14 +719,14 @@ typedef enum resurf_restore_mode {
  * from the thread that called resurf (never from inside a task, never two at once for one call), with task_count
  * = the options' `threads` (0 = all cores: set it to the pool's width). run calls task(task_context, i) for each
  * i in [0, task_count), on any threads, at the same time or one after another, and returns once every task it
- * started has returned. Tasks never wait for one another, so any schedule completes, the calling thread running
- * them all included; a task run does not start is no error: the call does what is left of the loop itself after
- * run returns. Each task takes blocks of the loop's work from a shared counter until none is left; which task
- * does which block changes nothing: the result is byte-identical to that of resurf's own threads and of one
- * thread. Tasks use resurf_allocator from those threads (it must be thread-safe, as always). With threads < 2 run
- * is never called. The search trees that measure the result and carry attributes are built on the calling thread
- * alone when a pool is given. Known exception: restore_options with normals = RESURF_NORMALS_JET fits the jet
- * normals on threads of the restorer's own (all cores). */
+ * started has returned. Tasks never wait for one another, so any schedule completes, even all of them one after
+ * another on the calling thread; a task that run never starts is no error: the call does what is left of the loop
+ * itself once run returns. Each task takes blocks of the loop's work from a shared counter until none is left;
+ * which task does which block changes nothing: the result is byte-identical to that of resurf's own threads and
+ * of one thread. Tasks use resurf_allocator from those threads (it must be thread-safe, as always). With
+ * threads < 2 run is never called. The search tree that measures the result and carries attributes is built on
+ * the calling thread alone when a pool is given. One exception to "no thread": with restore_options->normals =
+ * RESURF_NORMALS_JET the restorer fits its jet normals on threads of its own (all cores). */
 typedef struct resurf_thread_pool {
     void (*run)(void *user, void (*task)(void *task_context, unsigned task_index), void *task_context,
                 unsigned task_count);
