@@ -159,12 +159,15 @@ int resurfi_parallel_for(size_t count, size_t block_size, unsigned threads,
                          int (*fn)(void *ctx, size_t begin, size_t end, unsigned worker), void *ctx);
 
 /* A call's own team of threads, for many short parallel loops in a row (the simplifier's chunks): starting and
- * joining a thread costs about 40 µs, handing a loop to a waiting one a few. Workers spin briefly for the next
- * loop, then sleep. Owned by one call, never shared between calls: no global state. */
+ * joining a thread costs about 40 µs, handing a loop to a sleeping one a wake-up (a futex call). Waiting workers
+ * sleep (they never spin). With a host pool (resurf_thread_pool) the team is the host's: each loop is handed to it as `threads`
+ * tasks and no thread is started. Owned by one call, never shared between calls: no global state. */
 typedef struct resurfi_pool resurfi_pool;
-/* A pool of `threads` threads, the calling one included (threads - 1 are started). *out is NULL, and loops then
- * run on the calling thread alone, when threads < 2 or a thread cannot be started. */
-resurf_status resurfi_pool_create(const resurf_allocator *alloc, unsigned threads, resurfi_pool **out);
+/* A pool of `threads` threads, the calling one included (threads - 1 are started, none with a host pool). *out is
+ * NULL, and loops then run on the calling thread alone, when threads < 2 or no thread can be started. host: NULL,
+ * or a pool whose run is set; it must outlive the pool. */
+resurf_status resurfi_pool_create(const resurf_allocator *alloc, unsigned threads, const resurf_thread_pool *host,
+                                  resurfi_pool **out);
 void resurfi_pool_free(resurfi_pool *pool);
 /* resurfi_parallel_for on the pool's threads (NULL: on the calling thread alone), from the thread that created
  * it. */

@@ -76,9 +76,13 @@ int resurfi_parallel_for(size_t count, size_t block_size, unsigned threads,
     return atomic_load(&j.failed);
 }
 
-/* ---- a call's own team ------------------------------------------------------------------------------------- */
+/* ---- a call's team: threads of its own, or the host's pool ------------------------------------------------- */
 
-enum { POOL_SPIN = 4000 }; /* pauses (about 0.1 ms) that a waiting thread spins before it sleeps */
+/* Waits block (condition variables, futexes underneath) and never spin: on a machine busy with other work a
+ * spinning waiter takes the core from the thread it waits for (issue 20: 2 threads 1.75x slower than 1 on 20k
+ * triangles while other processes kept both cores busy). Nor does a loop wait for a worker that has not woken
+ * yet: once the calling thread has taken the last block, the loop closes, it waits only for the workers inside it
+ * (those running blocks), and a worker that wakes later finds it closed and sleeps again. */
 
 typedef struct pool_member {
     struct resurfi_pool *pool;
@@ -87,54 +91,47 @@ typedef struct pool_member {
 
 struct resurfi_pool {
     const resurf_allocator *alloc;
-    unsigned threads; /* the creating thread included */
+    unsigned threads;              /* the creating thread included; with a host pool, the tasks of each loop */
+    const resurf_thread_pool *host; /* NULL: the threads below */
     pthread_mutex_t lock;
     pthread_cond_t wake, done;
-    atomic_uint_fast64_t round; /* bumped for each loop handed out */
-    atomic_uint busy;           /* workers still in the current loop */
-    atomic_int stop;
-    job *job;
+    /* under lock: */
+    uint_fast64_t round; /* bumped for each loop handed out */
+    job *job;            /* the open loop, NULL once closed */
+    unsigned inside;     /* workers that joined the loop and are still in it */
+    int stop;
     pthread_t tid[256];
     pool_member members[256];
 };
-
-static void relax(void)
-{
-#if defined(__x86_64__) || defined(__i386__)
-    __builtin_ia32_pause();
-#elif defined(__aarch64__)
-    __asm__ __volatile__("yield");
-#endif
-}
 
 static void *pool_worker(void *p)
 {
     const pool_member *me = p;
     resurfi_pool *pool = me->pool;
     uint_fast64_t seen = 0;
+    pthread_mutex_lock(&pool->lock);
     for (;;) {
-        for (int i = 0; i < POOL_SPIN && atomic_load(&pool->round) == seen && !atomic_load(&pool->stop); ++i)
-            relax();
-        if (atomic_load(&pool->round) == seen && !atomic_load(&pool->stop)) {
-            pthread_mutex_lock(&pool->lock);
-            while (atomic_load(&pool->round) == seen && !atomic_load(&pool->stop))
-                pthread_cond_wait(&pool->wake, &pool->lock);
-            pthread_mutex_unlock(&pool->lock);
+        while (!pool->stop && (pool->round == seen || !pool->job)) {
+            seen = pool->round; /* a loop closed before this worker woke is none of its business */
+            pthread_cond_wait(&pool->wake, &pool->lock);
         }
-        if (atomic_load(&pool->stop))
-            return NULL;
-        seen = atomic_load(&pool->round);
+        if (pool->stop)
+            break;
+        seen = pool->round;
         worker_arg mine = {pool->job, me->worker};
+        pool->inside++;
+        pthread_mutex_unlock(&pool->lock);
         run_blocks(&mine);
-        if (atomic_fetch_sub(&pool->busy, 1) == 1) {
-            pthread_mutex_lock(&pool->lock);
+        pthread_mutex_lock(&pool->lock);
+        if (--pool->inside == 0)
             pthread_cond_signal(&pool->done);
-            pthread_mutex_unlock(&pool->lock);
-        }
     }
+    pthread_mutex_unlock(&pool->lock);
+    return NULL;
 }
 
-resurf_status resurfi_pool_create(const resurf_allocator *alloc, unsigned threads, resurfi_pool **out)
+resurf_status resurfi_pool_create(const resurf_allocator *alloc, unsigned threads, const resurf_thread_pool *host,
+                                  resurfi_pool **out)
 {
     *out = NULL;
     if (threads > 256)
@@ -148,9 +145,12 @@ resurf_status resurfi_pool_create(const resurf_allocator *alloc, unsigned thread
     pthread_mutex_init(&pool->lock, NULL);
     pthread_cond_init(&pool->wake, NULL);
     pthread_cond_init(&pool->done, NULL);
-    atomic_init(&pool->round, 0);
-    atomic_init(&pool->busy, 0);
-    atomic_init(&pool->stop, 0);
+    if (host) { /* no threads of ours: each loop goes to the host as `threads` tasks */
+        pool->host = host;
+        pool->threads = threads;
+        *out = pool;
+        return RESURF_OK;
+    }
     pool->threads = 1;
     for (unsigned w = 1; w < threads; ++w) {
         pool->members[w] = (pool_member){pool, w};
@@ -171,15 +171,22 @@ void resurfi_pool_free(resurfi_pool *pool)
     if (!pool)
         return;
     pthread_mutex_lock(&pool->lock);
-    atomic_store(&pool->stop, 1);
+    pool->stop = 1;
     pthread_cond_broadcast(&pool->wake);
     pthread_mutex_unlock(&pool->lock);
-    for (unsigned w = 1; w < pool->threads; ++w)
+    for (unsigned w = 1; w < pool->threads && !pool->host; ++w)
         pthread_join(pool->tid[w], NULL);
     pthread_cond_destroy(&pool->wake);
     pthread_cond_destroy(&pool->done);
     pthread_mutex_destroy(&pool->lock);
     resurfi_free(pool->alloc, pool);
+}
+
+/* A host task: the host's index is the worker id (below the pool's thread count, as the callers' scratch needs). */
+static void host_task(void *ctx, unsigned index)
+{
+    worker_arg mine = {ctx, index};
+    run_blocks(&mine);
 }
 
 int resurfi_pool_for(resurfi_pool *pool, size_t count, size_t block_size,
@@ -197,20 +204,23 @@ int resurfi_pool_for(resurfi_pool *pool, size_t count, size_t block_size,
         run_blocks(&self);
         return atomic_load(&j.failed);
     }
+    if (pool->host) {
+        pool->host->run(pool->host->user, host_task, &j, pool->threads);
+        /* Every task the host started has returned; blocks that none took (a host that started fewer tasks) are
+         * done here, as worker 0, whose task is over or never began. */
+        run_blocks(&self);
+        return atomic_load(&j.failed);
+    }
+    pthread_mutex_lock(&pool->lock);
     pool->job = &j;
-    atomic_store(&pool->busy, pool->threads - 1);
-    pthread_mutex_lock(&pool->lock); /* a worker between its last check and its wait cannot miss the round */
-    atomic_fetch_add(&pool->round, 1);
+    pool->round++;
     pthread_cond_broadcast(&pool->wake);
     pthread_mutex_unlock(&pool->lock);
-    run_blocks(&self);
-    for (int i = 0; i < POOL_SPIN && atomic_load(&pool->busy) != 0; ++i)
-        relax();
-    if (atomic_load(&pool->busy) != 0) {
-        pthread_mutex_lock(&pool->lock);
-        while (atomic_load(&pool->busy) != 0)
-            pthread_cond_wait(&pool->done, &pool->lock);
-        pthread_mutex_unlock(&pool->lock);
-    }
+    run_blocks(&self); /* returns once every block is taken (or one failed) */
+    pthread_mutex_lock(&pool->lock);
+    pool->job = NULL;
+    while (pool->inside != 0)
+        pthread_cond_wait(&pool->done, &pool->lock);
+    pthread_mutex_unlock(&pool->lock);
     return atomic_load(&j.failed);
 }

@@ -2,7 +2,8 @@
  * whatever the thread count (1, 2, 3), for every command that computes something: restore, simplify (one level and
  * a chain of levels), smooth, compare (JSON and the heatmap) and convert. The input is a jittered torus of about 20,000 triangles, big enough that the work of the
  * multi-threaded calls is split into many blocks (so a result that depended on which thread did what, or on the
- * order in which partial sums are combined, would show). */
+ * order in which partial sums are combined, would show). And the simplifier in the library at three sizes (a few
+ * hundred triangles, 20k, 200k) on 1 to 8 threads, every restoration mode: the same mesh and report figures. */
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
@@ -60,6 +61,10 @@ static char *file(const char *fmt, ...)
     return tu_path(dir, name);
 }
 
+/* Whether run k (of 4: 1, 2, 3 threads and 2 again) is skipped: under RESURF_TEST_LIGHT (sanitizers, valgrind)
+ * only 1 and 3 threads run, which still split the work differently. */
+static int skipped(int k) { return tu_light() && (k == 1 || k == 3); }
+
 /* The test input: a torus with jittered vertices (so no two one-rings look alike) and exact normals. */
 static char *write_torus(const char *name)
 {
@@ -81,7 +86,7 @@ START_TEST(determinism_smooth)
         for (int f = 0; f < 2; ++f) {
             char *first = file("smooth_%d_0.%s", m, formats[f]);
             free(run_ok("smooth '%s' -o '%s' --method %s --iterations 5", in, first, methods[m]));
-            for (int run = 1; run < 3; ++run) {
+            for (int run = 1; run < (tu_light() ? 2 : 3); ++run) {
                 char *again = file("smooth_%d_%d.%s", m, run, formats[f]);
                 free(run_ok("smooth '%s' -o '%s' --method %s --iterations 5", in, again, methods[m]));
                 expect_same_bytes(first, again);
@@ -100,8 +105,10 @@ START_TEST(determinism_compare_across_threads)
     char *ref = write_torus("torus.ply");
     char *test = file("smoothed.ply");
     free(run_ok("smooth '%s' -o '%s' --iterations 3", ref, test));
-    char *json[4];
+    char *json[4] = {NULL, NULL, NULL, NULL};
     for (int k = 0; k < 4; ++k) {
+        if (skipped(k))
+            continue;
         unsigned threads = k == 3 ? 2 : (unsigned)k + 1; /* 1, 2, 3, and 2 again */
         char *heatmap = file("heat_%d.ply", k);
         json[k] = run_ok("compare '%s' '%s' --json --samples 30000 --seed 5 --threads %u --heatmap '%s'", ref, test,
@@ -133,6 +140,8 @@ START_TEST(determinism_restore_across_threads)
     const char *presets[] = {"default", "paper"};
     for (int p = 0; p < 2; ++p)
         for (int k = 0; k < 4; ++k) {
+            if (skipped(k))
+                continue;
             unsigned threads = k == 3 ? 2 : (unsigned)k + 1;
             char *out = file("restored_%d_%d.ply", p, k);
             free(run_ok("restore '%s' '%s' -o '%s' --preset %s --threads %u", original, processed, out, presets[p],
@@ -170,6 +179,8 @@ START_TEST(determinism_simplify_across_threads)
     };
     for (size_t r = 0; r < sizeof runs / sizeof *runs; ++r)
         for (int k = 0; k < 4; ++k) {
+            if (skipped(k))
+                continue;
             unsigned threads = k == 3 ? 2 : (unsigned)k + 1;
             char *folder = file("run_%zu_%d", r, k);
             ck_assert_int_eq(mkdir(folder, 0755), 0);
@@ -208,6 +219,96 @@ START_TEST(determinism_convert)
 }
 END_TEST
 
+/* ---- the library at several sizes, 1 to 8 threads --------------------------------------------------------- */
+
+/* resurf_simplify of a jittered torus of about `triangles` triangles to 10%, with `threads` threads. */
+static resurf_mesh *simplify_torus(const resurf_mesh *in, resurf_restore_mode restore, unsigned threads,
+                                   resurf_simplify_report *report)
+{
+    resurf_simplify_options o = resurf_simplify_options_default();
+    o.target_ratio = 0.1;
+    o.restore = restore;
+    o.threads = threads;
+    o.measure_samples = 20000;
+    resurf_mesh *out = NULL;
+    resurf_error e;
+    ck_assert_msg(resurf_simplify(in, &o, &out, report, &e) == RESURF_OK, "%s", e.message);
+    return out;
+}
+
+static void expect_same_result(const resurf_mesh *a, const resurf_simplify_report *ra, const resurf_mesh *b,
+                               const resurf_simplify_report *rb, size_t size, unsigned threads)
+{
+    ck_assert_msg(a->vertex_count == b->vertex_count && a->triangle_count == b->triangle_count &&
+                      !memcmp(a->positions, b->positions, 3 * a->vertex_count * sizeof *a->positions) &&
+                      !memcmp(a->indices, b->indices, 3 * a->triangle_count * sizeof *a->indices) &&
+                      !memcmp(a->normals, b->normals, 3 * a->vertex_count * sizeof *a->normals),
+                  "%zu triangles: %u threads give another mesh than 1", size, threads);
+    /* The report's figures too: its measurement runs on the threads (bits compared, NaN included). */
+    ck_assert(ra->collapses == rb->collapses && ra->restored == rb->restored &&
+              ra->restore_left == rb->restore_left && ra->blocked_flip == rb->blocked_flip &&
+              ra->blocked_link == rb->blocked_link && ra->blocked_distance == rb->blocked_distance);
+    ck_assert(!memcmp(&ra->max_distance, &rb->max_distance, sizeof ra->max_distance) &&
+              !memcmp(&ra->mean_distance, &rb->mean_distance, sizeof ra->mean_distance) &&
+              !memcmp(&ra->max_error_estimate, &rb->max_error_estimate, sizeof ra->max_error_estimate));
+}
+
+/* Each size, each restoration mode: threads 2 to 8 give what 1 gives. Sizes: a few hundred triangles (passes of a
+ * few collapses, no parallel chunk), 20k (chunks of about 150 candidates applied on the threads), 200k (full
+ * chunks of 1024, many per pass, and arrays big enough for the huge-page hint). Under RESURF_TEST_LIGHT (the
+ * sanitizer and valgrind runs, where these cost minutes) the 20k torus runs with inline restoration (the mode with
+ * the most parallel steps) on 2, 3, 4 and 8 threads, with post and no restoration on 3 and 8, and the 200k case is
+ * left out: the 20k one takes the same paths. */
+enum { EVERY_COUNT, LIGHT_INLINE, LIGHT_OTHER };
+
+static void deterministic_at(size_t triangles, resurf_restore_mode mode, int counts)
+{
+    resurf_mesh *in = shape_mesh(SHAPE_TORUS, triangles, 0.3, 11, 1);
+    ck_assert_ptr_nonnull(in);
+    resurf_simplify_report first_report, report;
+    resurf_mesh *first = simplify_torus(in, mode, 1, &first_report);
+    ck_assert_uint_lt(first->triangle_count, triangles / 5);
+    for (unsigned t = 2; t <= 8; ++t) {
+        if ((counts == LIGHT_INLINE && (t == 5 || t == 6 || t == 7)) || (counts == LIGHT_OTHER && t != 3 && t != 8))
+            continue;
+        resurf_mesh *again = simplify_torus(in, mode, t, &report);
+        expect_same_result(first, &first_report, again, &report, triangles, t);
+        resurf_mesh_free(again);
+    }
+    resurf_mesh_free(first);
+    resurf_mesh_free(in);
+}
+
+START_TEST(determinism_small)
+{
+    deterministic_at(400, RESURF_RESTORE_INLINE, EVERY_COUNT);
+    deterministic_at(400, RESURF_RESTORE_POST, EVERY_COUNT);
+    deterministic_at(400, RESURF_RESTORE_NONE, EVERY_COUNT);
+}
+END_TEST
+
+START_TEST(determinism_20k_inline)
+{
+    deterministic_at(20000, RESURF_RESTORE_INLINE, tu_light() ? LIGHT_INLINE : EVERY_COUNT);
+}
+END_TEST
+
+START_TEST(determinism_20k_post_and_none)
+{
+    deterministic_at(20000, RESURF_RESTORE_POST, tu_light() ? LIGHT_OTHER : EVERY_COUNT);
+    deterministic_at(20000, RESURF_RESTORE_NONE, tu_light() ? LIGHT_OTHER : EVERY_COUNT);
+}
+END_TEST
+
+START_TEST(determinism_200k_inline) { deterministic_at(200000, RESURF_RESTORE_INLINE, EVERY_COUNT); }
+END_TEST
+
+START_TEST(determinism_200k_post) { deterministic_at(200000, RESURF_RESTORE_POST, EVERY_COUNT); }
+END_TEST
+
+START_TEST(determinism_200k_none) { deterministic_at(200000, RESURF_RESTORE_NONE, EVERY_COUNT); }
+END_TEST
+
 Suite *make_suite(void)
 {
     Suite *s = suite_create("determinism");
@@ -219,6 +320,16 @@ Suite *make_suite(void)
     tcase_add_test(tc, determinism_simplify_across_threads);
     tcase_add_test(tc, determinism_convert);
     suite_add_tcase(s, tc);
+    TCase *sizes = tcase_create("sizes");
+    tcase_add_test(sizes, determinism_small);
+    tcase_add_test(sizes, determinism_20k_inline);
+    tcase_add_test(sizes, determinism_20k_post_and_none);
+    if (!tu_light()) {
+        tcase_add_test(sizes, determinism_200k_inline);
+        tcase_add_test(sizes, determinism_200k_post);
+        tcase_add_test(sizes, determinism_200k_none);
+    }
+    suite_add_tcase(s, sizes);
     return s;
 }
 

@@ -397,7 +397,7 @@ START_TEST(io_parse_double_matches_strtod)
     uint64_t state = 12345;
     char text[64];
     static const char *const formats[] = {"%.17g", "%.16g", "%.15g", "%.9g", "%.3e", "%.20g", "%.19e"};
-    for (int i = 0; i < 200000; ++i) {
+    for (int i = 0; i < (tu_light() ? 40000 : 200000); ++i) { /* fewer under valgrind and the sanitizers */
         /* random bit patterns: every exponent, every mantissa */
         uint64_t bits = shape_rand_u64(&state);
         double x;

@@ -228,7 +228,7 @@ START_TEST(queue_merge_equals_plain_merge)
     uint64_t seed = 1;
     for (size_t t = 0; t < sizeof threads / sizeof *threads; ++t) {
         resurfi_pool *pool = NULL;
-        ck_assert_int_eq(resurfi_pool_create(NULL, threads[t], &pool), RESURF_OK);
+        ck_assert_int_eq(resurfi_pool_create(NULL, threads[t], NULL, &pool), RESURF_OK);
         for (size_t i = 0; i < sizeof lists / sizeof *lists; ++i)
             for (size_t j = 0; j < sizeof freshes / sizeof *freshes; ++j)
                 check_merge(pool, seed++, lists[i], freshes[j]);

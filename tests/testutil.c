@@ -101,6 +101,12 @@ int tu_run(const char *command, char **out)
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
+int tu_light(void)
+{
+    const char *v = getenv("RESURF_TEST_LIGHT");
+    return v && *v && strcmp(v, "0") != 0;
+}
+
 int tu_count_entries(const char *dir)
 {
     DIR *d = opendir(dir);

@@ -8,13 +8,14 @@
 #include "internal.h"
 #include "shapes.h"
 
-/* Each test file defines `Suite *make_suite(void)` and ends with RESURF_TEST_MAIN(). */
+/* Each test file defines `Suite *make_suite(void)` and ends with RESURF_TEST_MAIN(). A run that ran no test (a
+ * CK_RUN_CASE naming no case) fails. */
 #define RESURF_TEST_MAIN()                                                                                      \
     int main(void)                                                                                              \
     {                                                                                                           \
         SRunner *runner = srunner_create(make_suite());                                                         \
         srunner_run_all(runner, CK_NORMAL);                                                                     \
-        int failed = srunner_ntests_failed(runner);                                                             \
+        int failed = srunner_ntests_failed(runner) + (srunner_ntests_run(runner) == 0);                         \
         srunner_free(runner);                                                                                   \
         return failed == 0 ? EXIT_SUCCESS : EXIT_FAILURE;                                                       \
     }
@@ -32,6 +33,9 @@ char *tu_read_file(const char *path, size_t *size);
 int tu_run(const char *command, char **out);
 /* Number of entries in a directory (excluding . and ..). */
 int tu_count_entries(const char *dir);
+/* Whether the suite runs under a sanitizer or valgrind (RESURF_TEST_LIGHT, set by tests/meson.build), where the
+ * few inputs that cost minutes there shrink or run fewer times, taking the same code paths. */
+int tu_light(void);
 
 /* A mesh from literal arrays (copies them). */
 resurf_mesh *tu_mesh(const double *positions, size_t vertex_count, const uint32_t *indices, size_t triangle_count);

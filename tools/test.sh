@@ -88,8 +88,9 @@ fi
 
 if has_part valgrind; then
   part "3/4 core suites under valgrind (build/, memcheck)"
-  # Every suite but the slow simplifier's (about 2 minutes under memcheck; ASan+UBSan runs it in part 2) and those
-  # that only drive the CLI (whose processes memcheck does not follow).
+  # Every suite but the simplifier's (minutes under memcheck; ASan+UBSan runs them in part 2) and those that only
+  # drive the CLI (whose processes memcheck does not follow). The valgrind setup sets RESURF_TEST_LIGHT, as the
+  # sanitizer build does (tests/meson.build).
   core=(mesh mesh_arrays alloc weld adjacency validate repair io io_obj io_ply io_off io_stl io_corpus bvh normals
         curvature optdir glide restore smooth metrics quadric gltf scene_lods)
   # Only the suites that exist (tests/meson.build builds a suite once its file is there).

@@ -15,8 +15,8 @@
  * - Threads: the library has no global state. Calls on different meshes may run at the same time from different
  *   threads; calls that modify a mesh need exclusive use of it. Some calls use worker threads of their own
  *   (`threads` option: 0 = all cores); their results do not depend on the thread count. A call's threads end
- *   before it returns (the simplifier keeps its own waiting between its many short parallel steps, briefly
- *   spinning, then sleeping).
+ *   before it returns (the simplifier keeps its own waiting, asleep, between its many short parallel steps; it
+ *   can run them on the caller's job system instead: see resurf_thread_pool).
  * - The library never prints, never exits and never aborts on bad input.
  * - Progress: a resurf_progress {fn, user} is called at a bounded rate with a resurf_stage and a fraction in [0,1].
  *   Returning true cancels the call: it returns RESURF_ERR_CANCELLED and leaves the caller's data valid.
@@ -750,6 +750,29 @@ typedef enum resurf_restore_mode {
     RESURF_RESTORE_MODE_COUNT
 } resurf_restore_mode;
 
+/* A host thread pool: the caller's job system (a game tool's, say) on which resurf_simplify(),
+ * resurf_simplify_lods() and resurf_scene_build_lods() run their parallel loops instead of threads of their own
+ * (modelled on ufbx's ufbx_thread_pool). Put a pointer to one in resurf_simplify_options.thread_pool; the struct
+ * and its user data must outlive the call. With a pool and threads >= 2 the call starts no thread: each parallel
+ * loop becomes one call
+ *     run(user, task, task_context, task_count)
+ * from the thread that called resurf (never from inside a task, never two at once for one call), with task_count
+ * = the options' `threads` (0 = all cores: set it to the pool's width). run calls task(task_context, i) for each
+ * i in [0, task_count), on any threads, at the same time or one after another, and returns once every task it
+ * started has returned. Tasks never wait for one another, so any schedule completes, even all of them one after
+ * another on the calling thread; a task that run never starts is no error: the call does what is left of the loop
+ * itself once run returns. Each task takes blocks of the loop's work from a shared counter until none is left;
+ * which task does which block changes nothing: the result is byte-identical to that of resurf's own threads and
+ * of one thread. Tasks use resurf_allocator from those threads (it must be thread-safe, as always). With
+ * threads < 2 run is never called. The search tree that measures the result and carries attributes is built on
+ * the calling thread alone when a pool is given. One exception to "no thread": with restore_options->normals =
+ * RESURF_NORMALS_JET the restorer fits its jet normals on threads of its own (all cores). */
+typedef struct resurf_thread_pool {
+    void (*run)(void *user, void (*task)(void *task_context, unsigned task_index), void *task_context,
+                unsigned task_count);
+    void *user;
+} resurf_thread_pool;
+
 typedef struct resurf_simplify_options {
     size_t struct_size;
     /* Stopping: every one is unset (0) by default, and only those set count: the run stops at whichever of them
@@ -798,6 +821,8 @@ typedef struct resurf_simplify_options {
     unsigned threads;             /* 0 = all cores; the result is the same for any value */
     resurf_progress progress;     /* RESURF_STAGE_PREPARE, _SIMPLIFY, _FINISH; a cancel returns RESURF_ERR_CANCELLED */
     const resurf_allocator *allocator; /* NULL (default): the input mesh's (or the C heap); see resurf_allocator */
+    const resurf_thread_pool *thread_pool; /* NULL (default): threads of the call's own; else the parallel loops
+                                              run on this pool (run required, else RESURF_ERR_INVALID_OPTIONS) */
 } resurf_simplify_options;
 
 /* The defaults: no target (set one), quadric placement, inline restoration with the restorer's defaults (Max's

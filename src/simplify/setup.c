@@ -620,9 +620,10 @@ resurf_status simplify_start(simplifier *s, scratch *scratch, resurf_error *erro
     }
     resurfi_free(s->alloc, s->remap);
     s->remap = NULL;
-    if (has_attributes(s->in) || s->opt.measure_samples) {
+    if (has_attributes(s->in) || s->opt.measure_samples) { /* with a host pool, no thread of ours: one */
         st = resurfi_bvh_build_threads(s->alloc, s->in->positions, s->in->vertex_count, s->in->indices,
-                                       s->in->triangle_count, s->opt.threads, &s->own_bvh);
+                                       s->in->triangle_count, s->opt.thread_pool ? 1 : s->opt.threads,
+                                       &s->own_bvh);
         if (st != RESURF_OK)
             return resurfi_error(error, st, "cannot build the input's BVH");
         s->bvh = s->own_bvh;

@@ -93,6 +93,8 @@ static resurf_status check_options(const resurf_simplify_options *o, resurf_erro
         bad = "border_weight must be finite and >= 0";
     else if (o->restore_options && o->restore_options->struct_size != sizeof(resurf_restore_options))
         bad = "restore_options was not initialised by resurf_restore_options_default()";
+    else if (o->thread_pool && !o->thread_pool->run)
+        bad = "thread_pool has no run callback";
     if (bad)
         return resurfi_error(error, RESURF_ERR_INVALID_OPTIONS, "resurf_simplify_options: %s", bad);
     return RESURF_OK;
@@ -133,7 +135,7 @@ static resurf_status simplify_levels(const resurf_mesh *in, const resurf_simplif
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory starting the simplification");
     for (unsigned w = 0; w < s.threads; ++w)
         sc[w].alloc = s.alloc;
-    resurf_status st = resurfi_pool_create(s.alloc, s.threads, &s.pool);
+    resurf_status st = resurfi_pool_create(s.alloc, s.threads, s.opt.thread_pool, &s.pool);
     if (st != RESURF_OK)
         st = resurfi_error(error, st, "out of memory starting the simplification");
     else if (resurfi_progress(&s.opt.progress, RESURF_STAGE_PREPARE, 0))
