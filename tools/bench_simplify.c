@@ -1,4 +1,4 @@
-/* bench-simplify: resurf's simplifier (src/simplify.c) against meshoptimizer's meshopt_simplify, in the same run.
+/* bench-simplify: resurf's simplifier (src/simplify/) against meshoptimizer's meshopt_simplify, in the same run.
  *
  *   bench-simplify [--small] [--large] [--scan FILE] [--scaling] [--ratios 0.5,0.1,0.02] [--shape NAME]
  *                  [--threads N] [--sag S] [--normal-deg D] [--midpoint] [--post]
