@@ -12,15 +12,9 @@
 #include <string.h>
 #include <time.h>
 
+#include "bench.h"
 #include "internal.h"
 #include "shapes.h"
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 /* Best of three builds on `threads` threads (0 = all cores). */
 static double time_build(const resurf_mesh *m, unsigned threads)
@@ -28,13 +22,13 @@ static double time_build(const resurf_mesh *m, unsigned threads)
     double best = INFINITY;
     for (int r = 0; r < 3; ++r) {
         resurfi_bvh *bvh = NULL;
-        double t0 = now();
+        double t0 = bench_now();
         if (resurfi_bvh_build_threads(NULL, m->positions, m->vertex_count, m->indices, m->triangle_count, threads,
                                       &bvh) != RESURF_OK) {
             fprintf(stderr, "bench-bvh: build failed\n");
             exit(1);
         }
-        double t = now() - t0;
+        double t = bench_now() - t0;
         best = t < best ? t : best;
         resurfi_bvh_free(bvh);
     }
@@ -44,13 +38,13 @@ static double time_build(const resurf_mesh *m, unsigned threads)
 /* Queries per second over the given points, single thread; *checksum keeps the work from being optimised away. */
 static double time_queries(const resurfi_bvh *bvh, const vec3 *points, size_t n, double *checksum)
 {
-    double t0 = now(), sum = 0;
+    double t0 = bench_now(), sum = 0;
     for (size_t i = 0; i < n; ++i) {
         double d2 = 0;
         resurfi_bvh_closest(bvh, points[i], INFINITY, NULL, NULL, &d2);
         sum += d2;
     }
-    double t = now() - t0;
+    double t = bench_now() - t0;
     *checksum = sum;
     return (double)n / t;
 }

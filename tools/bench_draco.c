@@ -13,14 +13,8 @@
 #include <time.h>
 
 #include "shapes.h"
+#include "bench.h"
 #include "resurf/resurf.h"
-
-static double now(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
 
 /* Total size and BIN chunk size of a .glb (0 when it cannot be read). */
 static void glb_sizes(const char *path, size_t *total, size_t *bin)
@@ -68,22 +62,22 @@ static int measure(const resurf_mesh *mesh, const char *name, const char *dir, r
     if (resurf_scene_save(scene, plain, &o, NULL, &e) != RESURF_OK)
         rc = 1;
     o.draco = true;
-    double t0 = now();
+    double t0 = bench_now();
     if (!rc && resurf_scene_save(scene, ours, &o, NULL, &e) != RESURF_OK)
         rc = 1;
-    r->ours_s = now() - t0;
+    r->ours_s = bench_now() - t0;
     if (rc)
         fprintf(stderr, "bench-draco: %s: %s\n", name, e.message);
     snprintf(cmd, sizeof cmd,
              "draco_transcoder -i '%s' -o '%s' -qp %d -qn %d -qt %d -qc %d -qg %d -qtg %d -qw %d >/dev/null 2>&1",
              plain, theirs, o.position_bits, o.normal_bits, o.texcoord_bits, o.color_bits, o.generic_bits,
              o.generic_bits, o.generic_bits);
-    t0 = now();
+    t0 = bench_now();
     if (!rc && system(cmd) != 0) {
         fprintf(stderr, "bench-draco: draco_transcoder failed on %s\n", name);
         rc = 1;
     }
-    r->theirs_s = now() - t0;
+    r->theirs_s = bench_now() - t0;
     glb_sizes(ours, &r->ours_total, &r->ours_bin);
     glb_sizes(theirs, &r->theirs_total, &r->theirs_bin);
     resurf_scene_free(scene);

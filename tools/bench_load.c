@@ -11,29 +11,9 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "bench.h"
 #include "resurf/resurf.h"
 #include "shapes.h"
-
-static double now_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static int compare_doubles(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-static void fail(const char *what, const resurf_error *error)
-{
-    char text[600];
-    resurf_format_error(text, sizeof text, error);
-    fprintf(stderr, "bench-load: %s: %s\n", what, text);
-    exit(1);
-}
 
 int main(int argc, char **argv)
 {
@@ -72,19 +52,19 @@ int main(int argc, char **argv)
         snprintf(path, sizeof path, "%s/%s", dir, cases[c].file);
         resurf_save_options save = resurf_save_options_default();
         save.binary = cases[c].binary;
-        double t0 = now_seconds();
+        double t0 = bench_now();
         if (resurf_mesh_save(mesh, path, &save, &error) != RESURF_OK)
-            fail("save", &error);
-        double save_time = now_seconds() - t0;
+            bench_fail("bench-load", "save", &error);
+        double save_time = bench_now() - t0;
         struct stat st;
         stat(path, &st);
         double megabytes = (double)st.st_size / 1e6;
         for (int r = 0; r < repeats; ++r) {
             resurf_mesh *loaded = NULL;
-            t0 = now_seconds();
+            t0 = bench_now();
             if (resurf_mesh_load(path, NULL, &loaded, &error) != RESURF_OK)
-                fail("load", &error);
-            times[r] = now_seconds() - t0;
+                bench_fail("bench-load", "load", &error);
+            times[r] = bench_now() - t0;
             if (loaded->triangle_count != mesh->triangle_count) {
                 fprintf(stderr, "bench-load: %s gave %zu triangles, not %zu\n", path, loaded->triangle_count,
                         mesh->triangle_count);
@@ -97,7 +77,7 @@ int main(int argc, char **argv)
             }
             resurf_mesh_free(loaded);
         }
-        qsort(times, (size_t)repeats, sizeof *times, compare_doubles);
+        qsort(times, (size_t)repeats, sizeof *times, bench_compare_doubles);
         double best = times[0], median = times[repeats / 2];
         printf("%-11s %9.1f %9.3f %9.3f %10.0f %12.2f %10.3f\n", cases[c].name, megabytes, best, median,
                megabytes / median, (double)mesh->triangle_count / median / 1e6, save_time);

@@ -12,36 +12,8 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "bench.h"
 #include "resurf/resurf.h"
-
-static double now_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-/* CPU time of the whole process (every thread): on a shared, loaded machine the wall time says little. */
-static double cpu_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static int compare_doubles(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-static void fail(const char *what, const resurf_error *error)
-{
-    char text[600];
-    resurf_format_error(text, sizeof text, error);
-    fprintf(stderr, "bench-preview: %s: %s\n", what, text);
-    exit(1);
-}
 
 int main(int argc, char **argv)
 {
@@ -55,12 +27,12 @@ int main(int argc, char **argv)
     resurf_error error;
     resurf_scene *scene = NULL;
     if (resurf_scene_load(path, NULL, &scene, &error) != RESURF_OK)
-        fail(path, &error);
+        bench_fail("bench-preview", path, &error);
     resurf_simplify_options so = resurf_simplify_options_default();
     so.threads = threads;
     const double ratios[3] = {0.5, 0.25, 0.1};
     if (resurf_scene_build_lods(scene, ratios, 3, &so, NULL, NULL, NULL, &error) != RESURF_OK)
-        fail("levels", &error);
+        bench_fail("bench-preview", "levels", &error);
     char png[] = "/tmp/resurf-bench-preview-XXXXXX.png";
     int fd = mkstemps(png, 4);
     if (fd < 0) {
@@ -80,16 +52,16 @@ int main(int argc, char **argv)
                 o.measure = measure;
                 o.threads = threads;
                 resurf_preview_image img;
-                double t0 = now_seconds(), c0 = cpu_seconds();
+                double t0 = bench_now(), c0 = bench_cpu_now();
                 if (resurf_preview_render(scene, &o, &img, &rep, &error) != RESURF_OK)
-                    fail("render", &error);
+                    bench_fail("bench-preview", "render", &error);
                 if (resurf_preview_save_png(&img, png, &error) != RESURF_OK)
-                    fail("save", &error);
-                t[r] = now_seconds() - t0;
-                cpu_best = fmin(cpu_best, cpu_seconds() - c0);
+                    bench_fail("bench-preview", "save", &error);
+                t[r] = bench_now() - t0;
+                cpu_best = fmin(cpu_best, bench_cpu_now() - c0);
                 resurf_preview_image_free(&img);
             }
-            qsort(t, (size_t)repeats, sizeof *t, compare_doubles);
+            qsort(t, (size_t)repeats, sizeof *t, bench_compare_doubles);
             char name[64];
             snprintf(name, sizeof name, "%s%s", measure ? "sheet with errors" : "drawing alone",
                      heat ? " + heat map" : "");

@@ -13,15 +13,9 @@
 #include <string.h>
 #include <time.h>
 
+#include "bench.h"
 #include "internal.h"
 #include "shapes.h"
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 /* CPU time of the whole process (all threads): with other work on the machine, wall time overstates the cost. */
 static double cpu_now(void)
@@ -75,12 +69,12 @@ int main(int argc, char **argv)
         double best = INFINITY;
         for (int r = 0; r < 3; ++r) {
             resurfi_restorer *rs = NULL;
-            double t0 = now();
+            double t0 = bench_now();
             if (resurfi_restorer_create(M, &o, &rs, NULL) != RESURF_OK) {
                 fprintf(stderr, "bench-restore: set-up failed\n");
                 return 1;
             }
-            double t = now() - t0;
+            double t = bench_now() - t0;
             best = t < best ? t : best;
             resurfi_restorer_free(rs);
         }
@@ -101,12 +95,12 @@ int main(int argc, char **argv)
                 return 1;
             }
             resurf_error error;
-            double t0 = now(), c0 = cpu_now();
+            double t0 = bench_now(), c0 = cpu_now();
             if (resurf_restore(M, R, &o, &rep, &error) != RESURF_OK) {
                 fprintf(stderr, "bench-restore: %s\n", error.message);
                 return 1;
             }
-            double t = now() - t0, c = cpu_now() - c0;
+            double t = bench_now() - t0, c = cpu_now() - c0;
             best = t < best ? t : best;
             best_cpu = c < best_cpu ? c : best_cpu;
             resurf_mesh_free(result[threads - 1]);

@@ -32,18 +32,12 @@
 #include <string.h>
 #include <time.h>
 
+#include "bench.h"
 #include "internal.h"
 #include "shapes.h"
 #ifdef HAVE_MESHOPTIMIZER
 #include <meshoptimizer.h>
 #endif
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 /* ---- peak memory of one call --------------------------------------------------------------------------------- */
 
@@ -192,9 +186,9 @@ static int run_resurf(const resurf_mesh *m, double ratio, resurf_restore_mode mo
     }
     resurf_error e;
     long m0 = mem_start();
-    double t0 = now();
+    double t0 = bench_now();
     resurf_status st = resurf_simplify(m, &o, out, NULL, &e);
-    r->time = now() - t0;
+    r->time = bench_now() - t0;
     r->bytes = mem_peak_bytes(m0);
     if (st != RESURF_OK) {
         fprintf(stderr, "bench-simplify: resurf_simplify: %s\n", e.message);
@@ -215,11 +209,11 @@ static int run_meshopt(const resurf_mesh *m, double ratio, resurf_mesh **out, re
         idx[i] = m->indices[i];
     size_t target = 3 * (size_t)(ratio * (double)m->triangle_count);
     long m0 = mem_start();
-    double t0 = now();
+    double t0 = bench_now();
     unsigned *dst = malloc(ni * sizeof *dst);
     float err = 0;
     size_t n = meshopt_simplify(dst, idx, ni, pos, nv, 3 * sizeof(float), target, 1.0f, 0, &err);
-    r->time = now() - t0;
+    r->time = bench_now() - t0;
     r->bytes = mem_peak_bytes(m0);
     /* the LOD with only the vertices it uses, at the input's double positions */
     uint32_t *remap = malloc(nv * sizeof *remap);

@@ -28,6 +28,7 @@
 #include <sys/stat.h>
 #include <time.h>
 
+#include "bench.h"
 #include "resurf/resurf.h"
 #include "shapes.h"
 
@@ -67,13 +68,6 @@ typedef struct result {
     double seconds[2];
     resurf_restore_report report[2];
 } result;
-
-static double now(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
 
 static int fail(const char *what, const resurf_error *error)
 {
@@ -156,9 +150,9 @@ static int run_shape(int s, const resurf_mesh *original, unsigned threads, const
             }
             resurf_restore_options ro = p == 0 ? resurf_restore_options_paper() : resurf_restore_options_default();
             ro.threads = threads;
-            double t0 = now();
+            double t0 = bench_now();
             resurf_status st = resurf_restore(original, restored, &ro, &results[f].report[p], &error);
-            results[f].seconds[p] = now() - t0;
+            results[f].seconds[p] = bench_now() - t0;
             char restored_name[96];
             snprintf(restored_name, sizeof restored_name, "%s_restored_%s", name, p == 0 ? "paper" : "default");
             if (st != RESURF_OK || measure(kind, restored, &results[f].restored[p]) ||
