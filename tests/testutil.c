@@ -1,5 +1,7 @@
-/* Shared helpers for the Check suites: temporary folders, files, commands and small fixture meshes. */
+/* Shared helpers for the Check suites: temporary folders, files, commands, small fixture meshes and hand-written
+ * glTF documents. */
 #include <dirent.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -179,4 +181,109 @@ resurf_mesh *tu_grid(unsigned n)
             *t++ = a, *t++ = c, *t++ = d;
         }
     return m;
+}
+
+/* ---- glTF documents ---- */
+
+char *tu_strf(const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    int n = vsnprintf(NULL, 0, fmt, ap);
+    va_end(ap);
+    char *s = malloc((size_t)n + 1);
+    va_start(ap, fmt);
+    vsnprintf(s, (size_t)n + 1, fmt, ap);
+    va_end(ap);
+    return s;
+}
+
+int tu_validator_errors(const char *path)
+{
+    char *cmd = tu_strf("node '%s/tools/validate-gltf.js' '%s'", RESURF_SOURCE_DIR, path), *out = NULL;
+    int rc = tu_run(cmd, &out);
+    const char *p = out ? strstr(out, "numErrors ") : NULL;
+    if (!p || rc == 2)
+        ck_abort_msg("the glTF validator did not run (rc %d): %s", rc, out ? out : "");
+    int errors = atoi(p + 10);
+    if (errors)
+        fprintf(stderr, "%s", out);
+    free(cmd);
+    free(out);
+    return errors;
+}
+
+char *tu_node_eval(const char *dir, const char *script, const char *file)
+{
+    char *js = tu_path(dir, "check.js");
+    ck_assert_int_eq(tu_write_file(js, script, strlen(script)), 0);
+    char *cmd = tu_strf("node '%s' '%s'", js, file), *out = NULL;
+    int rc = tu_run(cmd, &out);
+    ck_assert_msg(rc == 0, "node script failed: %s", out);
+    size_t n = strlen(out);
+    while (n && (out[n - 1] == '\n' || out[n - 1] == ' '))
+        out[--n] = 0;
+    unlink(js);
+    free(js);
+    free(cmd);
+    return out;
+}
+
+void tu_put(tu_bytes *b, const void *p, size_t n)
+{
+    b->data = realloc(b->data, b->size + n + 4);
+    memcpy(b->data + b->size, p, n);
+    b->size += n;
+}
+void tu_put_f32(tu_bytes *b, float x) { tu_put(b, &x, 4); }
+void tu_put_u8(tu_bytes *b, uint8_t x) { tu_put(b, &x, 1); }
+void tu_put_u16(tu_bytes *b, uint16_t x) { tu_put(b, &x, 2); }
+void tu_put_i16(tu_bytes *b, int16_t x) { tu_put(b, &x, 2); }
+void tu_align4(tu_bytes *b)
+{
+    while (b->size % 4)
+        tu_put_u8(b, 0);
+}
+
+char *tu_write_gltf(const char *dir, const char *name, const char *json, const tu_bytes *bin)
+{
+    char *gltf = tu_strf("%s/%s.gltf", dir, name), *binp = tu_strf("%s/%s.bin", dir, name);
+    ck_assert_int_eq(tu_write_file(gltf, json, strlen(json)), 0);
+    if (bin)
+        ck_assert_int_eq(tu_write_file(binp, bin->data, bin->size), 0);
+    free(binp);
+    return gltf;
+}
+
+resurf_scene *tu_load_scene_ok(const char *path)
+{
+    resurf_scene *s = NULL;
+    resurf_error e;
+    resurf_status st = resurf_scene_load(path, NULL, &s, &e);
+    char msg[600];
+    resurf_format_error(msg, sizeof msg, &e);
+    ck_assert_msg(st == RESURF_OK, "loading %s: %s", path, msg);
+    return s;
+}
+
+void tu_save_scene_ok(const resurf_scene *s, const char *path, const resurf_scene_save_options *o,
+                      resurf_scene_save_report *r)
+{
+    resurf_error e;
+    resurf_status st = resurf_scene_save(s, path, o, r, &e);
+    char msg[600];
+    resurf_format_error(msg, sizeof msg, &e);
+    ck_assert_msg(st == RESURF_OK, "saving %s: %s", path, msg);
+}
+
+tu_bytes tu_tetra_bin(void)
+{
+    tu_bytes b = {0};
+    static const float p[12] = {1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1};
+    static const uint16_t t[12] = {0, 1, 2, 0, 2, 3, 0, 3, 1, 1, 3, 2};
+    for (int i = 0; i < 12; ++i)
+        tu_put_f32(&b, p[i]);
+    for (int i = 0; i < 12; ++i)
+        tu_put_u16(&b, t[i]);
+    return b;
 }

@@ -45,4 +45,43 @@ resurf_mesh *tu_tetrahedron(void);
 resurf_mesh *tu_cube(void);
 resurf_mesh *tu_grid(unsigned n);
 
+/* ---- glTF documents (the test_gltf_* suites) ---- */
+
+/* printf into a malloc'ed string. */
+char *tu_strf(const char *fmt, ...);
+/* Errors the Khronos validator finds in a .gltf/.glb (fails the test when the validator cannot run). */
+int tu_validator_errors(const char *path);
+/* Runs a node script (JavaScript source) with the file as its argument; returns its trimmed stdout. */
+char *tu_node_eval(const char *dir, const char *script, const char *file);
+/* The JSON of a .gltf or of a .glb's first chunk, as a JavaScript expression `doc` in node scripts. */
+#define TU_JS_LOAD                                                                                              \
+    "const fs=require('fs');const b=fs.readFileSync(process.argv[2]);"                                        \
+    "const doc=JSON.parse(b.slice(0,4).toString()==='glTF'?b.slice(20,20+b.readUInt32LE(12)).toString():b.toString());"
+
+/* A growable byte buffer for hand-written .bin files (little-endian, as glTF requires). */
+typedef struct tu_bytes {
+    unsigned char *data;
+    size_t size;
+} tu_bytes;
+
+void tu_put(tu_bytes *b, const void *p, size_t n);
+void tu_put_f32(tu_bytes *b, float x);
+void tu_put_u8(tu_bytes *b, uint8_t x);
+void tu_put_u16(tu_bytes *b, uint16_t x);
+void tu_put_i16(tu_bytes *b, int16_t x);
+void tu_align4(tu_bytes *b);
+/* Writes DIR/NAME.gltf with the JSON and DIR/NAME.bin with the bytes; returns the .gltf path. */
+char *tu_write_gltf(const char *dir, const char *name, const char *json, const tu_bytes *bin);
+/* resurf_scene_load and resurf_scene_save that fail the test, with the library's message, unless they succeed. */
+resurf_scene *tu_load_scene_ok(const char *path);
+void tu_save_scene_ok(const resurf_scene *s, const char *path, const resurf_scene_save_options *o,
+                      resurf_scene_save_report *r);
+/* A tetrahedron (4 positions, 4 triangles) in a .bin: positions at 0..47, indices (uint16) at 48..71, described
+ * by TU_TETRA_ACCESSORS (0: POSITION, 1: indices) over TU_TETRA_VIEWS (0 and 1) of buffer 0. */
+tu_bytes tu_tetra_bin(void);
+#define TU_TETRA_ACCESSORS                                                                                     \
+    "{\"bufferView\":0,\"componentType\":5126,\"count\":4,\"type\":\"VEC3\",\"min\":[-1,-1,-1],\"max\":[1,1,1]}," \
+    "{\"bufferView\":1,\"componentType\":5123,\"count\":12,\"type\":\"SCALAR\"}"
+#define TU_TETRA_VIEWS "{\"buffer\":0,\"byteLength\":48},{\"buffer\":0,\"byteOffset\":48,\"byteLength\":24}"
+
 #endif
