@@ -13,9 +13,10 @@
  * |N_opt × N_j| / (1 + N_opt·N_j), accurate for the small angles that matter.
  *
  * The normal-section variant (docs/restoring.md §9) keeps only the part of N_j in the plane spanned by N_opt and
- * u, the normal section of the chord: its angle α' to N_opt is signed (positive when N_j leans away from l towards p_j, as on a
- * convex surface), so the max/min choice comes out of the geometry, and the twist of the normal across the chord
- * (the part of N_j out of that plane), which formula (2) wrongly counts as bending, is ignored. */
+ * u, the normal section of the chord: its angle α' to N_opt is signed (positive when N_j leans away from l
+ * towards p_j, as on a convex surface), so the max/min choice comes out of the geometry, and the twist of the
+ * normal across the chord (the part of N_j out of that plane), which formula (2) wrongly counts as bending, is
+ * ignored. */
 #include "internal.h"
 
 /* A corner normal turned 90° or more from N_opt does not belong to the same smooth sheet as p (a fold, a flipped

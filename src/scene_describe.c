@@ -6,7 +6,7 @@
 
 #include "scene_internal.h"
 
-resurf_status resurf_scene_describe(const resurf_scene *scene, int as_json, char *dst, size_t dst_size,
+resurf_status resurf_scene_describe(const resurf_scene *scene, bool as_json, char *dst, size_t dst_size,
                                     size_t *out_length, resurf_error *error)
 {
     if (!scene || !out_length || (!dst && dst_size))

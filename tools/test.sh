@@ -88,11 +88,12 @@ fi
 
 if has_part valgrind; then
   part "3/4 core suites under valgrind (build/, memcheck)"
-  # Every suite but the simplifier's (minutes under memcheck; ASan+UBSan runs them in part 2) and those that only
-  # drive the CLI (whose processes memcheck does not follow). The valgrind setup sets RESURF_TEST_LIGHT, as the
-  # sanitizer build does (tests/meson.build).
+  # Every suite but the simplifier's simplify_* (minutes under memcheck; ASan+UBSan runs them in part 2; its
+  # queue's suite runs here) and those that only drive the CLI (whose processes memcheck does not follow). The
+  # valgrind setup sets RESURF_TEST_LIGHT, as the sanitizer build does (tests/meson.build).
   core=(mesh mesh_arrays alloc weld adjacency validate repair io io_obj io_ply io_off io_stl io_corpus bvh normals
-        curvature optdir glide restore smooth metrics quadric gltf_read gltf_write gltf_self_contained scene_lods)
+        curvature optdir glide restore smooth metrics quadric simplify_queue gltf_read gltf_write gltf_self_contained
+        scene_lods)
   # Only the suites that exist (tests/meson.build builds a suite once its file is there).
   existing=$(meson test -C build --list 2>/dev/null | sed -n 's/^resurf \/ //p')
   suites=()

@@ -955,7 +955,8 @@ RESURF_API resurf_status resurf_simplify_lods(const resurf_mesh *in, const doubl
  * folder (percent-encoding, "./", ".." and Windows '\' separators understood); one that cannot be read fails the
  * load with RESURF_ERR_IO naming images[i], the path tried and the uri, and one that names no file of the folder
  * (a scheme such as http:, a drive letter, an encoded NUL, or any file of a document loaded from memory) with
- * RESURF_ERR_UNSUPPORTED (either is a warning with resurf_load_options.allow_missing_images). Outputs are whole by themselves: see resurf_scene_save(). */
+ * RESURF_ERR_UNSUPPORTED (either is a warning with resurf_load_options.allow_missing_images). Outputs are whole
+ * by themselves: see resurf_scene_save(). */
 
 typedef struct resurf_scene resurf_scene;
 
@@ -1179,11 +1180,12 @@ RESURF_API size_t resurf_scene_level_path(char *dst, size_t dst_size, const char
  * (channels, samplers, animated paths), cameras and the extensions used and required. A scene made from a mesh
  * (a .drc, a mesh file) is one mesh with one primitive. Written into dst like snprintf (NUL-terminated when
  * dst_size > 0; dst may be NULL with dst_size 0); *out_length gets the length of the whole description. */
-RESURF_API resurf_status resurf_scene_describe(const resurf_scene *scene, int as_json, char *dst, size_t dst_size,
+RESURF_API resurf_status resurf_scene_describe(const resurf_scene *scene, bool as_json, char *dst, size_t dst_size,
                                                size_t *out_length, resurf_error *error);
 
 /* Problems that did not stop the load (a missing image allowed by allow_missing_images, primitive extensions that
- * saving drops, a tinygltf warning), one line each. resurf_scene_warning returns NULL for an index out of range; the strings live as long as the scene. */
+ * saving drops, a tinygltf warning), one line each. resurf_scene_warning returns NULL for an index out of range;
+ * the strings live as long as the scene. */
 RESURF_API size_t resurf_scene_warning_count(const resurf_scene *scene);
 RESURF_API const char *resurf_scene_warning(const resurf_scene *scene, size_t index);
 
