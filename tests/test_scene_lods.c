@@ -4,26 +4,12 @@
  * coverage follows the formula documented in resurf.h from the reported errors; the reported errors bound the
  * distances resurf_compare measures independently; a failed or cancelled call leaves the scene as it was. */
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
 #include <unistd.h>
 
 #include "scene_internal.h"
 #include "testutil.h"
-
-static char *strf(const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    int n = vsnprintf(NULL, 0, fmt, ap);
-    va_end(ap);
-    char *s = malloc((size_t)n + 1);
-    va_start(ap, fmt);
-    vsnprintf(s, (size_t)n + 1, fmt, ap);
-    va_end(ap);
-    return s;
-}
 
 /* ---- a two-mesh glTF written by hand ------------------------------------------------------------------------ */
 
@@ -77,7 +63,7 @@ static char *write_two_mesh_gltf(const char *dir, resurf_mesh **out_sphere, resu
     append_mesh(b, buf, a_pos + a_idx, acc_b, sizeof acc_b, 2);
     char *b64 = malloc(total / 3 * 4 + 8);
     base64(buf, total, b64);
-    char *json = strf(
+    char *json = tu_strf(
         "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0,1,2]}],"
         "\"nodes\":[{\"mesh\":0},{\"mesh\":1,\"translation\":[3,0,0]},{\"mesh\":2,\"translation\":[0,3,0]}],"
         "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":1}]},"
@@ -392,7 +378,7 @@ START_TEST(scene_lods_cli_max_triangles_and_errors)
     ck_assert_int_eq(resurf_mesh_save(m, ply, NULL, NULL), RESURF_OK);
     char *text = NULL;
 
-    char *cmd = strf("'%s' lod '%s' -o '%s' --levels 0.5 --max-triangles %zu 2>&1", RESURF_CLI, ply, glb,
+    char *cmd = tu_strf("'%s' lod '%s' -o '%s' --levels 0.5 --max-triangles %zu 2>&1", RESURF_CLI, ply, glb,
                      m->triangle_count - 1);
     ck_assert_int_eq(tu_run(cmd, &text), 1);
     ck_assert_msg(strstr(text, "limit") || strstr(text, "max"), "no word of the limit in: %s", text);
@@ -400,7 +386,7 @@ START_TEST(scene_lods_cli_max_triangles_and_errors)
     free(cmd);
     free(text);
 
-    cmd = strf("'%s' lod '%s' -o '%s' --levels 0.5 --max-triangles %zu --json", RESURF_CLI, ply, glb,
+    cmd = tu_strf("'%s' lod '%s' -o '%s' --levels 0.5 --max-triangles %zu --json", RESURF_CLI, ply, glb,
                m->triangle_count);
     ck_assert_int_eq(tu_run(cmd, &text), 0);
     free(cmd);
@@ -420,7 +406,7 @@ START_TEST(scene_lods_cli_max_triangles_and_errors)
     free(text);
     resurf_scene_free(s);
 
-    cmd = strf("'%s' lod '%s' -o '%s' --max-triangles 0", RESURF_CLI, ply, glb); /* 0 = no limit */
+    cmd = tu_strf("'%s' lod '%s' -o '%s' --max-triangles 0", RESURF_CLI, ply, glb); /* 0 = no limit */
     ck_assert_int_eq(tu_run(cmd, &text), 0);
     free(cmd);
     free(text);
