@@ -802,6 +802,12 @@ typedef struct resurf_simplify_options {
      * that are non-manifold in the input never move. */
     bool lock_border;             /* true = border vertices never move or disappear; default false (borders are kept
                                      by boundary quadrics and collapse only along themselves) */
+    const uint8_t *vertex_lock;   /* NULL (default), or one byte per input vertex: nonzero = that vertex's position
+                                     (with every input vertex at exactly the same place) never moves nor
+                                     disappears: it is in every level bit-exact, never restored onto S nor moved
+                                     by the sag offset, as a non-manifold vertex is (refused collapses count in
+                                     blocked_nonmanifold). For borders shared with other meshes. Read during the
+                                     call only */
     double min_angle_deg;         /* skip collapses that leave a changed triangle with a smallest angle under this
                                      (unless that angle did not decrease); in [0, 60); 0 = off (default) */
     double max_normal_change_deg; /* skip collapses that turn a triangle's normal by more than this (flips and
