@@ -39,9 +39,9 @@ extern "C" {
 #endif
 
 #define RESURF_VERSION_MAJOR 0
-#define RESURF_VERSION_MINOR 2
+#define RESURF_VERSION_MINOR 3
 #define RESURF_VERSION_PATCH 0
-#define RESURF_VERSION_STRING "0.2.0"
+#define RESURF_VERSION_STRING "0.3.0"
 
 #if defined(RESURF_BUILDING) && defined(__GNUC__)
 #define RESURF_API __attribute__((visibility("default")))
