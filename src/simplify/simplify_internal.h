@@ -179,6 +179,13 @@ typedef struct charts {
     uint32_t *of_wedge;
 } charts;
 
+/* The report's input side (measure.c), found at the first measured level and kept for the others. */
+typedef struct measure_state {
+    double *in_area_prefix;   /* the input's cumulative triangle areas, triangle_count + 1 */
+    uint32_t *in_used;        /* the input's vertices that triangles use */
+    size_t in_used_count;
+} measure_state;
+
 typedef struct simplifier {
     const resurf_mesh *in;
     resurf_simplify_options opt;
@@ -209,6 +216,7 @@ typedef struct simplifier {
     const resurfi_bvh *bvh;     /* over the input's triangles, input triangle ids */
     uint32_t *home;             /* inline restoration: per position, a triangle of the input near it */
     charts charts;
+    measure_state measure;
 
     simp_queue queue;
     schedule sched;
@@ -376,6 +384,10 @@ int merge_lane(simplifier *s, lane *L);
 
 /* output.c */
 resurf_status build_output(simplifier *s, resurf_mesh **out, resurf_simplify_report *rep, resurf_error *error);
+
+/* measure.c: the report's distances between level m and the input, and its UV error */
+resurf_status measure_level(simplifier *s, const resurf_mesh *m, resurf_simplify_report *rep);
+void measure_free(simplifier *s);
 
 #include "guards.h"
 
