@@ -386,6 +386,10 @@ static void bench_mesh(const char *name, const resurf_mesh *m, shape_kind kind, 
             print_row(name, ratios[k], m->triangle_count, &res[i]);
             if (ok && res[i].why[0] && k == 0)
                 printf("  (%s: %s)\n", res[i].method, res[i].why);
+            size_t asked = (size_t)(ratios[k] * (double)m->triangle_count);
+            if (ok && (double)res[i].tris > 1.05 * (double)asked + 2)
+                printf("  (%s stopped at %zu triangles of %zu asked: its ratios are not at equal counts)\n",
+                       res[i].method, res[i].tris, asked);
             fflush(stdout);
             resurf_mesh_free(lod);
         }

@@ -65,8 +65,8 @@ bool build_direct(const resurf_mesh *m, Mesh &sm)
 }
 
 // CGAL's own repair: duplicate and degenerate faces dropped, non-manifold vertices split, orientation made
-// consistent. Returns the number of vertices the repair added.
-long build_repaired(const resurf_mesh *m, Mesh &sm)
+// consistent. Says how many faces it dropped and how many vertices it added.
+void build_repaired(const resurf_mesh *m, Mesh &sm, char *why, std::size_t why_size)
 {
     std::vector<Point> points(m->vertex_count);
     for (std::size_t v = 0; v < m->vertex_count; ++v)
@@ -75,10 +75,13 @@ long build_repaired(const resurf_mesh *m, Mesh &sm)
     for (std::size_t t = 0; t < m->triangle_count; ++t)
         faces[t] = {m->indices[3 * t], m->indices[3 * t + 1], m->indices[3 * t + 2]};
     PMP::repair_polygon_soup(points, faces);
-    std::size_t before = points.size();
+    std::size_t before = points.size(), dropped = m->triangle_count - faces.size();
     PMP::orient_polygon_soup(points, faces);
     PMP::polygon_soup_to_polygon_mesh(points, faces, sm);
-    return (long)(points.size() - before);
+    char note[160];
+    std::snprintf(note, sizeof note, "not a polygon mesh as given: CGAL's repair dropped %zu faces, split %zu vertices",
+                  dropped, points.size() - before);
+    say(why, why_size, note);
 }
 
 } // namespace
@@ -92,10 +95,7 @@ extern "C" int peer_cgal_simplify(const resurf_mesh *m, size_t target_tris, peer
         Mesh sm;
         if (!build_direct(m, sm)) {
             sm.clear();
-            long split = build_repaired(m, sm);
-            char note[160];
-            std::snprintf(note, sizeof note, "not a polygon mesh as given: CGAL's repair split %ld vertices", split);
-            say(why, why_size, note);
+            build_repaired(m, sm, why, why_size);
         }
         if (!CGAL::is_valid_polygon_mesh(sm) || !CGAL::is_triangle_mesh(sm)) {
             say(why, why_size, "not a valid triangle mesh for CGAL, even after its repair");
