@@ -807,6 +807,12 @@ typedef struct resurf_simplify_options {
      * that are non-manifold in the input never move. */
     bool lock_border;             /* true = border vertices never move or disappear; default false (borders are kept
                                      by boundary quadrics and collapse only along themselves) */
+    const uint8_t *vertex_lock;   /* NULL (default), or one byte per input vertex: nonzero = that vertex's position
+                                     (with every input vertex at exactly the same place) never moves nor
+                                     disappears: it is in every level bit-exact, never restored onto S nor moved
+                                     by the sag offset, as a non-manifold vertex is (refused collapses count in
+                                     blocked_nonmanifold). For borders shared with other meshes. Read during the
+                                     call only */
     double min_angle_deg;         /* skip collapses that leave a changed triangle with a smallest angle under this
                                      (unless that angle did not decrease); in [0, 60); 0 = off (default) */
     double max_normal_change_deg; /* skip collapses that turn a triangle's normal by more than this (flips and
@@ -1045,6 +1051,18 @@ RESURF_API resurf_status resurf_scene_primitive_info(const resurf_scene *scene, 
 /* The decoded mesh of primitive `index` (attributes as described above), or NULL for a RESURF_PRIMITIVE_OTHER
  * primitive or an index out of range. Borrowed: valid until the scene is freed; do not modify it. */
 RESURF_API const resurf_mesh *resurf_scene_primitive_mesh(const resurf_scene *scene, size_t index);
+
+/* The whole scene at `level` as one mesh in world space: every triangle primitive with a mesh (morphed ones at full
+ * detail) at that level (0 = full detail; a primitive with fewer levels uses its last), once for each node that
+ * shows its mesh, with the node's world matrix applied (through the node hierarchy of the default scene, else scene
+ * 0, else of every root node; a scene made from a mesh file or without nodes: each mesh once, untransformed).
+ * Normals go through the matrix's inverse transpose and are renormalised. A node whose MSFT_lod extension (in a
+ * loaded file) names level nodes shows their meshes at level 1, 2, ... (as resurf_preview_render() draws them).
+ * The mesh has normals and TEXCOORD_0 when every included primitive has them, no other attribute; vertices are not
+ * welded (each primitive instance keeps its own). level: 0 .. RESURF_SCENE_MAX_LEVELS - 1. alloc: NULL = the
+ * scene's. *out is freed with resurf_mesh_free(). RESURF_ERR_LIMIT above 2^32 vertices or triangles. */
+RESURF_API resurf_status resurf_scene_world_mesh(const resurf_scene *scene, int level, const resurf_allocator *alloc,
+                                                 resurf_mesh **out, resurf_error *error);
 
 /* Sets the levels of detail of primitive `index`: lods[0] is level 1 (the first reduced level), lods[k-1] level k.
  * The meshes are copied (the caller keeps its own). Each must have finite positions and indices in range, and

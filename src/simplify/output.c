@@ -23,6 +23,7 @@ typedef struct output {
     double *len;          /* per u: longest incident edge */
     uint32_t *sag_count;
     uint8_t *outcome;     /* per u: POST restoration left it (1) */
+    uint8_t *held;        /* per u: a locked position (POS_LOCKED), which keeps the input's place */
 } output;
 
 static void output_free(output *o, const resurf_allocator *alloc)
@@ -42,6 +43,7 @@ static void output_free(output *o, const resurf_allocator *alloc)
     resurfi_free(alloc, o->len);
     resurfi_free(alloc, o->sag_count);
     resurfi_free(alloc, o->outcome);
+    resurfi_free(alloc, o->held);
 }
 
 typedef struct output_job {
@@ -57,9 +59,10 @@ static int post_restore_block(void *ctx, size_t begin, size_t end, unsigned work
     for (size_t u = begin; u < end; ++u) {
         for (size_t k = 1; k <= 3 && u + k < end; ++k)
             prefetch_walk(j->s, j->o->upos[u + k], k);
-        int left;
+        int left = 0;
         uint32_t t;
-        j->o->base[u] = restore_point(j->s, j->o->base[u], j->o->len[u], j->s->home[j->o->upos[u]], &left, &t);
+        if (!j->o->held[u])
+            j->o->base[u] = restore_point(j->s, j->o->base[u], j->o->len[u], j->s->home[j->o->upos[u]], &left, &t);
         j->o->outcome[u] = (uint8_t)left;
     }
     return 0;
@@ -271,10 +274,13 @@ static resurf_status place_output(simplifier *s, output *o)
     o->base = resurfi_alloc(s->alloc, nu, sizeof *o->base);
     o->final = resurfi_alloc(s->alloc, nu, sizeof *o->final);
     o->len = resurfi_calloc(s->alloc, nu, sizeof *o->len);
-    if (!o->base || !o->final || !o->len)
+    o->held = resurfi_alloc(s->alloc, nu, sizeof *o->held);
+    if (!o->base || !o->final || !o->len || !o->held)
         return RESURF_ERR_OUT_OF_MEMORY;
-    for (size_t u = 0; u < nu; ++u)
+    for (size_t u = 0; u < nu; ++u) {
         o->base[u] = s->P[o->upos[u]].p;
+        o->held[u] = (s->P[o->upos[u]].flags & POS_LOCKED) != 0;
+    }
     if (s->last_level) { /* no more collapses: the working mesh goes before the output's arrays come */
         resurfi_free(s->alloc, s->P_mem);
         resurfi_free(s->alloc, s->tri);
@@ -288,9 +294,10 @@ static resurf_status place_output(simplifier *s, output *o)
         if (!(o->outcome = resurfi_alloc(s->alloc, nu, 1)))
             return RESURF_ERR_OUT_OF_MEMORY;
         resurfi_pool_for(s->pool, nu, BLOCK_POSITIONS, post_restore_block, &job);
-        s->rep.restored += nu;
-        for (size_t u = 0; u < nu; ++u)
+        for (size_t u = 0; u < nu; ++u) {
+            s->rep.restored += !o->held[u];
             s->rep.restore_left += o->outcome[u];
+        }
     }
     int offset = s->restorer && s->opt.restore != RESURF_RESTORE_NONE && s->opt.sag_offset > 0;
     if (offset) {
@@ -320,7 +327,7 @@ static resurf_status place_output(simplifier *s, output *o)
     }
     for (size_t u = 0; u < nu; ++u) {
         o->final[u] = o->base[u];
-        if (!offset || !o->sag_count[u])
+        if (!offset || !o->sag_count[u] || o->held[u])
             continue;
         double sag = s->opt.sag_offset * o->sag_sum[u] / (4.0 * o->sag_count[u]);
         double cap = 0.25 * o->len[u]; /* a fold or a spike, not a sag */

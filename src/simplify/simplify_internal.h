@@ -22,9 +22,11 @@ enum {
 };
 
 /* Per-position flags. */
+typedef uint16_t pos_flags;
 enum {
     POS_DEAD = 1,          /* collapsed away */
-    POS_LOCKED = 2,        /* non-manifold or inconsistently oriented in the input: never moves */
+    POS_LOCKED = 2,        /* non-manifold or inconsistently oriented in the input, or locked by vertex_lock: never
+                              moves, never restored nor offset */
     POS_LOCKED_BORDER = 4, /* on a border with lock_border */
     POS_BORDER = 8,        /* on an edge with one triangle */
     POS_SEAM = 16,         /* exactly two wedges, split by exactly two seam edges, not on a border */
@@ -98,7 +100,7 @@ typedef struct work_pos {
     vec3 p;
     uint32_t head;    /* first corner */
     uint32_t up;      /* while starting: its neighbours above it (its edges in the first list) */
-    uint8_t flags;
+    pos_flags flags;
     resurfi_quadric q;
 } work_pos;
 
@@ -357,7 +359,7 @@ static inline void prefetch_ring(const simplifier *s, const lane *L, const u32ve
 /* setup.c: everything up to the first candidates; the per-position analysis collapses reuse */
 int has_attributes(const resurf_mesh *m);
 size_t fan_pairs(const simplifier *s, const u32vec *fan, scratch *sc);
-int analyse_position(simplifier *s, uint32_t a, scratch *sc, uint8_t *out_flags, resurfi_quadric *out_q,
+int analyse_position(simplifier *s, uint32_t a, scratch *sc, pos_flags *out_flags, resurfi_quadric *out_q,
                      uint32_t *out_up);
 resurf_status simplify_start(simplifier *s, scratch *scratch, resurf_error *error);
 
