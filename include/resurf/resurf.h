@@ -454,6 +454,9 @@ typedef struct resurf_load_options {
     /* glTF scenes */
     bool allow_missing_images;  /* true: an external image that cannot be read is a warning, and the output refers to
                                    it by its uri as it was; default false: an error naming it */
+    bool lenient;               /* true: what the glTF 2.0 schema forbids is a warning, one per problem (the first
+                                   100, then a count), and the document is read as far as it can be; default false:
+                                   RESURF_ERR_PARSE naming the first problem. See resurf_scene_load() */
 } resurf_load_options;
 
 RESURF_API resurf_load_options resurf_load_options_default(void);
