@@ -89,7 +89,8 @@ static const schema_case cases[] = {
     {"wrap_mode", {.more = ",\"samplers\":[{\"wrapS\":1}]"},
      "samplers[0].wrapS: 1 is not a wrap mode (33071, 33648, 10497)", NULL},
     {"component_type",
-     {.accessors = "[" TU_TETRA_ACCESSORS ",{\"bufferView\":1,\"componentType\":5124,\"count\":1,\"type\":\"SCALAR\"}]"},
+     {.accessors = "[" TU_TETRA_ACCESSORS
+                   ",{\"bufferView\":1,\"componentType\":5124,\"count\":1,\"type\":\"SCALAR\"}]"},
      "accessors[2].componentType: 5124 is not a glTF component type (5120, 5121, 5122, 5123, 5125, 5126)",
      "accessors[2]: unknown componentType 5124"},
     {"animation_path",
@@ -108,7 +109,8 @@ static const schema_case cases[] = {
      "bufferViews[0].byteStride: 6 is not a multiple of 4",
      "Invalid `byteStride' value. `byteStride' must be the multiple of 4 : 6"}, /* tinygltf's own refusal */
     {"count_0",
-     {.accessors = "[" TU_TETRA_ACCESSORS ",{\"bufferView\":1,\"componentType\":5123,\"count\":0,\"type\":\"SCALAR\"}]"},
+     {.accessors = "[" TU_TETRA_ACCESSORS
+                   ",{\"bufferView\":1,\"componentType\":5123,\"count\":0,\"type\":\"SCALAR\"}]"},
      "accessors[2].count: 0 is below the minimum of 1", "accessors[2]: count is 0"},
     {"metallic_1_5", {.more = ",\"materials\":[{\"pbrMetallicRoughness\":{\"metallicFactor\":1.5}}]"},
      "materials[0].pbrMetallicRoughness.metallicFactor: 1.5 is above the maximum of 1", NULL},
@@ -200,7 +202,8 @@ START_TEST(gltf_schema_lenient_warns_each_problem)
     ck_assert_uint_eq(resurf_scene_warning_count(s), 3);
     /* The walk follows the schema's order of the root's properties: nodes, samplers, scenes. */
     ck_assert_str_eq(resurf_scene_warning(s, 0), "nodes[0].weights: is empty (glTF wants at least one item)");
-    ck_assert_str_eq(resurf_scene_warning(s, 1), "samplers[0].magFilter: 9984 is not a magnification filter (9728, 9729)");
+    ck_assert_str_eq(resurf_scene_warning(s, 1),
+                     "samplers[0].magFilter: 9984 is not a magnification filter (9728, 9729)");
     ck_assert_str_eq(resurf_scene_warning(s, 2), "scenes[0].name: must be a string, not the number 42");
     resurf_scene_free(s);
     free(path);
@@ -238,9 +241,10 @@ START_TEST(gltf_schema_accepts_what_it_leaves_open)
     doc_parts p = {.scenes = "[{\"nodes\":[0.0],\"extras\":7}]",
                    .node = ",\"extras\":\"text\",\"made_up\":[1,2],\"extensions\":{\"EXT_made_up\":{\"a\":[null]}}",
                    .meshes = "[{\"primitives\":[{\"attributes\":{\"POSITION\":0.0},\"indices\":1.0,\"mode\":4.0}]}]",
-                   .more = ",\"extensionsUsed\":[\"KHR_animation_pointer\"],\"animations\":[{\"channels\":[{\"sampler\":0,"
-                           "\"target\":{\"path\":\"pointer\",\"extensions\":{\"KHR_animation_pointer\":{\"pointer\":"
-                           "\"/nodes/0/translation\"}}}}],\"samplers\":[{\"input\":1,\"output\":0}]}]"};
+                   .more = ",\"extensionsUsed\":[\"KHR_animation_pointer\"],"
+                           "\"animations\":[{\"channels\":[{\"sampler\":0,\"target\":{\"path\":\"pointer\","
+                           "\"extensions\":{\"KHR_animation_pointer\":{\"pointer\":\"/nodes/0/translation\"}}}}],"
+                           "\"samplers\":[{\"input\":1,\"output\":0}]}]"};
     char *path = write_tetra(dir, "open", &p);
     resurf_scene *s = tu_load_scene_ok(path);
     ck_assert_uint_eq(resurf_scene_warning_count(s), 0);

@@ -381,7 +381,8 @@ std::string number_text(double x)
 std::string number_text(const nlohmann::json &j)
 {
     if (j.is_number_integer())
-        return j.is_number_unsigned() ? std::to_string(j.get<unsigned long long>()) : std::to_string(j.get<long long>());
+        return j.is_number_unsigned() ? std::to_string(j.get<unsigned long long>())
+                                      : std::to_string(j.get<long long>());
     return number_text(j.get<double>());
 }
 
@@ -526,8 +527,9 @@ struct Walk {
         std::sort(sorted.begin(), sorted.end());
         for (size_t i = 1; i < n; ++i)
             if (sorted[i].first == sorted[i - 1].first)
-                problem(where + "[" + std::to_string(sorted[i].second) + "]",
-                        "repeats " + where + "[" + std::to_string(sorted[i - 1].second) + "] (the items must be unique)");
+                problem(where + "[" + std::to_string(sorted[i].second) + "]", "repeats " + where + "[" +
+                                                                               std::to_string(sorted[i - 1].second) +
+                                                                               "] (the items must be unique)");
     }
 
     void walk_object(nlohmann::json &j, const Object &o, const std::string &where)
