@@ -454,6 +454,9 @@ typedef struct resurf_load_options {
     /* glTF scenes */
     bool allow_missing_images;  /* true: an external image that cannot be read is a warning, and the output refers to
                                    it by its uri as it was; default false: an error naming it */
+    bool lenient;               /* true: what the glTF 2.0 schema forbids is a warning, one per problem (the first
+                                   100, then a count), and the document is read as far as it can be; default false:
+                                   RESURF_ERR_PARSE naming the first problem. See resurf_scene_load() */
 } resurf_load_options;
 
 RESURF_API resurf_load_options resurf_load_options_default(void);
@@ -967,6 +970,17 @@ RESURF_API resurf_status resurf_simplify_lods(const resurf_mesh *in, const doubl
  * joints stay integers. Integer and normalized component types are decoded as glTF defines them (a normalized
  * ubyte 255 is 1.0), sparse accessors are applied, triangle strips and fans become lists (the joining triangles
  * that repeat an index are dropped), KHR_draco_mesh_compression and KHR_mesh_quantization inputs are decoded.
+ * The JSON is checked against the glTF 2.0 schema first (github.com/KhronosGroup/glTF, specification/2.0/schema):
+ * the JSON type of every property of the core objects, required properties, array lengths and unique items, enum
+ * values (componentType, accessor type, primitive mode, bufferView target, sampler filters and wraps, camera type,
+ * animated path, interpolation, alphaMode: the values the specification lists, plus "pointer" when the document
+ * uses KHR_animation_pointer) and numeric ranges (byteLength and count >= 1, byteStride a multiple of 4 in 4..252,
+ * indices >= 0, factors in 0..1, ...). Unknown properties, extras and the content of extensions (each an object)
+ * are free. The first problem fails with RESURF_ERR_PARSE and a message naming the JSON path and the cause
+ * ("meshes[0].primitives[0].mode: 9 is not a glTF primitive mode (0..6)"); with resurf_load_options.lenient each
+ * problem is a warning of the scene instead (the first 100, then one that counts the rest) and the document is
+ * read as tinygltf reads it (a property of the wrong type is ignored), the checks below still applying. A number
+ * such as 2.0 where the schema wants an integer is read as that integer.
  * Every index, accessor, buffer range, node graph and Draco reference is checked before it is used: a malformed
  * or hostile file fails with RESURF_ERR_PARSE and a one-line message naming the glTF object ("accessors[3]: ...").
  * JSON nested deeper than 128 levels, numbers that overflow to infinity and node graphs with cycles or nodes with
@@ -1221,9 +1235,9 @@ RESURF_API size_t resurf_scene_level_path(char *dst, size_t dst_size, const char
 RESURF_API resurf_status resurf_scene_describe(const resurf_scene *scene, bool as_json, char *dst, size_t dst_size,
                                                size_t *out_length, resurf_error *error);
 
-/* Problems that did not stop the load (a missing image allowed by allow_missing_images, primitive extensions that
- * saving drops, a tinygltf warning), one line each. resurf_scene_warning returns NULL for an index out of range;
- * the strings live as long as the scene. */
+/* Problems that did not stop the load (a missing image allowed by allow_missing_images, a schema problem allowed by
+ * lenient, primitive extensions that saving drops, a tinygltf warning), one line each. resurf_scene_warning
+ * returns NULL for an index out of range; the strings live as long as the scene. */
 RESURF_API size_t resurf_scene_warning_count(const resurf_scene *scene);
 RESURF_API const char *resurf_scene_warning(const resurf_scene *scene, size_t index);
 
