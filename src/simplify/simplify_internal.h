@@ -80,7 +80,8 @@ typedef struct plan {
     uint32_t shared[2];      /* the triangles on the edge */
     int shared_count;
     vec3 p;
-    double cost;
+    double cost;             /* the quadric's at p, plus attr_cost */
+    double attr_cost;        /* the attribute quadrics' (attributes.c), 0 without them */
 } plan;
 
 /* A working triangle: its corners 3t..3t+2 (corner c is triangle c / 3, slot c % 3). The arrays of one triangle
@@ -177,6 +178,19 @@ typedef struct charts {
     uint32_t *of_wedge;
 } charts;
 
+/* Attribute quadrics (attributes.c), one record of `stride` doubles per wedge (indexed by its input vertex id), or
+ * none (data NULL) when the input has no attribute the options weigh. */
+enum { ATTR_MAX = 3 + 2 * RESURF_MAX_TEXCOORD_SETS + 4 }; /* components weighed at most: normal, texcoords, colour */
+typedef struct attr_quadrics {
+    double *data;
+    size_t stride;                /* ATTR_HEAD + 4 × count */
+    unsigned count;               /* components weighed */
+    const double *src[ATTR_MAX];  /* per component: the input's array, */
+    unsigned step[ATTR_MAX];      /* its doubles per vertex, */
+    unsigned offset[ATTR_MAX];    /* the component's place in a vertex's values */
+    double scale[ATTR_MAX];       /* and its factor: weight × the diagonal */
+} attr_quadrics;
+
 typedef struct simplifier {
     const resurf_mesh *in;
     resurf_simplify_options opt;
@@ -207,6 +221,9 @@ typedef struct simplifier {
     const resurfi_bvh *bvh;     /* over the input's triangles, input triangle ids */
     uint32_t *home;             /* inline restoration: per position, a triangle of the input near it */
     charts charts;
+    uint32_t *wedge_root; /* with attributes: per input vertex, the wedge it became or merged into (a union-find
+                             forest: follow it to a live wedge; output.c finds the triangles of a seam's side) */
+    attr_quadrics attr;
 
     simp_queue queue;
     schedule sched;
@@ -352,6 +369,11 @@ size_t fan_pairs(const simplifier *s, const u32vec *fan, scratch *sc);
 int analyse_position(simplifier *s, uint32_t a, scratch *sc, uint8_t *out_flags, resurfi_quadric *out_q,
                      uint32_t *out_up);
 resurf_status simplify_start(simplifier *s, scratch *scratch, resurf_error *error);
+
+/* attributes.c: the attribute quadrics of the wedges */
+resurf_status attributes_start(simplifier *s, scratch *scratch);
+double attribute_cost(const simplifier *s, const plan *pl, uint32_t a, uint32_t b, vec3 p);
+void attribute_merge(simplifier *s, uint32_t to, uint32_t from);
 
 /* collapse.c: planning, the first candidates, applying, the pass loop */
 void plan_collapse(const simplifier *s, uint32_t a, uint32_t b, const u32vec *fan_a, plan *pl);
