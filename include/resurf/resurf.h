@@ -835,7 +835,9 @@ typedef struct resurf_simplify_options {
      *   geometric figure (duck at 10%: max 1.50% -> 2.01%; the output's normals come from the smooth surface in
      *   any case), so they are off by default. On the analytic test grid of tests/test_attributes.c (48², 10%)
      *   the UV error falls 1.9× at 0.25 and 4× at 1, the colour error across a sharp edge 9.5× at 1. Meshes
-     *   without attributes (scans, the benchmarks' analytic shapes) are unchanged. */
+     *   without attributes (scans, the benchmarks' analytic shapes) are unchanged, bit for bit, in the same time
+     *   and memory. What the UV weight costs a textured mesh: on a UV-mapped cylinder of 256k triangles at 10%
+     *   (one thread) 1.11–1.21 s -> 1.46 s of CPU and 89 -> 103 MB peak; at 1M triangles 341 -> 402 MB. */
     double normal_weight;         /* NORMAL (3 components); default 0 (off) */
     double texcoord_weight;       /* every texcoord set (2 components each); default 0.25 */
     double color_weight;          /* COLOR_0 (3 or 4 components); default 0.25 */

@@ -123,25 +123,28 @@ resurf_status attributes_start(simplifier *s, scratch *scratch)
     return resurfi_pool_for(s->pool, blocks, 1, attr_block, &job) ? RESURF_ERR_OUT_OF_MEMORY : RESURF_OK;
 }
 
-/* E(x) of the sum of records r and t (x relative to the origin). */
+/* The quadric form of record r at x (relative to the origin). */
+static double form(const double *r, vec3 x)
+{
+    return r[0] * x.x * x.x + r[3] * x.y * x.y + r[5] * x.z * x.z +
+           2 * (r[1] * x.x * x.y + r[2] * x.x * x.z + r[4] * x.y * x.z) + 2 * (r[6] * x.x + r[7] * x.y + r[8] * x.z) +
+           r[9];
+}
+
+/* E(x) of the sum of records r and t, without forming the sum: the form is linear in the record. */
 static double merged_misfit(const attr_quadrics *q, const double *r, const double *t, vec3 x)
 {
-    double m[ATTR_HEAD + 4 * ATTR_MAX];
-    for (size_t k = 0; k < q->stride; ++k)
-        m[k] = r[k] + t[k];
-    if (!(m[10] > 0))
+    double w = r[10] + t[10];
+    if (!(w > 0))
         return 0;
-    double e = m[0] * x.x * x.x + m[3] * x.y * x.y + m[5] * x.z * x.z +
-               2 * (m[1] * x.x * x.y + m[2] * x.x * x.z + m[4] * x.y * x.z) +
-               2 * (m[6] * x.x + m[7] * x.y + m[8] * x.z) + m[9];
     double fit = 0;
     for (unsigned j = 0; j < q->count; ++j) {
-        const double *gd = m + ATTR_HEAD + 4 * j;
-        double v = gd[0] * x.x + gd[1] * x.y + gd[2] * x.z + gd[3];
+        const double *gr = r + ATTR_HEAD + 4 * j, *gt = t + ATTR_HEAD + 4 * j;
+        double v = (gr[0] + gt[0]) * x.x + (gr[1] + gt[1]) * x.y + (gr[2] + gt[2]) * x.z + gr[3] + gt[3];
         fit += v * v;
     }
-    e -= fit / m[10];
-    return e > 0 ? e : 0; /* ≥ 0 exactly (Cauchy–Schwarz); rounding may cross */
+    double e = form(r, x) + form(t, x) - fit / w;
+    return e > 0 ? e : 0; /* >= 0 exactly (Cauchy-Schwarz); rounding may cross */
 }
 
 /* The attribute cost of collapsing edge (a, b) planned in pl, the vertex at p: the misfit of each pair of wedges

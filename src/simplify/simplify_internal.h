@@ -349,7 +349,7 @@ static inline void prefetch_walk(const simplifier *s, uint32_t a, size_t ahead)
 }
 
 /* Asks for what a collapse reads of the positions around a fan: their records (both cache lines: the checks read
- * their places, the new candidates their quadrics) and their marks (link_ok). One neighbour per corner covers a
+ * their places, the new candidates their quadrics), their marks (link_ok) and their wedges' attribute quadrics. One neighbour per corner covers a
  * closed fan. */
 static inline void prefetch_ring(const simplifier *s, const lane *L, const u32vec *fan)
 {
@@ -358,6 +358,11 @@ static inline void prefetch_ring(const simplifier *s, const lane *L, const u32ve
         PREFETCH(&s->P[x]);
         PREFETCH(&s->P[x].q.c);
         PREFETCH(&L->mark[x]);
+        if (s->attr.data) { /* the neighbour's wedge's attribute quadric, which the new candidates price */
+            const double *r = s->attr.data + s->attr.stride * TW(corner_next(fan->data[i]));
+            for (size_t k = 0; k < s->attr.stride; k += 8)
+                PREFETCH(r + k);
+        }
     }
 }
 
