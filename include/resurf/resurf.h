@@ -710,6 +710,11 @@ typedef struct resurf_compare_report {
                                                   normal and REF's face normal at the point of REF closest to the
                                                   face's centroid, in [0, 180] (orientation counts: a flipped face
                                                   is 180); faces of zero area are left out */
+    double uv_error_mean, uv_error_p95;        /* when both carry texcoord set 0 (TEXCOORD_0): at each area-uniform
+                                                  sample of TEST, the texture-space distance between TEST's UV
+                                                  interpolated there and REF's at the closest point of REF; mean
+                                                  and 95th percentile (nearest rank). NaN without UVs on either
+                                                  or with samples 0 */
 } resurf_compare_report;
 
 /* Distances between the surfaces of ref and test, TEST's triangle quality and normal deviation.
@@ -802,6 +807,12 @@ typedef struct resurf_simplify_options {
      * that are non-manifold in the input never move. */
     bool lock_border;             /* true = border vertices never move or disappear; default false (borders are kept
                                      by boundary quadrics and collapse only along themselves) */
+    const uint8_t *vertex_lock;   /* NULL (default), or one byte per input vertex: nonzero = that vertex's position
+                                     (with every input vertex at exactly the same place) never moves nor
+                                     disappears: it is in every level bit-exact, never restored onto S nor moved
+                                     by the sag offset, as a non-manifold vertex is (refused collapses count in
+                                     blocked_nonmanifold). For borders shared with other meshes. Read during the
+                                     call only */
     double min_angle_deg;         /* skip collapses that leave a changed triangle with a smallest angle under this
                                      (unless that angle did not decrease); in [0, 60); 0 = off (default) */
     double max_normal_change_deg; /* skip collapses that turn a triangle's normal by more than this (flips and
@@ -842,8 +853,9 @@ typedef struct resurf_simplify_options {
     double texcoord_weight;       /* every texcoord set (2 components each); default 0.25 */
     double color_weight;          /* COLOR_0 (3 or 4 components); default 0.25 */
 
-    size_t measure_samples;       /* area-uniform samples of the result (plus all its vertices) whose distance to the
-                                     input surface is measured for the report; default 100000; 0 = no measurement */
+    size_t measure_samples;       /* area-uniform samples of the result and of the input (plus the vertices of
+                                     each) whose distances to the other surface are measured for the report (see
+                                     resurf_simplify_report); default 100000; 0 = no measurement */
     unsigned threads;             /* 0 = all cores; the result is the same for any value */
     resurf_progress progress;     /* RESURF_STAGE_PREPARE, _SIMPLIFY, _FINISH; a cancel returns RESURF_ERR_CANCELLED */
     const resurf_allocator *allocator; /* NULL (default): the input mesh's (or the C heap); see resurf_allocator */
@@ -879,14 +891,28 @@ typedef struct resurf_simplify_report {
     resurf_simplify_stop stop;
     double max_error_estimate;       /* largest estimated error (see max_error) of a collapse done */
 
-    /* Measured: distance from the result's surface (its vertices and measure_samples area-uniform samples) to the
-     * input's surface, one-sided, exact point–triangle distances through a BVH over the input. max_distance is the
-     * largest at those points, so a lower bound: the farthest point can lie between samples, as on the dragon
-     * scan's 2% level, where an edge bridging a thin feature measures 0.84 mm at 100k samples, 0.93 mm on a dense
-     * grid. The *_rel figures divide by diagonal. NaN when not measured (measure_samples = 0) or the result is
-     * empty. */
+    /* Measured: the two-sided distance between the result's surface and the input's, as resurf_compare()
+     * measures it (REF = the input, TEST = the result), with exact point–triangle distances through a BVH over
+     * each surface. Result to input: the result's vertices and measure_samples area-uniform samples of it, to the
+     * input's surface. Input to result: the vertices the input's triangles use and measure_samples area-uniform
+     * samples of the input, to the result's surface; this is the side that sees what a level lost (a square of
+     * two triangles reduced to one: 0 from the result, half the diagonal from the input). Each side's max is the
+     * largest at its points, its mean the mean over its samples (over its vertices when its surface has no
+     * area). max_distance = max of the two maxima (the symmetric Hausdorff distance), mean_distance = the mean of
+     * the two means. Sampled, so the maxima are lower bounds: the farthest point can lie between samples, as on
+     * the dragon scan's 2% level, where an edge bridging a thin feature measures 0.84 mm at 100k samples, 0.93 mm
+     * on a dense grid. The *_rel figures divide by diagonal. All NaN when not measured (measure_samples = 0) or
+     * the result is empty. Deterministic for any thread count. */
     double max_distance, mean_distance;
     double max_distance_rel, mean_distance_rel;
+    double result_to_input_max, result_to_input_mean; /* one-sided, mesh units */
+    double input_to_result_max, input_to_result_mean; /* one-sided, mesh units */
+    /* UV error, when the input (and so the result) has texcoord set 0 (glTF's TEXCOORD_0): at each area-uniform
+     * sample of the result, the texture-space distance between the result's UV interpolated there and the input's
+     * UV interpolated at the closest point of the input's surface; the mean and the 95th percentile (nearest
+     * rank) over the samples. Across a UV seam the closest point can fall on the other chart, so samples within
+     * the distance error of a seam can count a chart's jump. NaN without UVs or when nothing is measured. */
+    double uv_error_mean, uv_error_p95;
     double diagonal;                 /* of the input's bounding box */
 
     /* Candidate collapses rejected by each guard. A candidate is counted each time it is taken up, so one edge can
@@ -1051,6 +1077,18 @@ RESURF_API resurf_status resurf_scene_primitive_info(const resurf_scene *scene, 
 /* The decoded mesh of primitive `index` (attributes as described above), or NULL for a RESURF_PRIMITIVE_OTHER
  * primitive or an index out of range. Borrowed: valid until the scene is freed; do not modify it. */
 RESURF_API const resurf_mesh *resurf_scene_primitive_mesh(const resurf_scene *scene, size_t index);
+
+/* The whole scene at `level` as one mesh in world space: every triangle primitive with a mesh (morphed ones at full
+ * detail) at that level (0 = full detail; a primitive with fewer levels uses its last), once for each node that
+ * shows its mesh, with the node's world matrix applied (through the node hierarchy of the default scene, else scene
+ * 0, else of every root node; a scene made from a mesh file or without nodes: each mesh once, untransformed).
+ * Normals go through the matrix's inverse transpose and are renormalised. A node whose MSFT_lod extension (in a
+ * loaded file) names level nodes shows their meshes at level 1, 2, ... (as resurf_preview_render() draws them).
+ * The mesh has normals and TEXCOORD_0 when every included primitive has them, no other attribute; vertices are not
+ * welded (each primitive instance keeps its own). level: 0 .. RESURF_SCENE_MAX_LEVELS - 1. alloc: NULL = the
+ * scene's. *out is freed with resurf_mesh_free(). RESURF_ERR_LIMIT above 2^32 vertices or triangles. */
+RESURF_API resurf_status resurf_scene_world_mesh(const resurf_scene *scene, int level, const resurf_allocator *alloc,
+                                                 resurf_mesh **out, resurf_error *error);
 
 /* Sets the levels of detail of primitive `index`: lods[0] is level 1 (the first reduced level), lods[k-1] level k.
  * The meshes are copied (the caller keeps its own). Each must have finite positions and indices in range, and
@@ -1226,7 +1264,10 @@ RESURF_API const char *resurf_scene_warning(const resurf_scene *scene, size_t in
  * its triangles, its two-sided error (resurf_compare's hausdorff between level 0 and the level, relative to level
  * 0's diagonal and in scene units) and its MSFT_lod screen coverage. Every node that shows a mesh is drawn with its
  * world transform, as a viewer would; primitives with morph targets at rest; points and lines are not drawn.
- * Materials and textures are not drawn (every surface is one grey).
+ * Each primitive shows its material's base colour (baseColorFactor) times its base-colour texture, PNG or JPEG
+ * (libpng, libjpeg), sampled bilinearly with its sampler's wrap modes at the texture coordinates the material names
+ * (KHR_texture_transform is not applied); a primitive without a material is a warm grey. An image that cannot be
+ * decoded leaves its surfaces with the colour alone and is counted in the report (textures_undrawn), never an error.
  * Deterministic: the same scene and options give the same pixels for any thread count and on any machine whose C
  * library computes the camera's sin, cos, tan and atan alike (the drawing itself uses exact IEEE operations only),
  * and, with the same libpng and zlib, the same PNG bytes. */
@@ -1285,6 +1326,11 @@ typedef struct resurf_preview_report {
                                                         level or when unknown */
     double diagonal;                                 /* of level 0's bounding box in world space */
     double heat_max;                                 /* the colour bar's top in scene units (0 without heatmap) */
+    size_t textures_undrawn;                         /* base-colour images that could not be drawn (missing, not
+                                                        PNG or JPEG, or broken): their surfaces show the material's
+                                                        colour alone */
+    char texture_warning[192];                       /* the first of them and why ("images[2] 'a.tga': neither
+                                                        PNG nor JPEG"), "" when none */
 } resurf_preview_report;
 
 /* Draws the sheet of scene into *out_image (required; on failure it is zeroed). A node's levels are those set on
