@@ -812,6 +812,18 @@ typedef struct resurf_simplify_options {
                                      (unless that angle did not decrease); in [0, 60); 0 = off (default) */
     double max_normal_change_deg; /* skip collapses that turn a triangle's normal by more than this (flips and
                                      folds); in (0, 180]; default 60 */
+    double feature_angle_deg;     /* an edge whose triangles' normals differ by more than this is a crease, and so
+                                     is one along which the input's normals are split (a normal seam), where the
+                                     surface around is smooth (every other edge at the vertex turning by less than
+                                     a quarter of this: on a noisy scan sharp edges are noise). A vertex with three
+                                     crease edges or more, or where a crease meets a border, is a corner: it never
+                                     moves. A vertex touching a crease, and every vertex that absorbs one, is
+                                     neither restored onto S nor moved by the sag offset: the facets keep the
+                                     quadric's place, on the flat faces and their sharp edges. In (0, 180]; 180 =
+                                     no crease by angle; default 80 (measured in docs/restoring.md §8) */
+    double corner_angle_deg;      /* a crease or border curve that turns by more than this at a vertex makes it a
+                                     corner that never moves (the border corners of a flat panel); in (0, 180];
+                                     180 = none; default 80 */
     double border_weight;         /* weight of the planes through border and seam edges, perpendicular to their
                                      triangles, relative to the triangles' own planes; >= 0; default 1 */
     bool drop_fins;               /* true (default): triangles over the same three positions as another are left out
@@ -881,6 +893,7 @@ typedef struct resurf_simplify_report {
                                         long would lie that far from the original (an edge bridging a notch) */
     size_t blocked_border;           /* a border vertex would leave its border, or lock_border */
     size_t blocked_seam;             /* a seam vertex would leave its seam */
+    size_t blocked_feature;          /* a crease vertex would leave its crease, or a corner would move */
     size_t blocked_nonmanifold;      /* an end is a non-manifold vertex of the input, or the edge has > 2 triangles */
     size_t skipped_error;            /* candidates over max_error / max_error_rel */
 
