@@ -67,7 +67,8 @@ static vec3 free_placement(const simplifier *s, const resurfi_quadric *q, vec3 p
  *   x a CORNER (of creases or of a border)    never
  *   x on a border                             only along a border edge (so y is on the same border)
  *   x a seam vertex (two wedges)              only along one of its seam edges
- *   x on a CREASE                             only along a feature edge (so y is on the same crease)
+ *   x on a CREASE                             anywhere: the quadric keeps it on its crease (holding it to the
+ *                                             crease's edges was measured worse, docs/restoring.md §8)
  * and the wedge map decides the rest (map_ok): a seam vertex's two wedges need two distinct images (the edge's
  * triangles differ at y too), a single-wedge vertex a single one (the edge's triangles share y's wedge).
  * If both ends may go, the position is free (quadric or midpoint); if only x may go and y is held (y cannot leave

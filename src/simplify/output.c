@@ -383,7 +383,7 @@ static resurf_status place_output(simplifier *s, output *o)
             /* Only where v's triangles are one smooth fan: one that turns from S's normal at v by more than
              * feature_angle_deg lies across a crease, where the chord-sag model does not hold (it would push v out
              * across the crease). */
-            if (!(v3_dot(face, o->normal[u[c]]) >= s->fan_cos * v3_len(face)))
+            if (!(v3_dot(face, o->normal[u[c]]) >= s->feature_cos * v3_len(face)))
                 o->held[u[c]] |= HELD_OFFSET;
             double hm = resurfi_restorer_edge_length(s->restorer, s->home[o->upos[u[c]]]); /* M's edges there */
             for (int d = 1; d < 3; ++d) {

@@ -660,7 +660,6 @@ resurf_status simplify_start(simplifier *s, scratch *scratch, resurf_error *erro
     s->max_error = bound;
     s->feature_cos = s->opt.feature_angle_deg >= 180 ? -2 : cos(s->opt.feature_angle_deg * (M_PI / 180.0));
     s->corner_cos = cos(s->opt.corner_angle_deg * (M_PI / 180.0));
-    s->fan_cos = cos(0.5 * s->opt.feature_angle_deg * (M_PI / 180.0));
     s->smooth_cos = cos(0.25 * s->opt.feature_angle_deg * (M_PI / 180.0));
     if ((st = prepare_mesh(s, error)) != RESURF_OK)
         return st;

@@ -199,8 +199,6 @@ typedef struct simplifier {
     resurfi_pool *pool;  /* threads - 1 workers waiting for the call's parallel loops (NULL with one thread) */
     double diagonal, max_error;
     double feature_cos, corner_cos; /* cos of feature_angle_deg and corner_angle_deg */
-    double fan_cos;      /* cos of feature_angle_deg / 2: a face that far from S's normal at a vertex is off its
-                            smooth fan (output.c) */
     double smooth_cos;   /* cos of feature_angle_deg / 4: edges turning by less are smooth (setup.c) */
     double area_floor;   /* AREA_FLOOR × the mean triangle area */
     vec3 origin;         /* the bounding box's centre: quadrics are built around it, where their expanded form
