@@ -794,8 +794,10 @@ typedef struct resurf_simplify_options {
                                      S bends by κ). Each output vertex is moved along S's normal by sag_offset × its
                                      estimated local sag beyond the input's own (the input's edges, of length h_M,
                                      sag by h_M²κ/8: the offset is (h² − h_M²)κ/8) so that the facets straddle the
-                                     input's surface, which the report measures against. 0 = vertices exactly on
-                                     S; range [0, 4]; default 1 */
+                                     input's surface, which the report measures against. Not at a vertex touching
+                                     a crease or corner, nor at one whose triangles are not one smooth fan (a face
+                                     more than feature_angle_deg from S's normal there): the chord-sag model holds
+                                     on smooth surfaces only. 0 = vertices exactly on S; range [0, 4]; default 1 */
 
     /* Guards. A candidate collapse that breaks one is skipped and counted in the report. The link condition (no
      * non-manifold result) and attribute seams (a seam vertex collapses only along its seam) always apply; vertices
@@ -844,8 +846,8 @@ typedef struct resurf_simplify_options {
 } resurf_simplify_options;
 
 /* The defaults: no target (set one), quadric placement, inline restoration with the restorer's defaults (Max's
- * normals), sag_offset 1, max_normal_change_deg 60, min_angle_deg 0, border_weight 1, measure_samples 100000, all
- * cores. Measured with tools/bench_simplify.c on the irregular analytic sphere, torus and cubic surface (20k triangles,
+ * normals), sag_offset 1, feature_angle_deg 80, corner_angle_deg 80, max_normal_change_deg 60, min_angle_deg 0,
+ * border_weight 1, measure_samples 100000, all cores. Measured with tools/bench_simplify.c on the irregular analytic sphere, torus and cubic surface (20k triangles,
  * 10% and 2%): the mean distance of the LOD's surface to the true surface is lowest at sag_offset 1 (about 0.24–0.26,
  * 0.35–0.38 and 0.74–0.80 of meshoptimizer's; 0.86–0.89 with the offset at 0), as the chord-sag model predicts (the
  * mean depth of an equilateral facet under a sphere equals its edges' sag h²κ/8). Normal-change bounds from 40° to 90°
