@@ -823,9 +823,9 @@ typedef struct resurf_simplify_options {
                                      neither restored onto S nor moved by the sag offset: the facets keep the
                                      quadric's place, on the flat faces and their sharp edges. In (0, 180]; 180 =
                                      no crease by angle; default 80 (measured in docs/restoring.md §8) */
-    double corner_angle_deg;      /* a crease or border curve that turns by more than this at a vertex makes it a
-                                     corner that never moves (the border corners of a flat panel); in (0, 180];
-                                     180 = none; default 80 */
+    double corner_angle_deg;      /* a border that turns by more than this at a vertex makes it a corner that never
+                                     moves (the corners of a flat panel; a crease's sharp turn is none: on scans
+                                     such turns are noise); in (0, 180]; 180 = none; default 80 */
     double border_weight;         /* weight of the planes through border and seam edges, perpendicular to their
                                      triangles, relative to the triangles' own planes; >= 0; default 1 */
     bool drop_fins;               /* true (default): triangles over the same three positions as another are left out

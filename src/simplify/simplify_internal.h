@@ -33,10 +33,9 @@ enum {
     POS_COMPLEX = 32,      /* any other wedge arrangement (seam junctions, seams ending on a border): never moves */
     POS_BLOCKED = 64,      /* a collapse at it failed a geometric guard: retry once its neighbourhood changes */
     POS_RENEW = 128,       /* transient, while renewed neighbours are planned again (plan_renewed) */
-    POS_CREASE = 256,      /* on a crease curve: exactly two feature edges, turning by at most corner_angle_deg, no
-                              border: collapses only along its crease, never restored nor offset */
-    POS_CORNER = 512,      /* three or more feature edges, a crease meeting a border, or a crease or border curve
-                              turning by more than corner_angle_deg: never moves */
+    POS_CREASE = 256,      /* on a crease curve: exactly two feature edges, no border: never restored nor offset */
+    POS_CORNER = 512,      /* three or more feature edges, a crease meeting a border, or a border turning by more
+                              than corner_angle_deg: never moves */
     POS_TOUCHES_FEATURE = 1024, /* has a feature edge, or absorbed a position that had: neither restored nor
                               offset (the smooth-surface model does not hold there) */
 };
