@@ -802,8 +802,10 @@ typedef struct resurf_simplify_options {
                                      S bends by κ). Each output vertex is moved along S's normal by sag_offset × its
                                      estimated local sag beyond the input's own (the input's edges, of length h_M,
                                      sag by h_M²κ/8: the offset is (h² − h_M²)κ/8) so that the facets straddle the
-                                     input's surface, which the report measures against. 0 = vertices exactly on
-                                     S; range [0, 4]; default 1 */
+                                     input's surface, which the report measures against. Not at a vertex touching
+                                     a crease or corner, nor at one whose triangles are not one smooth fan (a face
+                                     more than feature_angle_deg from S's normal there): the chord-sag model holds
+                                     on smooth surfaces only. 0 = vertices exactly on S; range [0, 4]; default 1 */
 
     /* Guards. A candidate collapse that breaks one is skipped and counted in the report. The link condition (no
      * non-manifold result) and attribute seams (a seam vertex collapses only along its seam) always apply; vertices
@@ -820,6 +822,18 @@ typedef struct resurf_simplify_options {
                                      (unless that angle did not decrease); in [0, 60); 0 = off (default) */
     double max_normal_change_deg; /* skip collapses that turn a triangle's normal by more than this (flips and
                                      folds); in (0, 180]; default 60 */
+    double feature_angle_deg;     /* an edge whose triangles' normals differ by more than this is a crease, and so
+                                     is one along which the input's normals are split (a normal seam), where the
+                                     surface around is smooth (every other edge at the vertex turning by less than
+                                     a quarter of this: on a noisy scan sharp edges are noise). A vertex with three
+                                     crease edges or more, or where a crease meets a border, is a corner: it never
+                                     moves. A vertex touching a crease, and every vertex that absorbs one, is
+                                     neither restored onto S nor moved by the sag offset: the facets keep the
+                                     quadric's place, on the flat faces and their sharp edges. In (0, 180]; 180 =
+                                     no crease by angle; default 80 (measured in docs/restoring.md §8) */
+    double corner_angle_deg;      /* a border that turns by more than this at a vertex makes it a corner that never
+                                     moves (the corners of a flat panel; a crease's sharp turn is none: on scans
+                                     such turns are noise); in (0, 180]; 180 = none; default 80 */
     double border_weight;         /* weight of the planes through border and seam edges, perpendicular to their
                                      triangles, relative to the triangles' own planes; >= 0; default 1 */
     bool drop_fins;               /* true (default): triangles over the same three positions as another are left out
@@ -867,8 +881,9 @@ typedef struct resurf_simplify_options {
 } resurf_simplify_options;
 
 /* The defaults: no target (set one), quadric placement, inline restoration with the restorer's defaults (Max's
- * normals), sag_offset 1, max_normal_change_deg 60, min_angle_deg 0, border_weight 1, normal_weight 0,
- * texcoord_weight 0.25, color_weight 0.25, measure_samples 100000, all cores. Measured with tools/bench_simplify.c on the irregular analytic sphere, torus and cubic surface (20k triangles,
+ * normals), sag_offset 1, feature_angle_deg 80, corner_angle_deg 80, max_normal_change_deg 60, min_angle_deg 0,
+ * border_weight 1, normal_weight 0, texcoord_weight 0.25, color_weight 0.25, measure_samples 100000, all cores.
+ * Measured with tools/bench_simplify.c on the irregular analytic sphere, torus and cubic surface (20k triangles,
  * 10% and 2%): the mean distance of the LOD's surface to the true surface is lowest at sag_offset 1 (about 0.24–0.26,
  * 0.35–0.38 and 0.74–0.80 of meshoptimizer's; 0.86–0.89 with the offset at 0), as the chord-sag model predicts (the
  * mean depth of an equilateral facet under a sphere equals its edges' sag h²κ/8). Normal-change bounds from 40° to 90°
@@ -930,6 +945,7 @@ typedef struct resurf_simplify_report {
                                         long would lie that far from the original (an edge bridging a notch) */
     size_t blocked_border;           /* a border vertex would leave its border, or lock_border */
     size_t blocked_seam;             /* a seam vertex would leave its seam */
+    size_t blocked_feature;          /* a crease vertex would leave its crease, or a corner would move */
     size_t blocked_nonmanifold;      /* an end is a non-manifold vertex of the input, or the edge has > 2 triangles */
     size_t skipped_error;            /* candidates over max_error / max_error_rel */
 
