@@ -12,9 +12,11 @@ static const char usage[] =
     "Measures how far TEST's surface is from REF's: two-sided Hausdorff, mean and RMS distance (area-uniform\n"
     "samples plus all vertices, exact point-triangle distances), each one-sided direction, the distances of\n"
     "TEST's vertices to REF's surface, TEST's triangle quality (smallest angle, mean smallest angle, share of\n"
-    "triangles under 10 degrees) and the mean angle between TEST's face normals and REF's. Distances are given\n"
-    "in the meshes' units and relative to REF's bounding-box diagonal. The figures depend only on the inputs,\n"
-    "--samples and --seed, not on the thread count.\n\n"
+    "triangles under 10 degrees), the mean angle between TEST's face normals and REF's and, when both carry\n"
+    "texture coordinates (set 0), the UV error at TEST's samples (mean and 95th percentile of the distance in\n"
+    "texture space to REF's UV at the closest point). Distances are given in the meshes' units and relative to\n"
+    "REF's bounding-box diagonal. The figures depend only on the inputs, --samples and --seed, not on the\n"
+    "thread count.\n\n"
     "  --json             machine-readable output on stdout\n"
     "  --samples N        random points per surface, besides the vertices (default 200000; 0 = vertices only)\n"
     "  --seed S           sample seed (default 1)\n"
@@ -86,6 +88,8 @@ static size_t make_rows(const resurf_compare_report *m, row *rows)
     rows[n++] = (row){"mean_min_angle_deg", m->mean_min_angle_deg, 0};
     rows[n++] = (row){"share_below_10deg", m->share_below_10deg, 0};
     rows[n++] = (row){"mean_normal_deviation_deg", m->mean_normal_deviation_deg, 0};
+    rows[n++] = (row){"uv_error_mean", m->uv_error_mean, 0};
+    rows[n++] = (row){"uv_error_p95", m->uv_error_p95, 0};
     return n;
 }
 
@@ -110,6 +114,11 @@ static void print_text(const char *ref, const char *test, const resurf_compare_r
     printf("%-28s %16.6f\n", "mean smallest angle (deg)", m->mean_min_angle_deg);
     printf("%-28s %15.4f%%\n", "triangles under 10 deg", 100 * m->share_below_10deg);
     printf("%-28s %16.6f\n", "mean normal deviation (deg)", m->mean_normal_deviation_deg);
+    if (!isnan(m->uv_error_mean)) {
+        printf("\nUV error (TEXCOORD_0, texture space, at TEST's samples)\n");
+        printf("%-28s %16.9g\n", "mean", m->uv_error_mean);
+        printf("%-28s %16.9g\n", "95th percentile", m->uv_error_p95);
+    }
 }
 
 static void print_json(const char *ref, const char *test, const resurf_compare_report *m, size_t samples, uint64_t seed)
