@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "hash.h"
 #include "scene_internal.h"
 
 resurf_scene_lod_options resurf_scene_lod_options_default(void)
@@ -19,6 +20,7 @@ resurf_scene_lod_options resurf_scene_lod_options_default(void)
     memset(&o, 0, sizeof o);
     o.struct_size = sizeof o;
     o.set_screen_coverage = true;
+    o.keep_shared_borders = true;
     o.pixels = 1;
     o.screen_height = 1080;
     return o;
@@ -186,6 +188,96 @@ static size_t levels_that_help(const resurf_mesh *in, resurf_mesh *const *chain,
     return count;
 }
 
+/* ---- shared borders ---- */
+
+/* A position as a key: its three coordinates' bits (-0 as +0, so that equal coordinates are equal keys). */
+typedef struct pos_key {
+    uint64_t bits[3];
+} pos_key;
+
+static pos_key key_of(const double *p)
+{
+    pos_key k;
+    for (int c = 0; c < 3; ++c) {
+        double v = p[c] == 0 ? 0.0 : p[c];
+        memcpy(&k.bits[c], &v, sizeof v);
+    }
+    return k;
+}
+
+static uint64_t key_hash(const pos_key *k)
+{
+    return resurfi_mix64(k->bits[0] ^ resurfi_mix64(k->bits[1] ^ resurfi_mix64(k->bits[2])));
+}
+
+/* One slot of the table of a mesh's positions: the first primitive that uses it, and whether another does too. */
+typedef struct pos_slot {
+    pos_key key;
+    size_t prim;            /* SIZE_MAX: empty */
+    int shared;
+} pos_slot;
+
+/* For every triangle primitive of mesh m, locks[p] (one byte per vertex, or NULL when none is locked): the
+ * vertices whose position another primitive of the mesh also uses (a morphed primitive included, which keeps its
+ * full detail), so that no level opens a crack between them. Only vertices that triangles use count. */
+static resurf_status shared_positions(const resurf_scene *scene, size_t m, const resurf_allocator *alloc,
+                                      uint8_t **locks)
+{
+    size_t first = scene->mesh_first[m], last = scene->mesh_first[m + 1], total = 0, with_mesh = 0;
+    for (size_t p = first; p < last; ++p)
+        if (scene->prims[p].mesh) {
+            total += scene->prims[p].mesh->vertex_count;
+            with_mesh++;
+        }
+    if (with_mesh < 2 || total == 0)
+        return RESURF_OK;
+    size_t cap = 16;
+    while (cap < 2 * total)
+        cap *= 2;
+    pos_slot *table = resurfi_alloc(alloc, cap, sizeof *table);
+    if (!table)
+        return RESURF_ERR_OUT_OF_MEMORY;
+    for (size_t i = 0; i < cap; ++i)
+        table[i].prim = SIZE_MAX;
+    /* Pass 1: which positions more than one primitive uses; pass 2: the locks of each triangle primitive. */
+    resurf_status st = RESURF_OK;
+    for (int pass = 0; pass < 2 && st == RESURF_OK; ++pass) {
+        for (size_t p = first; p < last && st == RESURF_OK; ++p) {
+            const resurf_mesh *mesh = scene->prims[p].mesh;
+            if (!mesh || (pass == 1 && scene->prims[p].info.kind != RESURF_PRIMITIVE_TRIANGLES))
+                continue;
+            uint8_t *lock = NULL;
+            size_t locked = 0;
+            if (pass == 1 && !(lock = resurfi_calloc(alloc, mesh->vertex_count + 1, 1))) {
+                st = RESURF_ERR_OUT_OF_MEMORY;
+                break;
+            }
+            for (size_t t = 0; t < 3 * mesh->triangle_count; ++t) {
+                uint32_t v = mesh->indices[t];
+                pos_key k = key_of(mesh->positions + 3 * (size_t)v);
+                size_t i = (size_t)key_hash(&k) & (cap - 1);
+                while (table[i].prim != SIZE_MAX && memcmp(&table[i].key, &k, sizeof k))
+                    i = (i + 1) & (cap - 1);
+                if (pass == 0) {
+                    if (table[i].prim == SIZE_MAX)
+                        table[i] = (pos_slot){k, p, 0};
+                    else if (table[i].prim != p)
+                        table[i].shared = 1;
+                } else if (table[i].shared && !lock[v]) {
+                    lock[v] = 1;
+                    locked++;
+                }
+            }
+            if (pass == 1 && locked)
+                locks[p] = lock;
+            else
+                resurfi_free(alloc, lock);
+        }
+    }
+    resurfi_free(alloc, table);
+    return st;
+}
+
 /* Two-sided distances between level `level` of the instances in list and `full` (level 0 of the same instances),
  * in world units. A level without triangles is not measurable: *out gets NaN. */
 static resurf_status measure_level(const resurf_scene *scene, const resurfi_scene_instances *list,
@@ -218,11 +310,15 @@ typedef struct lod_work {
     size_t *mesh_levels;          /* per mesh: 1 + the most levels its primitives kept */
     double *errors;               /* per mesh and level: the mesh's own relative world error */
     double **coverage;            /* per mesh */
+    uint8_t **locks;              /* per primitive: its vertices shared with other primitives of its mesh, or NULL */
 } lod_work;
 
 static void lod_work_free(lod_work *w, size_t prim_count, size_t mesh_count, size_t count)
 {
     free_chains(w->alloc, w->chains, prim_count, count);
+    for (size_t p = 0; w->locks && p < prim_count; ++p)
+        resurfi_free(w->alloc, w->locks[p]);
+    resurfi_free(w->alloc, w->locks);
     for (size_t m = 0; w->coverage && m < mesh_count; ++m)
         resurfi_free(w->alloc, w->coverage[m]);
     resurfi_free(w->alloc, w->coverage);
@@ -291,7 +387,8 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
     w.mesh_levels = resurfi_calloc(alloc, mesh_count + 1, sizeof *w.mesh_levels);
     w.errors = resurfi_calloc(alloc, (mesh_count + 1) * (count + 1), sizeof *w.errors);
     w.coverage = resurfi_calloc(alloc, mesh_count + 1, sizeof *w.coverage);
-    if (!w.chains || !w.kept || !w.mesh_scale || !w.mesh_levels || !w.errors || !w.coverage ||
+    w.locks = resurfi_calloc(alloc, prim_count + 1, sizeof *w.locks);
+    if (!w.locks || !w.kept || !w.mesh_scale || !w.mesh_levels || !w.errors || !w.coverage ||
         resurfi_scene_gather(scene, alloc, &w.list) != RESURF_OK)
         st = resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory building levels of detail");
     /* The levels measured are the ones made here, not those an MSFT_lod extension of the input names. */
@@ -302,7 +399,8 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
     if (st == RESURF_OK)
         report.diagonal = resurf_mesh_bounds(w.full, NULL, NULL);
     for (size_t m = 0; st == RESURF_OK && m < mesh_count; ++m)
-        w.mesh_scale[m] = 0;
+        if (o.keep_shared_borders && shared_positions(scene, m, alloc, w.locks) != RESURF_OK)
+            st = resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory finding shared borders");
     for (size_t i = 0; st == RESURF_OK && i < w.list.count; ++i) {
         double *sc = &w.mesh_scale[w.list.items[i].mesh];
         *sc = fmax(*sc, matrix_scale(w.list.items[i].world));
@@ -340,6 +438,7 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
         for (size_t k = 0; k < count; ++k)
             bounds[k] = world_bound(&o, k, report.diagonal) / scale;
         resurf_error e;
+        sim.vertex_lock = w.locks[p];
         if (!(w.chains[p] = resurfi_calloc(alloc, count, sizeof **w.chains))) {
             st = resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory building levels of detail");
             break;

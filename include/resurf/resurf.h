@@ -1097,6 +1097,9 @@ typedef struct resurf_scene_lod_options {
                                  matrices); 0 = no error bound for that level */
     const double *level_max_error; /* the same in world units; NULL (default) or `count` values >= 0. With both,
                                  the smaller bound of a level counts */
+    bool keep_shared_borders; /* true (default): a position that several primitives of one mesh use (bit for bit)
+                                 is locked in each of them (resurf_simplify_options.vertex_lock), so no level opens
+                                 a crack between them; false: each primitive is simplified alone */
     resurf_progress progress; /* the stages of resurf_simplify (RESURF_STAGE_PREPARE, _SIMPLIFY, _FINISH) with a
                                  fraction of the whole scene's work that never decreases (primitives weighted by
                                  their triangles) and ends at 1; a cancel returns RESURF_ERR_CANCELLED and leaves
@@ -1158,7 +1161,7 @@ typedef struct resurf_scene_lod_report {
  * true error, 14% against 3.1% measured on 2CylinderEngine.)
  * - scene: modified only when the call succeeds; on error or cancel it is exactly as it was.
  * - simplify: NULL = resurf_simplify_options_default(); target_triangles and target_ratio are ignored, its
- *   progress is not used (options->progress is); its max_error / max_error_rel, in each primitive's own units,
+ *   progress and vertex_lock are not used (options->progress and keep_shared_borders are); its max_error / max_error_rel, in each primitive's own units,
  *   apply to every level beside options' bounds; measure_samples is also the world measurement's sample count.
  * - ratios: count values in (0, 1], non-increasing; or NULL when every level has an error bound (a chain by
  *   errors alone: each level as far as its bound allows); 1 <= count <= RESURF_SCENE_MAX_LEVELS - 1.

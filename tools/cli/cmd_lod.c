@@ -318,7 +318,7 @@ int cmd_lod(int argc, char **argv)
         char blocked[256], target[64] = "";
         blocked_text(r, blocked, sizeof blocked);
         if (level_ratios)
-            snprintf(target, sizeof target, " (ratio %g: %zu)", level_ratios[k],
+            snprintf(target, sizeof target, " (ratio %g, target %zu triangles)", level_ratios[k],
                      (size_t)floor(level_ratios[k] * (double)m->triangle_count));
         fprintf(stderr,
                 "resurf: warning: %s: level %zu%s %s %zu of %zu triangles (stopped: %s; blocked: %s); its chain "
