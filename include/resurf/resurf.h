@@ -454,6 +454,9 @@ typedef struct resurf_load_options {
     /* glTF scenes */
     bool allow_missing_images;  /* true: an external image that cannot be read is a warning, and the output refers to
                                    it by its uri as it was; default false: an error naming it */
+    bool lenient;               /* true: what the glTF 2.0 schema forbids is a warning, one per problem (the first
+                                   100, then a count), and the document is read as far as it can be; default false:
+                                   RESURF_ERR_PARSE naming the first problem. See resurf_scene_load() */
 } resurf_load_options;
 
 RESURF_API resurf_load_options resurf_load_options_default(void);
@@ -870,12 +873,12 @@ typedef struct resurf_simplify_report {
      * each surface. Result to input: the result's vertices and measure_samples area-uniform samples of it, to the
      * input's surface. Input to result: the vertices the input's triangles use and measure_samples area-uniform
      * samples of the input, to the result's surface; this is the side that sees what a level lost (a square of
-     * two triangles reduced to one: 0 from the result, half the diagonal from the input). Each side's max is the
-     * largest at its points, its mean the mean over its samples (over its vertices when its surface has no
+     * two triangles reduced to one: 0 from the result, 0.316 of the diagonal from the input). Each side's max is
+     * the largest at its points, its mean the mean over its samples (over its vertices when its surface has no
      * area). max_distance = max of the two maxima (the symmetric Hausdorff distance), mean_distance = the mean of
      * the two means. Sampled, so the maxima are lower bounds: the farthest point can lie between samples, as on
-     * the dragon scan's 2% level, where an edge bridging a thin feature measures 0.84 mm at 100k samples, 0.93 mm
-     * on a dense grid. The *_rel figures divide by diagonal. All NaN when not measured (measure_samples = 0) or
+     * the dragon scan's 2% level, where the result's side at an edge bridging a thin feature measured 0.84 mm at
+     * 100k samples, 0.93 mm on a dense grid. The *_rel figures divide by diagonal. All NaN when not measured (measure_samples = 0) or
      * the result is empty. Deterministic for any thread count. */
     double max_distance, mean_distance;
     double max_distance_rel, mean_distance_rel;
@@ -967,6 +970,17 @@ RESURF_API resurf_status resurf_simplify_lods(const resurf_mesh *in, const doubl
  * joints stay integers. Integer and normalized component types are decoded as glTF defines them (a normalized
  * ubyte 255 is 1.0), sparse accessors are applied, triangle strips and fans become lists (the joining triangles
  * that repeat an index are dropped), KHR_draco_mesh_compression and KHR_mesh_quantization inputs are decoded.
+ * The JSON is checked against the glTF 2.0 schema first (github.com/KhronosGroup/glTF, specification/2.0/schema):
+ * the JSON type of every property of the core objects, required properties, array lengths and unique items, enum
+ * values (componentType, accessor type, primitive mode, bufferView target, sampler filters and wraps, camera type,
+ * animated path, interpolation, alphaMode: the values the specification lists, plus "pointer" when the document
+ * uses KHR_animation_pointer) and numeric ranges (byteLength and count >= 1, byteStride a multiple of 4 in 4..252,
+ * indices >= 0, factors in 0..1, ...). Unknown properties, extras and the content of extensions (each an object)
+ * are free. The first problem fails with RESURF_ERR_PARSE and a message naming the JSON path and the cause
+ * ("meshes[0].primitives[0].mode: 9 is not a glTF primitive mode (0..6)"); with resurf_load_options.lenient each
+ * problem is a warning of the scene instead (the first 100, then one that counts the rest) and the document is
+ * read as tinygltf reads it (a property of the wrong type is ignored), the checks below still applying. A number
+ * such as 2.0 where the schema wants an integer is read as that integer.
  * Every index, accessor, buffer range, node graph and Draco reference is checked before it is used: a malformed
  * or hostile file fails with RESURF_ERR_PARSE and a one-line message naming the glTF object ("accessors[3]: ...").
  * JSON nested deeper than 128 levels, numbers that overflow to infinity and node graphs with cycles or nodes with
@@ -1261,9 +1275,9 @@ RESURF_API size_t resurf_scene_level_path(char *dst, size_t dst_size, const char
 RESURF_API resurf_status resurf_scene_describe(const resurf_scene *scene, bool as_json, char *dst, size_t dst_size,
                                                size_t *out_length, resurf_error *error);
 
-/* Problems that did not stop the load (a missing image allowed by allow_missing_images, primitive extensions that
- * saving drops, a tinygltf warning), one line each. resurf_scene_warning returns NULL for an index out of range;
- * the strings live as long as the scene. */
+/* Problems that did not stop the load (a missing image allowed by allow_missing_images, a schema problem allowed by
+ * lenient, primitive extensions that saving drops, a tinygltf warning), one line each. resurf_scene_warning
+ * returns NULL for an index out of range; the strings live as long as the scene. */
 RESURF_API size_t resurf_scene_warning_count(const resurf_scene *scene);
 RESURF_API const char *resurf_scene_warning(const resurf_scene *scene, size_t index);
 
@@ -1278,7 +1292,10 @@ RESURF_API const char *resurf_scene_warning(const resurf_scene *scene, size_t in
  * its triangles, its two-sided error (resurf_compare's hausdorff between level 0 and the level, relative to level
  * 0's diagonal and in scene units) and its MSFT_lod screen coverage. Every node that shows a mesh is drawn with its
  * world transform, as a viewer would; primitives with morph targets at rest; points and lines are not drawn.
- * Materials and textures are not drawn (every surface is one grey).
+ * Each primitive shows its material's base colour (baseColorFactor) times its base-colour texture, PNG or JPEG
+ * (libpng, libjpeg), sampled bilinearly with its sampler's wrap modes at the texture coordinates the material names
+ * (KHR_texture_transform is not applied); a primitive without a material is a warm grey. An image that cannot be
+ * decoded leaves its surfaces with the colour alone and is counted in the report (textures_undrawn), never an error.
  * Deterministic: the same scene and options give the same pixels for any thread count and on any machine whose C
  * library computes the camera's sin, cos, tan and atan alike (the drawing itself uses exact IEEE operations only),
  * and, with the same libpng and zlib, the same PNG bytes. */
@@ -1337,6 +1354,11 @@ typedef struct resurf_preview_report {
                                                         level or when unknown */
     double diagonal;                                 /* of level 0's bounding box in world space */
     double heat_max;                                 /* the colour bar's top in scene units (0 without heatmap) */
+    size_t textures_undrawn;                         /* base-colour images that could not be drawn (missing, not
+                                                        PNG or JPEG, or broken): their surfaces show the material's
+                                                        colour alone */
+    char texture_warning[192];                       /* the first of them and why ("images[2] 'a.tga': neither
+                                                        PNG nor JPEG"), "" when none */
 } resurf_preview_report;
 
 /* Draws the sheet of scene into *out_image (required; on failure it is zeroed). A node's levels are those set on

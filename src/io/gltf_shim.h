@@ -83,6 +83,7 @@ typedef struct resurfi_gltf_primitive {
     const resurfi_gltf_named *draco_attributes; /* name → Draco unique id (RESURFI_GLTF_BAD: not an integer) */
     size_t extension_count;    /* the names of its other extensions (FB_ngon_encoding, KHR_materials_variants...) */
     const char *const *extensions;
+    long long material;        /* RESURFI_GLTF_NONE when absent */
 } resurfi_gltf_primitive;
 
 typedef struct resurfi_gltf_mesh {
@@ -127,6 +128,20 @@ typedef struct resurfi_gltf_image {
     size_t size;
 } resurfi_gltf_image;
 
+/* What a material shows where it is lit (the preview draws it): pbrMetallicRoughness's base colour. */
+typedef struct resurfi_gltf_material {
+    double base_color[4];      /* baseColorFactor (linear RGBA; default 1, 1, 1, 1) */
+    long long base_color_texture; /* its baseColorTexture's texture, or RESURFI_GLTF_NONE */
+    int base_color_texcoord;   /* ... and the TEXCOORD_n set it samples (default 0) */
+} resurfi_gltf_material;
+
+/* A texture: its image and its sampler's wrap modes (glTF numbers: 10497 REPEAT (default), 33071 CLAMP_TO_EDGE,
+ * 33648 MIRRORED_REPEAT). */
+typedef struct resurfi_gltf_texture {
+    long long source;          /* the image, or RESURFI_GLTF_NONE */
+    int wrap_s, wrap_t;
+} resurfi_gltf_texture;
+
 typedef struct resurfi_gltf_view {
     size_t buffer_count, buffer_view_count, accessor_count, mesh_count, node_count, scene_count;
     const resurfi_gltf_buffer *buffers;
@@ -147,6 +162,9 @@ typedef struct resurfi_gltf_view {
     const char *const *warnings;
     size_t image_count;
     const resurfi_gltf_image *images;
+    size_t material_count, texture_count;
+    const resurfi_gltf_material *materials;
+    const resurfi_gltf_texture *textures;
     size_t outside_extension_count; /* extensions that appear on anything but a mesh primitive (each name once) */
     const char *const *outside_extensions;
 } resurfi_gltf_view;
@@ -158,10 +176,12 @@ typedef struct resurfi_gltf_doc resurfi_gltf_doc;
  * or NULL for a document in memory, which may not refer to external buffers (an error naming the uri);
  * name: for messages. KHR_draco_mesh_compression is never decoded here (the C side checks the references and
  * calls resurfi_draco_decode); external files are read only when regular and at most max_external_bytes long.
+ * The JSON is checked against the glTF 2.0 schema first: the first problem fails with RESURF_ERR_PARSE naming the
+ * JSON path and the cause, or (lenient) every problem becomes one of the view's warnings.
  * On success *out_doc owns the parsed document and its view. */
 resurf_status resurfi_gltf_parse(const char *json, size_t json_size, const unsigned char *bin, size_t bin_size,
                                  int is_glb, const char *base_dir, const char *name, uint64_t max_external_bytes,
-                                 resurfi_gltf_doc **out_doc, resurf_error *error);
+                                 int lenient, resurfi_gltf_doc **out_doc, resurf_error *error);
 const resurfi_gltf_view *resurfi_gltf_doc_view(const resurfi_gltf_doc *doc);
 void resurfi_gltf_doc_free(resurfi_gltf_doc *doc);
 

@@ -194,6 +194,12 @@ int cli_set_max_triangles(const char *command, const char *text)
 
 size_t cli_max_triangles(void) { return max_triangles; }
 
+static bool lenient = false; /* resurf_load_options_default()'s, until --lenient says */
+
+void cli_set_lenient(void) { lenient = true; }
+
+bool cli_lenient(void) { return lenient; }
+
 int cli_load(const char *path, resurf_format format, resurf_mesh **out)
 {
     if (interrupted_by)
@@ -257,6 +263,9 @@ int cli_shared_option(const char *command, const char *usage, int option, resurf
         return CLI_NEXT;
     case 'T':
         return cli_set_max_triangles(command, optarg) ? CLI_USAGE : CLI_NEXT;
+    case CLI_OPT_LENIENT:
+        cli_set_lenient();
+        return CLI_NEXT;
     case 'h':
         fputs(usage, stdout);
         return CLI_OK;

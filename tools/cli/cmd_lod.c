@@ -44,7 +44,7 @@ static const char usage[] =
     "  --threads N            worker threads, 0 = all cores (default)\n"
     "  --preview SHEET.png    also draw every level with its error, as 'resurf preview' does\n"
     "  --preview-size WxH     the sheet's size (default 1600x900)\n"
-    "  --json                 print the table as JSON on stdout\n" CLI_MAX_TRIANGLES_HELP;
+    "  --json                 print the table as JSON on stdout\n" CLI_MAX_TRIANGLES_HELP CLI_LENIENT_HELP;
 
 enum { MAX_LEVELS = RESURF_SCENE_MAX_LEVELS - 1 };
 
@@ -136,6 +136,7 @@ int cmd_lod(int argc, char **argv)
         {"preview", required_argument, NULL, 'P'},
         {"preview-size", required_argument, NULL, 'Z'},
         CLI_MAX_TRIANGLES_OPTION,
+        CLI_LENIENT_OPTION,
         {"help", no_argument, NULL, 'h'},
         {NULL, 0, NULL, 0},
     };
@@ -223,6 +224,7 @@ int cmd_lod(int argc, char **argv)
             if (cli_set_max_triangles("lod", optarg))
                 return CLI_USAGE;
             break;
+        case CLI_OPT_LENIENT: cli_set_lenient(); break;
         case 'h': fputs(usage, stdout); return CLI_OK;
         default: return CLI_USAGE;
         }
@@ -269,6 +271,7 @@ int cmd_lod(int argc, char **argv)
 
     resurf_load_options lo = resurf_load_options_default();
     lo.max_triangles = cli_max_triangles();
+    lo.lenient = cli_lenient();
     lo.allow_missing_images = allow_missing_images;
     resurf_error error;
     resurf_scene *scene = NULL;

@@ -15,8 +15,9 @@ static const char usage[] =
     "shaded with each level's own normals, with the level, its triangles, its error (the two-sided distance to\n"
     "level 0 measured as 'resurf compare' does, relative to the diagonal and in scene units) and its screen\n"
     "coverage under each. The levels are those of MSFT_lod (as 'resurf lod' writes them). Nodes are drawn with\n"
-    "their transforms. Materials and textures are not drawn. The same input and options give the same PNG bytes\n"
-    "on any thread count.\n\n"
+    "their transforms, surfaces with their material's base colour and PNG or JPEG base-colour texture (an image\n"
+    "that cannot be decoded: the colour alone, with a warning). The same input and options give the same PNG\n"
+    "bytes on any thread count.\n\n"
     "  -o, --output SHEET.png the picture (written atomically)\n"
     "  --view V               three-quarter (default), front (from +z), side (from +x), top (from +y) or iso\n"
     "  --yaw DEG, --pitch DEG turn the camera about the vertical, raise it: added to the view's angles\n"
@@ -28,7 +29,7 @@ static const char usage[] =
     "                         transparent\n"
     "  --samples N            sample points per surface for the error (default 10000; 0 = vertices only)\n"
     "  --no-error             do not measure the errors (faster; the labels then show none)\n"
-    "  --threads N            worker threads, 0 = all cores (default)\n" CLI_MAX_TRIANGLES_HELP;
+    "  --threads N            worker threads, 0 = all cores (default)\n" CLI_MAX_TRIANGLES_HELP CLI_LENIENT_HELP;
 
 int cli_parse_preview_size(const char *command, const char *option, const char *text, resurf_preview_options *o)
 {
@@ -91,6 +92,9 @@ int cli_write_preview(const resurf_scene *scene, const char *path, const resurf_
         return CLI_FAILED;
     if (s != RESURF_OK)
         return cli_fail_error(&error);
+    if (report.textures_undrawn)
+        fprintf(stderr, "resurf: warning: %s: %zu base-colour image%s drawn as the material's colour alone; %s\n",
+                path, report.textures_undrawn, report.textures_undrawn == 1 ? "" : "s", report.texture_warning);
     if (verbosity >= 2) {
         printf("%-6s %12s %14s %14s %10s\n", "level", "triangles", "error (rel)", "error", "coverage");
         for (size_t k = 0; k < report.levels; ++k) {
@@ -125,6 +129,7 @@ int cmd_preview(int argc, char **argv)
         {"no-error", no_argument, NULL, 'E'},
         {"threads", required_argument, NULL, 't'},
         CLI_MAX_TRIANGLES_OPTION,
+        CLI_LENIENT_OPTION,
         {"help", no_argument, NULL, 'h'},
         {NULL, 0, NULL, 0},
     };
@@ -177,6 +182,7 @@ int cmd_preview(int argc, char **argv)
             if (cli_set_max_triangles("preview", optarg))
                 return CLI_USAGE;
             break;
+        case CLI_OPT_LENIENT: cli_set_lenient(); break;
         case 'h': fputs(usage, stdout); return CLI_OK;
         default: return CLI_USAGE;
         }
@@ -194,6 +200,7 @@ int cmd_preview(int argc, char **argv)
 
     resurf_load_options lo = resurf_load_options_default();
     lo.max_triangles = cli_max_triangles();
+    lo.lenient = cli_lenient();
     lo.progress = cli_progress();
     lo.allow_missing_images = true; /* drawn untextured: the sheet shows the geometry, with the loader's warning */
     resurf_error error;
