@@ -57,6 +57,8 @@ int cli_parse_unsigned(const char *command, const char *option, const char *text
 int cli_parse_threads(const char *command, const char *text, unsigned *out);
 /* --levels R1,R2,...: up to max ratios in (0, 1], non-increasing. */
 int cli_parse_levels(const char *command, const char *text, double *out, size_t max, size_t *count);
+/* --attribute-weights N,UV,C: the simplifier's normal_weight, texcoord_weight, color_weight (each >= 0). */
+int cli_parse_attribute_weights(const char *command, const char *text, resurf_simplify_options *o);
 
 /* Refuses (prints, returns CLI_FAILED) when output names the same file as one of the inputs; else 0. */
 int cli_check_output(const char *output, const char *const *inputs, int input_count);

@@ -314,3 +314,21 @@ int cli_parse_levels(const char *command, const char *text, double *out, size_t 
     *count = n;
     return 0;
 }
+
+int cli_parse_attribute_weights(const char *command, const char *text, resurf_simplify_options *o)
+{
+    double w[3];
+    const char *s = text;
+    for (int k = 0; k < 3; ++k) {
+        char *end;
+        w[k] = strtod(s, &end);
+        if (end == s || !(w[k] >= 0 && w[k] < HUGE_VAL) || *end != (k < 2 ? ',' : 0))
+            return cli_usage(command, "--attribute-weights wants three weights >= 0 (normals, texcoords, colours) "
+                             "separated by commas: '%s'", text);
+        s = end + 1;
+    }
+    o->normal_weight = w[0];
+    o->texcoord_weight = w[1];
+    o->color_weight = w[2];
+    return 0;
+}

@@ -41,6 +41,8 @@ static const char usage[] =
     "  --compression-level N  Draco 0 (fastest) .. 10 (smallest), default 7\n"
     "  --pixels P             MSFT_lod switching: a level shows once its error covers at most P pixels (default 1)\n"
     "  --screen-height H      ... on a screen H pixels high (default 1080)\n"
+    "  --attribute-weights N,UV,C  weights of normals, texture coordinates and colours in the collapse cost\n"
+    "                         (0 = that attribute off; default 0,0.25,0.25)\n"
     "  --threads N            worker threads, 0 = all cores (default)\n"
     "  --preview SHEET.png    also draw every level with its error, as 'resurf preview' does\n"
     "  --preview-size WxH     the sheet's size (default 1600x900)\n"
@@ -132,6 +134,7 @@ int cmd_lod(int argc, char **argv)
         {"pixels", required_argument, NULL, 'p'},
         {"screen-height", required_argument, NULL, 'H'},
         {"threads", required_argument, NULL, 't'},
+        {"attribute-weights", required_argument, NULL, 'W'},
         {"json", no_argument, NULL, 'j'},
         {"preview", required_argument, NULL, 'P'},
         {"preview-size", required_argument, NULL, 'Z'},
@@ -212,6 +215,10 @@ int cmd_lod(int argc, char **argv)
         }
         case 't':
             if (cli_parse_threads("lod", optarg, &sim.threads))
+                return CLI_USAGE;
+            break;
+        case 'W':
+            if (cli_parse_attribute_weights("lod", optarg, &sim))
                 return CLI_USAGE;
             break;
         case 'j': json = 1; break;
