@@ -82,7 +82,8 @@ static void blocked_text(const resurf_simplify_report *r, char *dst, size_t size
         size_t n;
     } g[] = {{"link", r->blocked_link},         {"flip", r->blocked_flip},         {"min-angle", r->blocked_min_angle},
              {"distance", r->blocked_distance}, {"border", r->blocked_border},     {"seam", r->blocked_seam},
-             {"non-manifold", r->blocked_nonmanifold}, {"over-error", r->skipped_error}};
+             {"feature", r->blocked_feature},   {"non-manifold", r->blocked_nonmanifold},
+             {"over-error", r->skipped_error}};
     size_t o = 0;
     dst[0] = 0;
     for (size_t i = 0; i < sizeof g / sizeof *g && o < size; ++i)
@@ -95,9 +96,9 @@ static void blocked_text(const resurf_simplify_report *r, char *dst, size_t size
 static void json_blocked(const resurf_simplify_report *r)
 {
     printf("{\"link\": %zu, \"flip\": %zu, \"min_angle\": %zu, \"distance\": %zu, \"border\": %zu, \"seam\": %zu, "
-           "\"nonmanifold\": %zu, \"over_error\": %zu}",
+           "\"feature\": %zu, \"nonmanifold\": %zu, \"over_error\": %zu}",
            r->blocked_link, r->blocked_flip, r->blocked_min_angle, r->blocked_distance, r->blocked_border,
-           r->blocked_seam, r->blocked_nonmanifold, r->skipped_error);
+           r->blocked_seam, r->blocked_feature, r->blocked_nonmanifold, r->skipped_error);
 }
 
 static int parse_bits(const char *option, const char *text, int *out)
