@@ -30,8 +30,8 @@
  *   haus      two-sided Hausdorff distance, relative to the original's world-space bounding-box diagonal
  *   mean      two-sided mean distance, same unit
  *   uv        UV error: mean texture-space distance between the level's UV and the original's at the closest
- *             point (resurf_compare's uv_error_mean); "n/a" when the library does not measure it or the asset has
- *             no texture coordinates
+ *             point (resurf_compare's uv_error_mean), and the ratio of the 95th percentiles (uv_error_p95); "n/a"
+ *             when the library does not measure it or the original or the level has no texture coordinates
  *   prt/haus  the error resurf prints for the level (resurf_scene_lod_report.level_error_rel) / its measured haus
  *   bytes     the output file: resurf's one-level Draco .glb; gltfpack's -noq .glb, and its -c .glb (bytes_gc)
  *   time      wall seconds: resurf's chain build (one call for every level, so the same on each level's row) plus
@@ -247,8 +247,10 @@ static void judge(const config *cfg, const resurf_mesh *original, const resurf_m
     j->haus = cr.hausdorff / cr.diagonal;
     j->mean = cr.mean / cr.diagonal;
 #ifdef HAVE_UV_ERROR
-    j->uv_mean = cr.uv_error_mean;
-    j->uv_p95 = cr.uv_error_p95;
+    if (original->texcoord_count > 0 && level->texcoord_count > 0) {
+        j->uv_mean = cr.uv_error_mean;
+        j->uv_p95 = cr.uv_error_p95;
+    }
 #endif
 }
 
@@ -465,9 +467,9 @@ static void print_value(double v, const char *format, int width)
 
 static void print_header(void)
 {
-    printf("  %-5s %8s %8s %6s | %9s %9s %6s | %9s %9s %6s | %9s %9s %6s | %8s | %9s %9s %9s %6s | %7s %7s %6s\n",
-           "level", "tris_r", "tris_g", "r/g", "haus_r", "haus_g", "r/g", "mean_r", "mean_g", "r/g", "uv_r", "uv_g",
-           "r/g", "prt/haus", "bytes_r", "bytes_g", "bytes_gc", "r/g", "time_r", "time_g", "r/g");
+    printf("  %-5s %8s %8s %6s | %9s %9s %6s | %9s %9s %6s | %9s %9s %6s %6s | %8s | %9s %9s %9s %6s | %7s %7s "
+           "%6s\n", "level", "tris_r", "tris_g", "r/g", "haus_r", "haus_g", "r/g", "mean_r", "mean_g", "r/g", "uv_r",
+           "uv_g", "r/g", "p95r/g", "prt/haus", "bytes_r", "bytes_g", "bytes_gc", "r/g", "time_r", "time_g", "r/g");
 }
 
 static void print_row(double ratio, const row *rw)
@@ -486,6 +488,7 @@ static void print_row(double ratio, const row *rw)
     print_value(rw->r.uv_mean, " %*.3e", 9);
     print_value(rw->g.uv_mean, " %*.3e", 9);
     print_value(ratio_of(rw->r.uv_mean, rw->g.uv_mean), " %*.3f", 6);
+    print_value(ratio_of(rw->r.uv_p95, rw->g.uv_p95), " %*.3f", 6);
     printf(" |");
     print_value(rw->r.haus > 0 ? rw->printed / rw->r.haus : NAN, " %*.3f", 8);
     printf(" |");
@@ -553,9 +556,9 @@ static void print_summary(const config *cfg, const row *rows, size_t assets)
 {
     size_t stride = cfg->ratio_count;
     printf("\ngeometric means of the ratios resurf/gltfpack over the assets measured by both (n: how many)\n");
-    printf("  %-5s %8s %6s %6s %6s %10s %12s %10s %8s\n", "level", "tris", "haus", "mean", "uv", "prt/haus",
-           "bytes(-noq)", "bytes(-c)", "time");
-    geo totals[MAX_RATIOS][7];
+    printf("  %-5s %8s %6s %6s %6s %6s %10s %12s %10s %8s\n", "level", "tris", "haus", "mean", "uv", "uv95",
+           "prt/haus", "bytes(-noq)", "bytes(-c)", "time");
+    geo totals[MAX_RATIOS][8];
     memset(totals, 0, sizeof totals);
     for (size_t k = 0; k < stride; ++k) {
         geo *t = totals[k];
@@ -570,6 +573,7 @@ static void print_summary(const config *cfg, const row *rows, size_t assets)
             geo_add(&t[4], rw->r.haus > 0 ? rw->printed / rw->r.haus : NAN);
             geo_add(&t[5], rw->r.bytes / rw->g.bytes);
             geo_add(&t[6], rw->r.bytes / rw->g.bytes_c);
+            geo_add(&t[7], ratio_of(rw->r.uv_p95, rw->g.uv_p95));
         }
         geo time = {0, 0};
         for (size_t i = 0; i < assets; ++i)
@@ -579,6 +583,7 @@ static void print_summary(const config *cfg, const row *rows, size_t assets)
         print_value(geo_value(&t[1]), " %*.3f", 6);
         print_value(geo_value(&t[2]), " %*.3f", 6);
         print_value(geo_value(&t[3]), " %*.3f", 6);
+        print_value(geo_value(&t[7]), " %*.3f", 6);
         print_value(geo_value(&t[4]), " %*.3f", 10);
         print_value(geo_value(&t[5]), " %*.3f", 12);
         print_value(geo_value(&t[6]), " %*.3f", 10);
