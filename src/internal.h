@@ -214,6 +214,16 @@ int resurfi_bvh_within(const resurfi_bvh *bvh, vec3 p, double max_dist2,
  * point-like triangles are handled as their edges; out_bary may be NULL, else it sums to 1 up to rounding). */
 vec3 resurfi_closest_on_triangle(vec3 p, vec3 a, vec3 b, vec3 c, double out_bary[3]);
 
+/* ---- measuring (metrics.c), for resurf_compare and the simplifier's report --------------------------------- */
+
+/* Whether m carries texcoord set 0 (glTF's TEXCOORD_0). */
+int resurfi_has_uv0(const resurf_mesh *m);
+/* The texture-space distance between a's set-0 UV at barycentrics ba of triangle ta and b's at bb of tb. */
+double resurfi_uv_distance(const resurf_mesh *a, uint32_t ta, const double ba[3], const resurf_mesh *b, uint32_t tb,
+                           const double bb[3]);
+/* The mean (summed in index order) and the 95th percentile (nearest rank) of n >= 1 values; sorts them. */
+void resurfi_uv_summary(double *values, size_t n, double *out_mean, double *out_p95);
+
 /* ---- vertex normals (normals.c) ------------------------------------------------------------------------------ */
 
 /* Unit vertex normals (3 * vertex_count) with the given scheme (see normals.c), on the index array as given (pass

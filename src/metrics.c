@@ -38,7 +38,9 @@ typedef struct side {
     size_t samples;                /* 0 when the surface has no area */
     uint64_t stream;
     const resurfi_bvh *to;
+    const resurf_mesh *to_mesh;    /* the surface `to` is built over */
     double *distance;              /* samples + from->vertex_count */
+    double *uv;                    /* samples: UV errors, or NULL when not measured */
 } side;
 
 /* The smallest triangle index whose cumulative area exceeds u (so zero-area triangles are never drawn). */
@@ -55,7 +57,8 @@ static size_t pick_triangle(const double *cumulative, size_t count, double u)
     return lo;
 }
 
-static vec3 sample_point(const side *s, size_t i)
+/* Sample i of a side: its point, its triangle and barycentrics there. */
+static vec3 sample_point(const side *s, size_t i, uint32_t *out_t, double bary[3])
 {
     const resurf_mesh *m = s->from;
     double r0 = splitmix_unit(s->stream, 3 * (uint64_t)i), r1 = splitmix_unit(s->stream, 3 * (uint64_t)i + 1),
@@ -63,29 +66,74 @@ static vec3 sample_point(const side *s, size_t i)
     size_t t = pick_triangle(s->cumulative_area, m->triangle_count, r0 * s->total_area);
     const uint32_t *f = m->indices + 3 * t;
     double q = sqrt(r1);
-    vec3 p = v3_scale(resurfi_position(m, f[0]), 1.0 - q);
-    p = v3_madd(p, resurfi_position(m, f[1]), q * (1.0 - r2));
-    return v3_madd(p, resurfi_position(m, f[2]), q * r2);
+    bary[0] = 1.0 - q, bary[1] = q * (1.0 - r2), bary[2] = q * r2;
+    *out_t = (uint32_t)t;
+    vec3 p = v3_scale(resurfi_position(m, f[0]), bary[0]);
+    p = v3_madd(p, resurfi_position(m, f[1]), bary[1]);
+    return v3_madd(p, resurfi_position(m, f[2]), bary[2]);
 }
 
-static double distance_to(const resurfi_bvh *bvh, vec3 p)
-{
-    double d2;
-    if (resurfi_bvh_closest(bvh, p, INFINITY, NULL, NULL, &d2) == UINT32_MAX)
-        return INFINITY;
-    return sqrt(d2);
-}
-
-/* Points [begin, end) of a side: samples first, then every vertex. */
+/* Points [begin, end) of a side: samples first, then every vertex. At the samples, with uv set, the UV error
+ * against the other surface too. */
 static int measure_points(void *ctx, size_t begin, size_t end, unsigned worker)
 {
     (void)worker;
     const side *s = ctx;
     for (size_t i = begin; i < end; ++i) {
-        vec3 p = i < s->samples ? sample_point(s, i) : resurfi_position(s->from, (uint32_t)(i - s->samples));
-        s->distance[i] = distance_to(s->to, p);
+        if (i >= s->samples) {
+            vec3 p = resurfi_position(s->from, (uint32_t)(i - s->samples));
+            double d2;
+            s->distance[i] = resurfi_bvh_closest(s->to, p, INFINITY, NULL, NULL, &d2) == UINT32_MAX ? INFINITY
+                                                                                                   : sqrt(d2);
+            continue;
+        }
+        uint32_t t;
+        double b[3], cb[3], d2;
+        vec3 p = sample_point(s, i, &t, b);
+        uint32_t c = resurfi_bvh_closest(s->to, p, INFINITY, NULL, cb, &d2);
+        s->distance[i] = c == UINT32_MAX ? INFINITY : sqrt(d2);
+        if (s->uv)
+            s->uv[i] = c == UINT32_MAX ? INFINITY : resurfi_uv_distance(s->from, t, b, s->to_mesh, c, cb);
     }
     return 0;
+}
+
+/* ---- UV error ------------------------------------------------------------------------------------------------ */
+
+int resurfi_has_uv0(const resurf_mesh *m) { return m->texcoord_count >= 1 && m->texcoords[0] != NULL; }
+
+static void uv_at(const resurf_mesh *m, uint32_t t, const double b[3], double uv[2])
+{
+    const uint32_t *f = m->indices + 3 * (size_t)t;
+    const double *tc = m->texcoords[0];
+    for (int c = 0; c < 2; ++c)
+        uv[c] = b[0] * tc[2 * (size_t)f[0] + c] + b[1] * tc[2 * (size_t)f[1] + c] + b[2] * tc[2 * (size_t)f[2] + c];
+}
+
+double resurfi_uv_distance(const resurf_mesh *a, uint32_t ta, const double ba[3], const resurf_mesh *b, uint32_t tb,
+                           const double bb[3])
+{
+    double ua[2], ub[2];
+    uv_at(a, ta, ba, ua);
+    uv_at(b, tb, bb, ub);
+    return hypot(ua[0] - ub[0], ua[1] - ub[1]);
+}
+
+static int compare_doubles(const void *pa, const void *pb)
+{
+    double a = *(const double *)pa, b = *(const double *)pb;
+    return (a > b) - (a < b);
+}
+
+void resurfi_uv_summary(double *values, size_t n, double *out_mean, double *out_p95)
+{
+    double sum = 0;
+    for (size_t i = 0; i < n; ++i)
+        sum += values[i];
+    *out_mean = sum / (double)n;
+    qsort(values, n, sizeof *values, compare_doubles);
+    size_t rank = (size_t)ceil(0.95 * (double)n); /* nearest rank: the smallest value with 95% at or below it */
+    *out_p95 = values[rank ? rank - 1 : 0];
 }
 
 /* ---- normal deviation ---------------------------------------------------------------------------------------- */
@@ -279,6 +327,7 @@ typedef struct compare_work {
     double *ref_cum, *test_cum;
     double *ref_dist, *test_dist;
     double *angle, *weight;
+    double *uv;                    /* per TEST sample: the UV error, when both carry UVs */
     uint8_t *ref_used, *test_used;
     const resurf_allocator *alloc; /* the call's, for everything above */
 } compare_work;
@@ -293,6 +342,7 @@ static void compare_work_free(compare_work *w)
     resurfi_free(w->alloc, w->test_dist);
     resurfi_free(w->alloc, w->angle);
     resurfi_free(w->alloc, w->weight);
+    resurfi_free(w->alloc, w->uv);
     resurfi_free(w->alloc, w->ref_used);
     resurfi_free(w->alloc, w->test_used);
 }
@@ -370,13 +420,16 @@ resurf_status resurf_compare(const resurf_mesh *ref, const resurf_mesh *test, co
     if (!w.ref_cum || !w.test_cum || !w.ref_used || !w.test_used)
         return compare_fail(&w, error, RESURF_ERR_OUT_OF_MEMORY, "preparing the comparison");
     /* A surface of zero area has nothing to sample: its vertices alone stand for it. */
-    side test_side = {test, w.test_cum, test_area, test_area > 0 ? o.samples : 0, o.seed, NULL, NULL};
+    side test_side = {test, w.test_cum, test_area, test_area > 0 ? o.samples : 0, o.seed, NULL, ref, NULL, NULL};
     side ref_side = {ref, w.ref_cum, ref_area, ref_area > 0 ? o.samples : 0, o.seed ^ 0xd1b54a32d192ed03ull, NULL,
-                     NULL};
+                     test, NULL, NULL};
     w.test_dist = resurfi_alloc(w.alloc, test_side.samples + test->vertex_count, sizeof *w.test_dist);
     w.ref_dist = resurfi_alloc(w.alloc, ref_side.samples + ref->vertex_count, sizeof *w.ref_dist);
     w.angle = resurfi_alloc(w.alloc, test->triangle_count, sizeof *w.angle);
     w.weight = resurfi_alloc(w.alloc, test->triangle_count, sizeof *w.weight);
+    if (test_side.samples && resurfi_has_uv0(test) && resurfi_has_uv0(ref) &&
+        !(w.uv = test_side.uv = resurfi_alloc(w.alloc, test_side.samples, sizeof *w.uv)))
+        return compare_fail(&w, error, RESURF_ERR_OUT_OF_MEMORY, "allocating the samples");
     if (!w.test_dist || !w.ref_dist || !w.angle || !w.weight)
         return compare_fail(&w, error, RESURF_ERR_OUT_OF_MEMORY, "allocating the samples");
 
@@ -433,6 +486,9 @@ resurf_status resurf_compare(const resurf_mesh *ref, const resurf_mesh *test, co
         weight_sum += w.weight[t];
     }
     m.mean_normal_deviation_deg = weight_sum > 0 ? angle_sum / weight_sum : 0;
+    m.uv_error_mean = m.uv_error_p95 = NAN;
+    if (w.uv)
+        resurfi_uv_summary(w.uv, test_side.samples, &m.uv_error_mean, &m.uv_error_p95);
     if (out_vertex_distance)
         memcpy(out_vertex_distance, w.test_dist + test_side.samples, test->vertex_count * sizeof(double));
     *out_report = m;

@@ -39,9 +39,9 @@ extern "C" {
 #endif
 
 #define RESURF_VERSION_MAJOR 0
-#define RESURF_VERSION_MINOR 2
+#define RESURF_VERSION_MINOR 3
 #define RESURF_VERSION_PATCH 0
-#define RESURF_VERSION_STRING "0.2.0"
+#define RESURF_VERSION_STRING "0.3.0"
 
 #if defined(RESURF_BUILDING) && defined(__GNUC__)
 #define RESURF_API __attribute__((visibility("default")))
@@ -710,6 +710,11 @@ typedef struct resurf_compare_report {
                                                   normal and REF's face normal at the point of REF closest to the
                                                   face's centroid, in [0, 180] (orientation counts: a flipped face
                                                   is 180); faces of zero area are left out */
+    double uv_error_mean, uv_error_p95;        /* when both carry texcoord set 0 (TEXCOORD_0): at each area-uniform
+                                                  sample of TEST, the texture-space distance between TEST's UV
+                                                  interpolated there and REF's at the closest point of REF; mean
+                                                  and 95th percentile (nearest rank). NaN without UVs on either
+                                                  or with samples 0 */
 } resurf_compare_report;
 
 /* Distances between the surfaces of ref and test, TEST's triangle quality and normal deviation.
@@ -802,6 +807,12 @@ typedef struct resurf_simplify_options {
      * that are non-manifold in the input never move. */
     bool lock_border;             /* true = border vertices never move or disappear; default false (borders are kept
                                      by boundary quadrics and collapse only along themselves) */
+    const uint8_t *vertex_lock;   /* NULL (default), or one byte per input vertex: nonzero = that vertex's position
+                                     (with every input vertex at exactly the same place) never moves nor
+                                     disappears: it is in every level bit-exact, never restored onto S nor moved
+                                     by the sag offset, as a non-manifold vertex is (refused collapses count in
+                                     blocked_nonmanifold). For borders shared with other meshes. Read during the
+                                     call only */
     double min_angle_deg;         /* skip collapses that leave a changed triangle with a smallest angle under this
                                      (unless that angle did not decrease); in [0, 60); 0 = off (default) */
     double max_normal_change_deg; /* skip collapses that turn a triangle's normal by more than this (flips and
@@ -816,8 +827,9 @@ typedef struct resurf_simplify_options {
                                      stopped its 10% level at 8,056 triangles (17%, error 1.8% of the diagonal);
                                      without them it reaches 4,778 (error 0.45%). false keeps every triangle. */
 
-    size_t measure_samples;       /* area-uniform samples of the result (plus all its vertices) whose distance to the
-                                     input surface is measured for the report; default 100000; 0 = no measurement */
+    size_t measure_samples;       /* area-uniform samples of the result and of the input (plus the vertices of
+                                     each) whose distances to the other surface are measured for the report (see
+                                     resurf_simplify_report); default 100000; 0 = no measurement */
     unsigned threads;             /* 0 = all cores; the result is the same for any value */
     resurf_progress progress;     /* RESURF_STAGE_PREPARE, _SIMPLIFY, _FINISH; a cancel returns RESURF_ERR_CANCELLED */
     const resurf_allocator *allocator; /* NULL (default): the input mesh's (or the C heap); see resurf_allocator */
@@ -853,14 +865,28 @@ typedef struct resurf_simplify_report {
     resurf_simplify_stop stop;
     double max_error_estimate;       /* largest estimated error (see max_error) of a collapse done */
 
-    /* Measured: distance from the result's surface (its vertices and measure_samples area-uniform samples) to the
-     * input's surface, one-sided, exact point–triangle distances through a BVH over the input. max_distance is the
-     * largest at those points, so a lower bound: the farthest point can lie between samples, as on the dragon
-     * scan's 2% level, where an edge bridging a thin feature measures 0.84 mm at 100k samples, 0.93 mm on a dense
-     * grid. The *_rel figures divide by diagonal. NaN when not measured (measure_samples = 0) or the result is
-     * empty. */
+    /* Measured: the two-sided distance between the result's surface and the input's, as resurf_compare()
+     * measures it (REF = the input, TEST = the result), with exact point–triangle distances through a BVH over
+     * each surface. Result to input: the result's vertices and measure_samples area-uniform samples of it, to the
+     * input's surface. Input to result: the vertices the input's triangles use and measure_samples area-uniform
+     * samples of the input, to the result's surface; this is the side that sees what a level lost (a square of
+     * two triangles reduced to one: 0 from the result, half the diagonal from the input). Each side's max is the
+     * largest at its points, its mean the mean over its samples (over its vertices when its surface has no
+     * area). max_distance = max of the two maxima (the symmetric Hausdorff distance), mean_distance = the mean of
+     * the two means. Sampled, so the maxima are lower bounds: the farthest point can lie between samples, as on
+     * the dragon scan's 2% level, where an edge bridging a thin feature measures 0.84 mm at 100k samples, 0.93 mm
+     * on a dense grid. The *_rel figures divide by diagonal. All NaN when not measured (measure_samples = 0) or
+     * the result is empty. Deterministic for any thread count. */
     double max_distance, mean_distance;
     double max_distance_rel, mean_distance_rel;
+    double result_to_input_max, result_to_input_mean; /* one-sided, mesh units */
+    double input_to_result_max, input_to_result_mean; /* one-sided, mesh units */
+    /* UV error, when the input (and so the result) has texcoord set 0 (glTF's TEXCOORD_0): at each area-uniform
+     * sample of the result, the texture-space distance between the result's UV interpolated there and the input's
+     * UV interpolated at the closest point of the input's surface; the mean and the 95th percentile (nearest
+     * rank) over the samples. Across a UV seam the closest point can fall on the other chart, so samples within
+     * the distance error of a seam can count a chart's jump. NaN without UVs or when nothing is measured. */
+    double uv_error_mean, uv_error_p95;
     double diagonal;                 /* of the input's bounding box */
 
     /* Candidate collapses rejected by each guard. A candidate is counted each time it is taken up, so one edge can

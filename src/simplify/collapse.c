@@ -89,7 +89,7 @@ static const uint8_t kHeld[KINDS][EDGE_KINDS] = {
 };
 
 /* A position's kind: the first of its flags that applies. */
-static int end_kind(uint8_t f)
+static int end_kind(pos_flags f)
 {
     if (f & POS_LOCKED)
         return KIND_LOCKED;
@@ -103,7 +103,7 @@ static int end_kind(uint8_t f)
 }
 
 /* Is x's wedge map defined? seam_y: the edge's triangles differ at the other end. */
-static int map_ok(uint8_t fx, int seam_y) { return (fx & POS_SEAM) ? seam_y : !seam_y; }
+static int map_ok(pos_flags fx, int seam_y) { return (fx & POS_SEAM) ? seam_y : !seam_y; }
 
 /* Plans collapsing edge (a, b), given a's fan (live corners): the edge's triangles, which ends may go (the rule
  * above), where the vertex goes and at what quadric cost. */
@@ -134,7 +134,7 @@ void plan_collapse(const simplifier *s, uint32_t a, uint32_t b, const u32vec *fa
         seam_a = TW(corner_at(s, pl->shared[0], a)) != TW(corner_at(s, pl->shared[1], a));
         seam_b = TW(corner_at(s, pl->shared[0], b)) != TW(corner_at(s, pl->shared[1], b));
     }
-    uint8_t fa = s->P[a].flags, fb = s->P[b].flags;
+    pos_flags fa = s->P[a].flags, fb = s->P[b].flags;
     int reason_a = kHeld[end_kind(fa)][n == 1 ? EDGE_BORDER : seam_a ? EDGE_SEAM : EDGE_INTERIOR];
     int reason_b = kHeld[end_kind(fb)][n == 1 ? EDGE_BORDER : seam_b ? EDGE_SEAM : EDGE_INTERIOR];
     pl->a_removable = reason_a == BLOCK_NONE && map_ok(fa, seam_b);
@@ -315,9 +315,9 @@ static int apply_collapse(simplifier *s, lane *L, uint32_t keep, uint32_t gone, 
     /* Only wedges can change a position's flags here: the link condition keeps the mesh a manifold, a border vertex
      * goes only along its border (so keep was or becomes a border vertex) and the opposite corners keep their
      * border edges. Seam positions are analysed again. */
-    uint8_t fk = s->P[keep].flags, fg = s->P[gone].flags;
+    pos_flags fk = s->P[keep].flags, fg = s->P[gone].flags;
     *refresh_keep = ((fk | fg) & (POS_SEAM | POS_COMPLEX)) != 0;
-    s->P[keep].flags = (uint8_t)(fk | (fg & POS_BORDER));
+    s->P[keep].flags = (pos_flags)(fk | (fg & POS_BORDER));
     s->P[gone].flags = POS_DEAD;
     bump_gen(s, keep);
     bump_gen(s, gone);
@@ -350,14 +350,14 @@ static int apply_collapse(simplifier *s, lane *L, uint32_t keep, uint32_t gone, 
 static int refresh_flags(simplifier *s, lane *L, uint32_t v, scratch *sc, int *changed)
 {
     check_position_write(s, L, v);
-    uint8_t f;
+    pos_flags f;
     if (!analyse_position(s, v, sc, &f, NULL, NULL))
         return 0;
-    uint8_t old = s->P[v].flags;
-    uint8_t keep = old & (POS_LOCKED | POS_LOCKED_BORDER | POS_BLOCKED);
+    pos_flags old = s->P[v].flags;
+    pos_flags keep = old & (POS_LOCKED | POS_LOCKED_BORDER | POS_BLOCKED);
     /* lock_border freezes the input's borders only: a border created later (none: collapses keep borders) would
      * otherwise be locked as well. */
-    f = (uint8_t)((f & ~POS_LOCKED_BORDER) | keep);
+    f = (pos_flags)((f & ~POS_LOCKED_BORDER) | keep);
     s->P[v].flags = f;
     *changed = (f & ~POS_BLOCKED) != (old & ~POS_BLOCKED);
     return 1;
@@ -367,7 +367,7 @@ static int refresh_flags(simplifier *s, lane *L, uint32_t v, scratch *sc, int *c
  * or a blocked candidate of it deserves another try. Clears its flag. Returns 0 when out of memory. */
 int plan_renewed(simplifier *s, lane *L, uint32_t x, uint32_t keep)
 {
-    s->P[x].flags &= (uint8_t)~POS_RENEW;
+    s->P[x].flags &= (pos_flags)~POS_RENEW;
     return gather_fan(s, x, &L->fan_b, 1) && push_edges(s, L, x, &L->fan_b, keep);
 }
 
@@ -430,7 +430,7 @@ static size_t renew_neighbours(simplifier *s, lane *L, scratch *sc, uint32_t kee
             return SIZE_MAX;
         if (changed || (s->P[x].flags & POS_BLOCKED)) {
             check_position_write(s, L, x);
-            s->P[x].flags &= (uint8_t)~POS_BLOCKED;
+            s->P[x].flags &= (pos_flags)~POS_BLOCKED;
             bump_gen(s, x);
             L->touched.data[renew++] = x;
         }
@@ -529,7 +529,7 @@ int try_candidate(simplifier *s, pending *q, lane *L, scratch *sc, int defer)
     if (err > r->max_error_estimate)
         r->max_error_estimate = err;
     r->collapses++;
-    s->P[keep].flags &= (uint8_t)~POS_BLOCKED;
+    s->P[keep].flags &= (pos_flags)~POS_BLOCKED;
     int refresh_keep;
     if (!apply_collapse(s, L, keep, gone, p, &pl, keep == a ? fa : fb, keep == a ? fb : fa, &refresh_keep))
         return 0;

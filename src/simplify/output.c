@@ -1,11 +1,9 @@
 /* The simplifier's output: one snapshot of the working mesh turned into a resurf_mesh. Used positions are numbered
  * (number_output), placed (place_output: POST restoration, then the sag offset), given attributes from the input
- * (attribute_block: the closest input triangle on the vertex's side of any seam), and the result's distance to the
- * input measured (measure_output). */
+ * (attribute_block: the closest input triangle on the vertex's side of any seam); measure.c then measures it. */
 #include <math.h>
 
 #include "simplify_internal.h"
-#include "../hash.h"
 
 
 /* One snapshot of the working mesh turned into a resurf_mesh. Used positions are numbered u = 0.. in order of
@@ -25,9 +23,7 @@ typedef struct output {
     double *len;          /* per u: longest incident edge */
     uint32_t *sag_count;
     uint8_t *outcome;     /* per u: POST restoration left it (1) */
-    double *area_prefix;  /* nt + 1 */
-    double *block_max, *block_sum; /* per measurement block */
-    size_t samples;
+    uint8_t *held;        /* per u: a locked position (POS_LOCKED), which keeps the input's place */
 } output;
 
 static void output_free(output *o, const resurf_allocator *alloc)
@@ -47,9 +43,7 @@ static void output_free(output *o, const resurf_allocator *alloc)
     resurfi_free(alloc, o->len);
     resurfi_free(alloc, o->sag_count);
     resurfi_free(alloc, o->outcome);
-    resurfi_free(alloc, o->area_prefix);
-    resurfi_free(alloc, o->block_max);
-    resurfi_free(alloc, o->block_sum);
+    resurfi_free(alloc, o->held);
 }
 
 typedef struct output_job {
@@ -65,9 +59,10 @@ static int post_restore_block(void *ctx, size_t begin, size_t end, unsigned work
     for (size_t u = begin; u < end; ++u) {
         for (size_t k = 1; k <= 3 && u + k < end; ++k)
             prefetch_walk(j->s, j->o->upos[u + k], k);
-        int left;
+        int left = 0;
         uint32_t t;
-        j->o->base[u] = restore_point(j->s, j->o->base[u], j->o->len[u], j->s->home[j->o->upos[u]], &left, &t);
+        if (!j->o->held[u])
+            j->o->base[u] = restore_point(j->s, j->o->base[u], j->o->len[u], j->s->home[j->o->upos[u]], &left, &t);
         j->o->outcome[u] = (uint8_t)left;
     }
     return 0;
@@ -199,56 +194,6 @@ static int attribute_block(void *ctx, size_t begin, size_t end, unsigned worker)
     return 0;
 }
 
-/* A deterministic uniform number in [0, 1) for sample i, stream k. */
-static double sample_unit(uint64_t i, uint64_t k)
-{
-    uint64_t z = i * RESURFI_GOLDEN_GAMMA + k * 0xd1b54a32d192ed03ull + 0x632be59bd9b4e019ull;
-    return (double)(resurfi_mix64(z) >> 11) * 0x1.0p-53;
-}
-
-/* Blocks of area-uniform samples (stratified over the cumulative area), then the vertices. */
-static int measure_block(void *ctx, size_t begin, size_t end, unsigned worker)
-{
-    (void)worker;
-    output_job *j = ctx;
-    const simplifier *s = j->s;
-    const output *o = j->o;
-    double mx = 0, sum = 0;
-    double total = o->area_prefix[o->nt];
-    for (size_t i = begin; i < end; ++i) {
-        vec3 p;
-        int is_sample = i < o->samples;
-        if (is_sample) {
-            double target = ((double)i + sample_unit(i, 0)) / (double)o->samples * total;
-            size_t lo = 0, hi = o->nt - 1;
-            while (lo < hi) { /* first triangle whose prefix end exceeds target */
-                size_t mid = (lo + hi) / 2;
-                if (o->area_prefix[mid + 1] > target)
-                    hi = mid;
-                else
-                    lo = mid + 1;
-            }
-            const uint32_t *c = o->corner_ov + 3 * lo;
-            vec3 p0 = o->final[o->ov_u[c[0]]], p1 = o->final[o->ov_u[c[1]]], p2 = o->final[o->ov_u[c[2]]];
-            double r1 = sqrt(sample_unit(i, 1)), r2 = sample_unit(i, 2);
-            p = v3_add(v3_add(v3_scale(p0, 1 - r1), v3_scale(p1, r1 * (1 - r2))), v3_scale(p2, r1 * r2));
-        } else {
-            p = o->final[i - o->samples];
-        }
-        double d2 = 0;
-        if (resurfi_bvh_closest(s->bvh, p, INFINITY, NULL, NULL, &d2) == NONE)
-            d2 = INFINITY;
-        double d = sqrt(d2);
-        mx = d > mx ? d : mx;
-        if (is_sample)
-            sum += d;
-    }
-    size_t block = begin / BLOCK_SAMPLES;
-    o->block_max[block] = mx;
-    o->block_sum[block] = sum;
-    return 0;
-}
-
 /* Numbers the output vertices and positions of the current working mesh. */
 static resurf_status number_output(simplifier *s, output *o)
 {
@@ -329,10 +274,13 @@ static resurf_status place_output(simplifier *s, output *o)
     o->base = resurfi_alloc(s->alloc, nu, sizeof *o->base);
     o->final = resurfi_alloc(s->alloc, nu, sizeof *o->final);
     o->len = resurfi_calloc(s->alloc, nu, sizeof *o->len);
-    if (!o->base || !o->final || !o->len)
+    o->held = resurfi_alloc(s->alloc, nu, sizeof *o->held);
+    if (!o->base || !o->final || !o->len || !o->held)
         return RESURF_ERR_OUT_OF_MEMORY;
-    for (size_t u = 0; u < nu; ++u)
+    for (size_t u = 0; u < nu; ++u) {
         o->base[u] = s->P[o->upos[u]].p;
+        o->held[u] = (s->P[o->upos[u]].flags & POS_LOCKED) != 0;
+    }
     if (s->last_level) { /* no more collapses: the working mesh goes before the output's arrays come */
         resurfi_free(s->alloc, s->P_mem);
         resurfi_free(s->alloc, s->tri);
@@ -346,9 +294,10 @@ static resurf_status place_output(simplifier *s, output *o)
         if (!(o->outcome = resurfi_alloc(s->alloc, nu, 1)))
             return RESURF_ERR_OUT_OF_MEMORY;
         resurfi_pool_for(s->pool, nu, BLOCK_POSITIONS, post_restore_block, &job);
-        s->rep.restored += nu;
-        for (size_t u = 0; u < nu; ++u)
+        for (size_t u = 0; u < nu; ++u) {
+            s->rep.restored += !o->held[u];
             s->rep.restore_left += o->outcome[u];
+        }
     }
     int offset = s->restorer && s->opt.restore != RESURF_RESTORE_NONE && s->opt.sag_offset > 0;
     if (offset) {
@@ -378,50 +327,12 @@ static resurf_status place_output(simplifier *s, output *o)
     }
     for (size_t u = 0; u < nu; ++u) {
         o->final[u] = o->base[u];
-        if (!offset || !o->sag_count[u])
+        if (!offset || !o->sag_count[u] || o->held[u])
             continue;
         double sag = s->opt.sag_offset * o->sag_sum[u] / (4.0 * o->sag_count[u]);
         double cap = 0.25 * o->len[u]; /* a fold or a spike, not a sag */
         sag = sag > cap ? cap : sag < -cap ? -cap : sag;
         o->final[u] = v3_madd(o->base[u], o->normal[u], sag);
-    }
-    return RESURF_OK;
-}
-
-static resurf_status measure_output(simplifier *s, output *o, resurf_simplify_report *rep)
-{
-    rep->max_distance = rep->mean_distance = rep->max_distance_rel = rep->mean_distance_rel = NAN;
-    if (!s->opt.measure_samples || o->nt == 0 || !s->bvh)
-        return RESURF_OK;
-    o->area_prefix = resurfi_alloc(s->alloc, o->nt + 1, sizeof *o->area_prefix);
-    if (!o->area_prefix)
-        return RESURF_ERR_OUT_OF_MEMORY;
-    o->area_prefix[0] = 0;
-    for (size_t i = 0; i < o->nt; ++i) {
-        const uint32_t *c = o->corner_ov + 3 * i;
-        double a = 0.5 * v3_len(v3_tri_cross(o->final[o->ov_u[c[0]]], o->final[o->ov_u[c[1]]],
-                                             o->final[o->ov_u[c[2]]]));
-        o->area_prefix[i + 1] = o->area_prefix[i] + a;
-    }
-    o->samples = o->area_prefix[o->nt] > 0 ? s->opt.measure_samples : 0;
-    size_t total = o->samples + o->nu;
-    size_t blocks = (total + BLOCK_SAMPLES - 1) / BLOCK_SAMPLES;
-    o->block_max = resurfi_alloc(s->alloc, blocks, sizeof *o->block_max);
-    o->block_sum = resurfi_alloc(s->alloc, blocks, sizeof *o->block_sum);
-    if (!o->block_max || !o->block_sum)
-        return RESURF_ERR_OUT_OF_MEMORY;
-    output_job job = {s, o, NULL};
-    resurfi_pool_for(s->pool, total, BLOCK_SAMPLES, measure_block, &job);
-    double mx = 0, sum = 0;
-    for (size_t b = 0; b < blocks; ++b) {
-        mx = o->block_max[b] > mx ? o->block_max[b] : mx;
-        sum += o->block_sum[b];
-    }
-    rep->max_distance = mx;
-    rep->mean_distance = o->samples ? sum / (double)o->samples : NAN;
-    if (s->diagonal > 0) {
-        rep->max_distance_rel = rep->max_distance / s->diagonal;
-        rep->mean_distance_rel = rep->mean_distance / s->diagonal;
     }
     return RESURF_OK;
 }
@@ -501,7 +412,7 @@ resurf_status build_output(simplifier *s, resurf_mesh **out, resurf_simplify_rep
         rep->triangles = o.nt;
         rep->vertices = o.nv;
         rep->positions = o.nu;
-        st = measure_output(s, &o, rep);
+        st = measure_level(s, m, rep);
     }
     output_free(&o, s->alloc);
     if (st != RESURF_OK) {

@@ -362,7 +362,7 @@ static resurfi_quadric edge_plane(vec3 p, vec3 q, vec3 n, double w)
 
 /* Classifies position a from its fan (see POS_*); with out_q, also its quadric, with out_up the number of its
  * neighbours above a (its edges in the first list). Returns 0 when out of memory. */
-int analyse_position(simplifier *s, uint32_t a, scratch *sc, uint8_t *out_flags, resurfi_quadric *out_q,
+int analyse_position(simplifier *s, uint32_t a, scratch *sc, pos_flags *out_flags, resurfi_quadric *out_q,
                      uint32_t *out_up)
 {
     if (!gather_fan(s, a, &sc->fan, 0))
@@ -371,7 +371,7 @@ int analyse_position(simplifier *s, uint32_t a, scratch *sc, uint8_t *out_flags,
     size_t n = fan_pairs(s, fan, sc);
     if (n == SIZE_MAX)
         return 0;
-    uint8_t f = 0;
+    pos_flags f = 0;
     for (size_t i = 0; i < fan->count; ++i)
         sc->uf[i] = (uint32_t)i;
     int seam_edges = 0;
@@ -551,7 +551,7 @@ static int setup_block(void *ctx, size_t begin, size_t end, unsigned worker)
     for (size_t p = begin * BLOCK_POSITIONS; p < end * BLOCK_POSITIONS && p < s->pos_count; ++p) {
         if (s->P[p].flags & POS_DEAD)
             continue;
-        uint8_t f;
+        pos_flags f;
         if (!analyse_position(s, (uint32_t)p, &j->scratch[worker], &f, &s->P[p].q, &s->P[p].up))
             return 1;
         s->P[p].flags = f;
@@ -612,6 +612,10 @@ resurf_status simplify_start(simplifier *s, scratch *scratch, resurf_error *erro
             *error = sj.restorer_error;
         return sj.restorer_status;
     }
+    if (s->opt.vertex_lock) /* after the analysis, which writes every flag afresh */
+        for (size_t v = 0; v < s->in->vertex_count; ++v)
+            if (s->opt.vertex_lock[v] && !(s->P[s->remap[v]].flags & POS_DEAD))
+                s->P[s->remap[v]].flags |= POS_LOCKED;
     if (s->restorer) {
         if (!(s->home = resurfi_alloc(s->alloc, s->pos_count, sizeof *s->home)))
             return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory");

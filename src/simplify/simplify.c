@@ -18,7 +18,8 @@
  *                     in chunks (schedule.c): planned again, checked (guards.c: link condition, flips and folds,
  *                     minimum angle, tip and bridge), restored, applied; at each level's target,
  *   build_output      (output.c) the result: wedges become vertices, POST restoration, vertices straddle S by the
- *                     sag offset, attributes are interpolated from the input, the distance to the input measured.
+ *                     sag offset, attributes are interpolated from the input; then (measure.c) the two-sided
+ *                     distance between the level and the input measured, and its UV error.
  *
  * The files of src/simplify/, one concern each:
  *   simplify.c           this file: the public functions, the options and their checks, a call's life;
@@ -31,7 +32,8 @@
  *   queue.h, queue.c     the candidate queue: sorts, the refresh between passes and its parallel merge;
  *   schedule.c           passes, chunks, windows, stars, claims, lanes, prefetch: the only file of the collapse
  *                        loop that knows about threads;
- *   output.c             numbering, post restoration, sag offset, attributes, measuring.
+ *   output.c             numbering, post restoration, sag offset, attributes;
+ *   measure.c            the report's two-sided distances and UV error.
  *
  * Collapses work on welded positions. A triangle corner keeps its wedge (the id of an input attribute vertex); when
  * a position disappears, each corner takes the wedge of the surviving position on its side of any seam, which is
@@ -115,6 +117,7 @@ static void simplifier_free(simplifier *s)
     schedule_free(s);
     resurfi_restorer_free(s->restorer);
     resurfi_bvh_free(s->own_bvh);
+    measure_free(s);
     resurfi_pool_free(s->pool);
 }
 

@@ -22,9 +22,11 @@ enum {
 };
 
 /* Per-position flags. */
+typedef uint16_t pos_flags;
 enum {
     POS_DEAD = 1,          /* collapsed away */
-    POS_LOCKED = 2,        /* non-manifold or inconsistently oriented in the input: never moves */
+    POS_LOCKED = 2,        /* non-manifold or inconsistently oriented in the input, or locked by vertex_lock: never
+                              moves, never restored nor offset */
     POS_LOCKED_BORDER = 4, /* on a border with lock_border */
     POS_BORDER = 8,        /* on an edge with one triangle */
     POS_SEAM = 16,         /* exactly two wedges, split by exactly two seam edges, not on a border */
@@ -98,7 +100,7 @@ typedef struct work_pos {
     vec3 p;
     uint32_t head;    /* first corner */
     uint32_t up;      /* while starting: its neighbours above it (its edges in the first list) */
-    uint8_t flags;
+    pos_flags flags;
     resurfi_quadric q;
 } work_pos;
 
@@ -177,6 +179,13 @@ typedef struct charts {
     uint32_t *of_wedge;
 } charts;
 
+/* The report's input side (measure.c), found at the first measured level and kept for the others. */
+typedef struct measure_state {
+    double *in_area_prefix;   /* the input's cumulative triangle areas, triangle_count + 1 */
+    uint32_t *in_used;        /* the input's vertices that triangles use */
+    size_t in_used_count;
+} measure_state;
+
 typedef struct simplifier {
     const resurf_mesh *in;
     resurf_simplify_options opt;
@@ -207,6 +216,7 @@ typedef struct simplifier {
     const resurfi_bvh *bvh;     /* over the input's triangles, input triangle ids */
     uint32_t *home;             /* inline restoration: per position, a triangle of the input near it */
     charts charts;
+    measure_state measure;
 
     simp_queue queue;
     schedule sched;
@@ -349,7 +359,7 @@ static inline void prefetch_ring(const simplifier *s, const lane *L, const u32ve
 /* setup.c: everything up to the first candidates; the per-position analysis collapses reuse */
 int has_attributes(const resurf_mesh *m);
 size_t fan_pairs(const simplifier *s, const u32vec *fan, scratch *sc);
-int analyse_position(simplifier *s, uint32_t a, scratch *sc, uint8_t *out_flags, resurfi_quadric *out_q,
+int analyse_position(simplifier *s, uint32_t a, scratch *sc, pos_flags *out_flags, resurfi_quadric *out_q,
                      uint32_t *out_up);
 resurf_status simplify_start(simplifier *s, scratch *scratch, resurf_error *error);
 
@@ -374,6 +384,10 @@ int merge_lane(simplifier *s, lane *L);
 
 /* output.c */
 resurf_status build_output(simplifier *s, resurf_mesh **out, resurf_simplify_report *rep, resurf_error *error);
+
+/* measure.c: the report's distances between level m and the input, and its UV error */
+resurf_status measure_level(simplifier *s, const resurf_mesh *m, resurf_simplify_report *rep);
+void measure_free(simplifier *s);
 
 #include "guards.h"
 

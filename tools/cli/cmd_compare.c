@@ -86,6 +86,8 @@ static size_t make_rows(const resurf_compare_report *m, row *rows)
     rows[n++] = (row){"mean_min_angle_deg", m->mean_min_angle_deg, 0};
     rows[n++] = (row){"share_below_10deg", m->share_below_10deg, 0};
     rows[n++] = (row){"mean_normal_deviation_deg", m->mean_normal_deviation_deg, 0};
+    rows[n++] = (row){"uv_error_mean", m->uv_error_mean, 0};
+    rows[n++] = (row){"uv_error_p95", m->uv_error_p95, 0};
     return n;
 }
 
@@ -110,6 +112,11 @@ static void print_text(const char *ref, const char *test, const resurf_compare_r
     printf("%-28s %16.6f\n", "mean smallest angle (deg)", m->mean_min_angle_deg);
     printf("%-28s %15.4f%%\n", "triangles under 10 deg", 100 * m->share_below_10deg);
     printf("%-28s %16.6f\n", "mean normal deviation (deg)", m->mean_normal_deviation_deg);
+    if (!isnan(m->uv_error_mean)) {
+        printf("\nUV error (TEXCOORD_0, texture space, at TEST's samples)\n");
+        printf("%-28s %16.9g\n", "mean", m->uv_error_mean);
+        printf("%-28s %16.9g\n", "95th percentile", m->uv_error_p95);
+    }
 }
 
 static void print_json(const char *ref, const char *test, const resurf_compare_report *m, size_t samples, uint64_t seed)

@@ -1,5 +1,6 @@
 /* resurf simplify IN -o OUT: edge-collapse simplification with the new vertices restored onto the smooth surface
  * of IN (resurf_simplify(), resurf_simplify_lods()). */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -10,7 +11,8 @@ static const char usage[] =
     "                       [options]\n\n"
     "Simplifies IN by edge collapses (Garland-Heckbert quadrics) and restores every new vertex onto the smooth\n"
     "surface IN approximates (Semenova, Savchenko, Hagiwara). Several targets may be given: the first one reached\n"
-    "stops. Prints the counts reached and the measured distance to IN.\n\n"
+    "stops. Prints the counts reached and the measured distance to IN, both ways (samples and vertices of the\n"
+    "result to IN, and of IN to the result) and the symmetric max of the two, and the UV error if IN has UVs.\n\n"
     "  -o, --output OUT          the result (format from the extension; refuses to overwrite IN)\n"
     "  --ratio R                 keep at most R x the triangles of IN, R in [0, 1]\n"
     "  --triangles N             keep at most N triangles\n"
@@ -28,7 +30,8 @@ static const char usage[] =
     "                            facing opposite ways goes whole, a same-facing repeat goes alone)\n"
     "  --min-angle DEG           refuse collapses that make a triangle angle smaller than DEG (default off)\n"
     "  --max-normal-change DEG   refuse collapses that turn a triangle by more than DEG (default: the library's)\n"
-    "  --samples N               samples of the result measured against IN for the report (0 = none)\n"
+    "  --samples N               samples of the result measured against IN, and of IN against the result, for\n"
+    "                            the report (0 = none)\n"
     "  --threads N               worker threads, 0 = all cores (default); the result is the same for any N\n"
     "  --json                    print the report as JSON on stdout\n"
     "  --format FMT              read IN as obj|ply|off|stl whatever its name says\n" CLI_MAX_TRIANGLES_HELP;
@@ -61,8 +64,14 @@ static void print_text(const char *out, const resurf_simplify_report *r)
     printf("collapses            %zu\n", r->collapses);
     printf("dropped fins         %zu\n", r->dropped_fins);
     printf("stopped by           %s\n", stop_names[r->stop]);
-    printf("max distance to IN   %.9g (%.3g of the diagonal)\n", r->max_distance, r->max_distance_rel);
-    printf("mean distance to IN  %.9g (%.3g of the diagonal)\n", r->mean_distance, r->mean_distance_rel);
+    printf("max distance to IN   %.9g (%.3g of the diagonal; two-sided)\n", r->max_distance, r->max_distance_rel);
+    printf("mean distance to IN  %.9g (%.3g of the diagonal; two-sided)\n", r->mean_distance,
+           r->mean_distance_rel);
+    printf("  result -> IN       max %.9g, mean %.9g\n", r->result_to_input_max, r->result_to_input_mean);
+    printf("  IN -> result       max %.9g, mean %.9g\n", r->input_to_result_max, r->input_to_result_mean);
+    if (!isnan(r->uv_error_mean))
+        printf("UV error             mean %.9g, 95th percentile %.9g (TEXCOORD_0)\n", r->uv_error_mean,
+               r->uv_error_p95);
     printf("max error estimate   %.9g\n", r->max_error_estimate);
     printf("restored             %zu (left alone %zu)\n", r->restored, r->restore_left);
     printf("blocked: link        %zu\n", r->blocked_link);
@@ -90,6 +99,18 @@ static void print_json_report(const char *out, const resurf_simplify_report *r)
     cli_json_number(stdout, r->max_distance_rel);
     printf(", \"mean_distance_rel\": ");
     cli_json_number(stdout, r->mean_distance_rel);
+    printf(", \"result_to_input_max\": ");
+    cli_json_number(stdout, r->result_to_input_max);
+    printf(", \"result_to_input_mean\": ");
+    cli_json_number(stdout, r->result_to_input_mean);
+    printf(", \"input_to_result_max\": ");
+    cli_json_number(stdout, r->input_to_result_max);
+    printf(", \"input_to_result_mean\": ");
+    cli_json_number(stdout, r->input_to_result_mean);
+    printf(", \"uv_error_mean\": ");
+    cli_json_number(stdout, r->uv_error_mean);
+    printf(", \"uv_error_p95\": ");
+    cli_json_number(stdout, r->uv_error_p95);
     printf(", \"diagonal\": ");
     cli_json_number(stdout, r->diagonal);
     printf(", \"max_error_estimate\": ");

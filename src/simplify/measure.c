@@ -1,0 +1,217 @@
+/* The simplifier's report: the two-sided distance between a level and the input, and its UV error.
+ *
+ * Each side is a set of points on one surface measured to the other through a BVH over it, exactly (the closest
+ * point on any triangle): measure_samples area-uniform samples, stratified over the cumulative area (sample i lies
+ * in the slice [i, i + 1) / n of it), then the vertices. The result's points go to the input's tree (the one the
+ * simplifier built for attributes), the input's points to a tree built over the level. A one-sided measure cannot
+ * see what a level lost: a square of two triangles reduced to one lies on the input everywhere, and only the
+ * input's points on the lost half find the distance. The figures are those of resurf_compare (metrics.c): the
+ * maximum over the points, the mean over the samples, then max and mean of the two sides.
+ *
+ * The input's side is the same for every level of a chain: its cumulative areas and used vertices are found once
+ * (measure_input) and its points drawn again from their indices. Points are pure functions of their index, each
+ * block of BLOCK_SAMPLES writes its own max and sums, and those are combined in block order: the figures do not
+ * depend on the thread count. */
+#include <math.h>
+
+#include "simplify_internal.h"
+#include "../hash.h"
+
+/* A deterministic uniform number in [0, 1) for sample i, stream k. */
+static double sample_unit(uint64_t i, uint64_t k)
+{
+    uint64_t z = i * RESURFI_GOLDEN_GAMMA + k * 0xd1b54a32d192ed03ull + 0x632be59bd9b4e019ull;
+    return (double)(resurfi_mix64(z) >> 11) * 0x1.0p-53;
+}
+
+/* One side: the points of `from` (samples, then vertices) measured to the surface of `to_mesh` through `to`. */
+typedef struct side {
+    const resurf_mesh *from;
+    const double *area_prefix;  /* from's triangle_count + 1 */
+    size_t samples;
+    const uint32_t *vertices;   /* the vertices measured after the samples, or NULL for all of from's */
+    size_t vertex_count;
+    uint64_t stream;            /* first of the three sample_unit streams of this side */
+    const resurfi_bvh *to;
+    const resurf_mesh *to_mesh;
+    double *block_max, *block_sum, *block_vertex_sum; /* per block of BLOCK_SAMPLES points */
+    double *uv;                 /* per sample: the UV error, or NULL */
+} side;
+
+static vec3 sample_point(const side *sd, size_t i, uint32_t *out_t, double b[3])
+{
+    const resurf_mesh *m = sd->from;
+    size_t nt = m->triangle_count;
+    double total = sd->area_prefix[nt];
+    double target = ((double)i + sample_unit(i, sd->stream)) / (double)sd->samples * total;
+    size_t lo = 0, hi = nt - 1;
+    while (lo < hi) { /* first triangle whose prefix end exceeds target */
+        size_t mid = (lo + hi) / 2;
+        if (sd->area_prefix[mid + 1] > target)
+            hi = mid;
+        else
+            lo = mid + 1;
+    }
+    double r1 = sqrt(sample_unit(i, sd->stream + 1)), r2 = sample_unit(i, sd->stream + 2);
+    b[0] = 1 - r1, b[1] = r1 * (1 - r2), b[2] = r1 * r2;
+    *out_t = (uint32_t)lo;
+    const uint32_t *f = m->indices + 3 * lo;
+    vec3 p = v3_scale(resurfi_position(m, f[0]), b[0]);
+    p = v3_madd(p, resurfi_position(m, f[1]), b[1]);
+    return v3_madd(p, resurfi_position(m, f[2]), b[2]);
+}
+
+static int measure_block(void *ctx, size_t begin, size_t end, unsigned worker)
+{
+    (void)worker;
+    const side *sd = ctx;
+    double mx = 0, sum = 0, vertex_sum = 0;
+    for (size_t i = begin; i < end; ++i) {
+        int is_sample = i < sd->samples;
+        uint32_t t = NONE;
+        double b[3], cb[3], d2;
+        vec3 p;
+        if (is_sample) {
+            p = sample_point(sd, i, &t, b);
+        } else {
+            size_t k = i - sd->samples;
+            p = resurfi_position(sd->from, sd->vertices ? sd->vertices[k] : (uint32_t)k);
+        }
+        int uv = is_sample && sd->uv;
+        uint32_t c = resurfi_bvh_closest(sd->to, p, INFINITY, NULL, uv ? cb : NULL, &d2);
+        double d = c == NONE ? INFINITY : sqrt(d2);
+        mx = d > mx ? d : mx;
+        if (is_sample)
+            sum += d;
+        else
+            vertex_sum += d;
+        if (uv)
+            sd->uv[i] = c == NONE ? INFINITY : resurfi_uv_distance(sd->from, t, b, sd->to_mesh, c, cb);
+    }
+    size_t block = begin / BLOCK_SAMPLES;
+    sd->block_max[block] = mx;
+    sd->block_sum[block] = sum;
+    sd->block_vertex_sum[block] = vertex_sum;
+    return 0;
+}
+
+/* Cumulative triangle areas of m, count + 1 entries. */
+static double *area_prefix(const resurf_allocator *alloc, const resurf_mesh *m)
+{
+    double *a = resurfi_alloc(alloc, m->triangle_count + 1, sizeof *a);
+    if (!a)
+        return NULL;
+    a[0] = 0;
+    for (size_t t = 0; t < m->triangle_count; ++t) {
+        const uint32_t *f = m->indices + 3 * t;
+        a[t + 1] = a[t] + 0.5 * v3_len(v3_tri_cross(resurfi_position(m, f[0]), resurfi_position(m, f[1]),
+                                                    resurfi_position(m, f[2])));
+    }
+    return a;
+}
+
+/* The input's side, once per call: its cumulative areas and the vertices its triangles use. */
+static resurf_status measure_input(simplifier *s)
+{
+    measure_state *ms = &s->measure;
+    if (ms->in_area_prefix)
+        return RESURF_OK;
+    const resurf_mesh *in = s->in;
+    uint8_t *used = resurfi_calloc(s->alloc, in->vertex_count, 1);
+    ms->in_area_prefix = area_prefix(s->alloc, in);
+    if (!used || !ms->in_area_prefix) {
+        resurfi_free(s->alloc, used);
+        return RESURF_ERR_OUT_OF_MEMORY;
+    }
+    for (size_t i = 0; i < 3 * in->triangle_count; ++i)
+        used[in->indices[i]] = 1;
+    size_t n = 0;
+    for (size_t v = 0; v < in->vertex_count; ++v)
+        n += used[v];
+    if (!(ms->in_used = resurfi_alloc(s->alloc, n ? n : 1, sizeof *ms->in_used))) {
+        resurfi_free(s->alloc, used);
+        return RESURF_ERR_OUT_OF_MEMORY;
+    }
+    for (size_t v = 0; v < in->vertex_count; ++v)
+        if (used[v])
+            ms->in_used[ms->in_used_count++] = (uint32_t)v;
+    resurfi_free(s->alloc, used);
+    return RESURF_OK;
+}
+
+void measure_free(simplifier *s)
+{
+    resurfi_free(s->alloc, s->measure.in_area_prefix);
+    resurfi_free(s->alloc, s->measure.in_used);
+    memset(&s->measure, 0, sizeof s->measure);
+}
+
+/* Runs a side's points on the call's threads; its max and mean (over the samples, else over the vertices). */
+static resurf_status run_side(simplifier *s, side *sd, double *out_max, double *out_mean)
+{
+    size_t total = sd->samples + sd->vertex_count;
+    size_t blocks = (total + BLOCK_SAMPLES - 1) / BLOCK_SAMPLES;
+    sd->block_max = resurfi_alloc(s->alloc, blocks ? blocks : 1, 3 * sizeof(double));
+    if (!sd->block_max)
+        return RESURF_ERR_OUT_OF_MEMORY;
+    sd->block_sum = sd->block_max + blocks;
+    sd->block_vertex_sum = sd->block_sum + blocks;
+    resurfi_pool_for(s->pool, total, BLOCK_SAMPLES, measure_block, sd);
+    double mx = 0, sum = 0, vertex_sum = 0;
+    for (size_t b = 0; b < blocks; ++b) {
+        mx = sd->block_max[b] > mx ? sd->block_max[b] : mx;
+        sum += sd->block_sum[b];
+        vertex_sum += sd->block_vertex_sum[b];
+    }
+    resurfi_free(s->alloc, sd->block_max);
+    sd->block_max = sd->block_sum = sd->block_vertex_sum = NULL;
+    *out_max = total ? mx : NAN;
+    *out_mean = sd->samples ? sum / (double)sd->samples
+                            : sd->vertex_count ? vertex_sum / (double)sd->vertex_count : NAN;
+    return RESURF_OK;
+}
+
+resurf_status measure_level(simplifier *s, const resurf_mesh *m, resurf_simplify_report *rep)
+{
+    rep->max_distance = rep->mean_distance = rep->max_distance_rel = rep->mean_distance_rel = NAN;
+    rep->result_to_input_max = rep->result_to_input_mean = NAN;
+    rep->input_to_result_max = rep->input_to_result_mean = NAN;
+    rep->uv_error_mean = rep->uv_error_p95 = NAN;
+    if (!s->opt.measure_samples || m->triangle_count == 0 || !s->bvh)
+        return RESURF_OK;
+    resurf_status st = measure_input(s);
+    resurfi_bvh *level_bvh = NULL;
+    double *level_area = NULL, *uv = NULL;
+    if (st == RESURF_OK && !(level_area = area_prefix(s->alloc, m)))
+        st = RESURF_ERR_OUT_OF_MEMORY;
+    if (st == RESURF_OK)
+        st = resurfi_bvh_build_threads(s->alloc, m->positions, m->vertex_count, m->indices, m->triangle_count,
+                                       s->opt.thread_pool ? 1 : s->opt.threads, &level_bvh);
+    size_t n = s->opt.measure_samples;
+    side result = {m, level_area, level_area && level_area[m->triangle_count] > 0 ? n : 0, NULL, m->vertex_count,
+                   0, s->bvh, s->in, NULL, NULL, NULL, NULL};
+    const double *in_area = s->measure.in_area_prefix;
+    side input = {s->in, in_area, in_area && in_area[s->in->triangle_count] > 0 ? n : 0, s->measure.in_used,
+                  s->measure.in_used_count, 3, level_bvh, m, NULL, NULL, NULL, NULL};
+    if (st == RESURF_OK && result.samples && resurfi_has_uv0(s->in) && resurfi_has_uv0(m) &&
+        !(uv = result.uv = resurfi_alloc(s->alloc, result.samples, sizeof *uv)))
+        st = RESURF_ERR_OUT_OF_MEMORY;
+    if (st == RESURF_OK)
+        st = run_side(s, &result, &rep->result_to_input_max, &rep->result_to_input_mean);
+    if (st == RESURF_OK)
+        st = run_side(s, &input, &rep->input_to_result_max, &rep->input_to_result_mean);
+    if (st == RESURF_OK) {
+        rep->max_distance = fmax(rep->result_to_input_max, rep->input_to_result_max);
+        rep->mean_distance = 0.5 * (rep->result_to_input_mean + rep->input_to_result_mean);
+        if (s->diagonal > 0) {
+            rep->max_distance_rel = rep->max_distance / s->diagonal;
+            rep->mean_distance_rel = rep->mean_distance / s->diagonal;
+        }
+        if (uv)
+            resurfi_uv_summary(uv, result.samples, &rep->uv_error_mean, &rep->uv_error_p95);
+    }
+    resurfi_free(s->alloc, uv);
+    resurfi_free(s->alloc, level_area);
+    resurfi_bvh_free(level_bvh);
+    return st;
+}
