@@ -31,7 +31,7 @@
  *   mean      two-sided mean distance, same unit
  *   uv        UV error: mean texture-space distance between the level's UV and the original's at the closest
  *             point (resurf_compare's uv_error_mean), and the ratio of the 95th percentiles (uv_error_p95); "n/a"
- *             when the library does not measure it or the original or the level has no texture coordinates
+ *             when the original or the level has no texture coordinates (TEXCOORD_0)
  *   prt/haus  the error resurf prints for the level (resurf_scene_lod_report.level_error_rel) / its measured haus
  *   bytes     the output file: resurf's one-level Draco .glb; gltfpack's -noq .glb, and its -c .glb (bytes_gc)
  *   time      wall seconds: resurf's chain build (one call for every level, so the same on each level's row) plus
@@ -246,12 +246,8 @@ static void judge(const config *cfg, const resurf_mesh *original, const resurf_m
     }
     j->haus = cr.hausdorff / cr.diagonal;
     j->mean = cr.mean / cr.diagonal;
-#ifdef HAVE_UV_ERROR
-    if (original->texcoord_count > 0 && level->texcoord_count > 0) {
-        j->uv_mean = cr.uv_error_mean;
-        j->uv_p95 = cr.uv_error_p95;
-    }
-#endif
+    j->uv_mean = cr.uv_error_mean; /* NaN unless both have texture coordinates */
+    j->uv_p95 = cr.uv_error_p95;
 }
 
 static judged judged_empty(void)
@@ -731,9 +727,6 @@ int main(int argc, char **argv)
     for (size_t k = 0; k < cfg.ratio_count; ++k)
         printf("%s%g", k ? "," : " ", cfg.ratios[k]);
     printf(", %zu compare samples\n", cfg.samples);
-#ifndef HAVE_UV_ERROR
-    printf("(uv: n/a, this resurf's compare does not measure a UV error)\n");
-#endif
     printf("haus, mean: two-sided, relative to the original's world-space diagonal; r = resurf, g = gltfpack\n\n");
 
     row *rows = calloc(count * cfg.ratio_count + 1, sizeof *rows);
