@@ -461,6 +461,12 @@ static void print_value(double v, const char *format, int width)
         printf(format, width, v);
 }
 
+/* A ratio in a column of 6: three decimals while they fit. */
+static void print_ratio(double v, int width)
+{
+    print_value(v, v < 10 ? " %*.3f" : v < 1000 ? " %*.1f" : " %*.0f", width);
+}
+
 static void print_header(void)
 {
     printf("  %-5s %8s %8s %6s | %9s %9s %6s | %9s %9s %6s | %9s %9s %6s %6s | %8s | %9s %9s %9s %6s | %7s %7s "
@@ -471,31 +477,31 @@ static void print_header(void)
 static void print_row(double ratio, const row *rw)
 {
     printf("  %-5g %8zu %8zu", ratio, rw->r.triangles, rw->g.triangles);
-    print_value(rw->g.triangles ? (double)rw->r.triangles / (double)rw->g.triangles : NAN, " %*.3f", 6);
+    print_ratio(rw->g.triangles ? (double)rw->r.triangles / (double)rw->g.triangles : NAN, 6);
     printf(" |");
     print_value(rw->r.haus, " %*.3e", 9);
     print_value(rw->g.haus, " %*.3e", 9);
-    print_value(ratio_of(rw->r.haus, rw->g.haus), " %*.3f", 6);
+    print_ratio(ratio_of(rw->r.haus, rw->g.haus), 6);
     printf(" |");
     print_value(rw->r.mean, " %*.3e", 9);
     print_value(rw->g.mean, " %*.3e", 9);
-    print_value(ratio_of(rw->r.mean, rw->g.mean), " %*.3f", 6);
+    print_ratio(ratio_of(rw->r.mean, rw->g.mean), 6);
     printf(" |");
     print_value(rw->r.uv_mean, " %*.3e", 9);
     print_value(rw->g.uv_mean, " %*.3e", 9);
-    print_value(ratio_of(rw->r.uv_mean, rw->g.uv_mean), " %*.3f", 6);
-    print_value(ratio_of(rw->r.uv_p95, rw->g.uv_p95), " %*.3f", 6);
+    print_ratio(ratio_of(rw->r.uv_mean, rw->g.uv_mean), 6);
+    print_ratio(ratio_of(rw->r.uv_p95, rw->g.uv_p95), 6);
     printf(" |");
-    print_value(rw->r.haus > 0 ? rw->printed / rw->r.haus : NAN, " %*.3f", 8);
+    print_ratio(rw->r.haus > 0 ? rw->printed / rw->r.haus : NAN, 8);
     printf(" |");
     print_value(rw->r.bytes, " %*.0f", 9);
     print_value(rw->g.bytes, " %*.0f", 9);
     print_value(rw->g.bytes_c, " %*.0f", 9);
-    print_value(rw->r.bytes / rw->g.bytes, " %*.3f", 6);
+    print_ratio(rw->r.bytes / rw->g.bytes, 6);
     printf(" |");
-    print_value(rw->r.seconds, " %*.3f", 7);
-    print_value(rw->g.seconds, " %*.3f", 7);
-    print_value(rw->r.seconds / rw->g.seconds, " %*.3f", 6);
+    print_ratio(rw->r.seconds, 7);
+    print_ratio(rw->g.seconds, 7);
+    print_ratio(rw->r.seconds / rw->g.seconds, 6);
     printf("\n");
     if (rw->r.why[0])
         printf("        resurf: %s\n", rw->r.why);
