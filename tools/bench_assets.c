@@ -265,7 +265,7 @@ static double ratio_of(double r, double g)
 
 /* ---- one asset ------------------------------------------------------------------------------------------------ */
 
-static resurf_status world_mesh(const resurf_scene *scene, unsigned level, resurf_mesh **out, resurf_error *error)
+static resurf_status world_mesh(const resurf_scene *scene, int level, resurf_mesh **out, resurf_error *error)
 {
     return resurf_scene_world_mesh(scene, level, NULL, out, error);
 }
@@ -390,14 +390,14 @@ static bool bench_asset(const config *cfg, const asset *a, const char *dir, row 
             snprintf(rw->g.why, sizeof rw->g.why, "not run: resurf failed");
             continue;
         }
-        unsigned level = (unsigned)k + 1;
+        int level = (int)k + 1;
         rw->printed = lr.level_error_rel[level];
         char what[64];
-        snprintf(what, sizeof what, ".resurf.lod%u.glb", level);
+        snprintf(what, sizeof what, ".resurf.lod%d.glb", level);
         const char *out = new_path(&w, dir, stem, what);
         resurf_scene_save_options so = resurf_scene_save_options_default();
         so.draco = true;
-        so.level = (int)level;
+        so.level = level;
         resurf_scene_save_report sr;
         t0 = bench_now();
         if (resurf_scene_save(scene, out, &so, &sr, &error) != RESURF_OK)
@@ -414,16 +414,16 @@ static bool bench_asset(const config *cfg, const asset *a, const char *dir, row 
 
         /* gltfpack at the ratio resurf reached. */
         double reached = (double)lr.level_triangles[level] / (double)lr.level_triangles[0];
-        snprintf(what, sizeof what, ".gltfpack.lod%u.glb", level);
+        snprintf(what, sizeof what, ".gltfpack.lod%d.glb", level);
         const char *pack_out = new_path(&w, dir, stem, what);
-        snprintf(what, sizeof what, ".gltfpack.lod%u.log", level);
+        snprintf(what, sizeof what, ".gltfpack.lod%d.log", level);
         const char *log = new_path(&w, dir, stem, what);
         rw->g.seconds = run_gltfpack(cfg, pack_input, pack_out, reached, false, log, rw->g.why, sizeof rw->g.why);
         if (isnan(rw->g.seconds))
             continue;
         rw->g.bytes = file_bytes(pack_out);
         if (cfg->compressed) {
-            snprintf(what, sizeof what, ".gltfpack-c.lod%u.glb", level);
+            snprintf(what, sizeof what, ".gltfpack-c.lod%d.glb", level);
             const char *c_out = new_path(&w, dir, stem, what);
             char ignored[200];
             if (!isnan(run_gltfpack(cfg, pack_input, c_out, reached, true, log, ignored, sizeof ignored)))
