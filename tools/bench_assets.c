@@ -762,6 +762,16 @@ int main(int argc, char **argv)
            skip_count, count);
     for (size_t i = 0; i < skip_count; ++i)
         printf("  %s\n", skipped[i]);
+    size_t unmeasured = 0;
+    for (size_t i = 0; i < valid; ++i)
+        unmeasured += isnan(rows[i * cfg.ratio_count].g.haus) || isnan(rows[i * cfg.ratio_count].r.haus);
+    printf("valid but not measured by both at the first level (left out of the means; the reason is in its row): "
+           "%zu\n", unmeasured);
+    for (size_t i = 0; i < valid; ++i) {
+        const row *rw = &rows[i * cfg.ratio_count];
+        if (isnan(rw->g.haus) || isnan(rw->r.haus))
+            printf("  %s: %s\n", rw->asset, rw->r.why[0] ? rw->r.why : rw->g.why);
+    }
     printf("\n%zu assets in %.1f s\n", valid, bench_now() - t_all);
     if (!cfg.keep)
         rmdir(dir);
