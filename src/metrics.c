@@ -1,6 +1,8 @@
 /* Deviation metrics between two meshes: one- and two-sided surface distances (Hausdorff, mean, RMS) from
  * area-uniform samples plus the vertices, each measured exactly to the other surface through its BVH; the
- * distances of TEST's vertices to REF; TEST's triangle quality; and the normal deviation of TEST's faces.
+ * distances of TEST's vertices to REF; TEST's triangle quality; the normal deviation of TEST's faces; and, when both
+ * carry TEXCOORD_0, the UV error at TEST's samples (its UV there against REF's at the closest point), whose helpers
+ * the simplifier's report shares.
  *
  * Sampling follows Metro (P. Cignoni, C. Rocchini, R. Scopigno, "Metro: measuring error on simplified surfaces",
  * 1998) with random instead of stratified points: a triangle is drawn with probability proportional to its area

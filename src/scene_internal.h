@@ -66,6 +66,43 @@ static inline const resurf_mesh *resurfi_scene_level_mesh(const resurfi_scene_pr
     return p->lods[(level < p->lod_count ? level : p->lod_count) - 1];
 }
 
+/* ---- the scene in world space (scene_world.c) ---- */
+
+/* One mesh as one node shows it, with its levels: those set on its primitives (resurf_scene_set_lods), or the
+ * meshes of the level nodes its MSFT_lod extension names (a file written with levels), shown with the node's own
+ * world transform (resurf writes level nodes with the transform of the node they stand in for). */
+typedef struct resurfi_scene_instance {
+    size_t mesh;
+    const double *world;             /* column-major 4 x 4, or NULL for the identity */
+    size_t lod_count;                /* MSFT_lod levels: lod_mesh[k - 1] is level k's mesh */
+    size_t lod_mesh[RESURF_SCENE_MAX_LEVELS - 1];
+    size_t coverage_count;           /* extras.MSFT_screencoverage, or 0 */
+    const double *coverage;
+} resurfi_scene_instance;
+
+typedef struct resurfi_scene_instances {
+    size_t count;
+    resurfi_scene_instance *items;   /* from the allocator given to resurfi_scene_gather */
+} resurfi_scene_instances;
+
+/* Levels that stand in for those set on the primitives (resurf_scene_build_lods measures its chains before they are
+ * moved into the scene): chains[p] (when not NULL) holds counts[p] levels of primitive p. */
+typedef struct resurfi_scene_levels {
+    resurf_mesh *const *const *chains;
+    const size_t *counts;
+} resurfi_scene_levels;
+
+/* Every node with a mesh that the default scene (else scene 0, else every root node) reaches, depth first; a scene
+ * made from a mesh file (no nodes): each mesh once, untransformed. RESURF_ERR_OUT_OF_MEMORY is the only failure. */
+resurf_status resurfi_scene_gather(const resurf_scene *scene, const resurf_allocator *alloc,
+                                   resurfi_scene_instances *out);
+/* Level `level` of the instances of list in one world-space mesh (from alloc): every primitive with a mesh at that
+ * level (its last when it has fewer; from `levels` when not NULL), positions by the world matrix, normals by its
+ * inverse transpose (renormalised); normals and TEXCOORD_0 kept when every included primitive has them. */
+resurf_status resurfi_scene_flatten(const resurf_scene *scene, const resurfi_scene_instances *list, size_t level,
+                                    const resurfi_scene_levels *levels, const resurf_allocator *alloc,
+                                    resurf_mesh **out, resurf_error *error);
+
 /* Adds a load warning (a copy of text) to the scene; RESURF_ERR_OUT_OF_MEMORY when it cannot. */
 resurf_status resurfi_scene_add_warning(resurf_scene *s, const char *text);
 

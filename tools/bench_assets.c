@@ -5,7 +5,7 @@
  *   bench-assets [--ratios 0.25,0.1] [--only SUBSTRING] [--keep DIR] [--samples N] [--threads N]
  *                [--models DIR] [--scans DIR] [--gltfpack CLI.js] [--no-compressed]
  *
- * Set-up: tools/bench-setup.sh installs gltfpack (npm, into tools/node/) and Debian's assimp-testmodels.
+ * Set-up: tools/bench-setup-assets.sh installs gltfpack (npm, into tools/node/) and Debian's assimp-testmodels.
  *
  * Assets: every .gltf and .glb under --models (default Debian's assimp-testmodels,
  * /usr/share/assimp/models/glTF2) and every .ply and .obj in --scans (default the bundled data/scans), sorted by
@@ -644,7 +644,7 @@ static const char usage[] =
     "usage: bench-assets [--ratios 0.25,0.1] [--only SUBSTRING] [--keep DIR] [--samples N] [--threads N]\n"
     "                    [--models DIR] [--scans DIR] [--gltfpack CLI.js] [--no-compressed]\n"
     "resurf's levels of detail against gltfpack's on every glTF2 asset of assimp-testmodels and the bundled\n"
-    "scans, judged in world space by resurf_compare (set-up: tools/bench-setup.sh; see tools/bench_assets.c)\n";
+    "scans, judged in world space by resurf_compare (set-up: tools/bench-setup-assets.sh; see tools/bench_assets.c)\n";
 
 int main(int argc, char **argv)
 {
@@ -693,12 +693,12 @@ int main(int argc, char **argv)
         i += takes;
     }
     if (access(cfg.gltfpack, R_OK)) {
-        fprintf(stderr, "%s: gltfpack is missing (%s): run tools/bench-setup.sh\n", tool, cfg.gltfpack);
+        fprintf(stderr, "%s: gltfpack is missing (%s): run tools/bench-setup-assets.sh\n", tool, cfg.gltfpack);
         return 1;
     }
     struct stat st;
     if (stat(cfg.models, &st) || !S_ISDIR(st.st_mode)) {
-        fprintf(stderr, "%s: no models folder %s (Debian's assimp-testmodels): run tools/bench-setup.sh\n", tool,
+        fprintf(stderr, "%s: no models folder %s (Debian's assimp-testmodels): run tools/bench-setup-assets.sh\n", tool,
                 cfg.models);
         return 1;
     }

@@ -1,30 +1,47 @@
-/* bench-simplify: resurf's simplifier (src/simplify/) against meshoptimizer's meshopt_simplify, in the same run.
+/* bench-simplify: resurf's simplifier (src/simplify/) against its peers, in the same run: meshoptimizer's
+ * meshopt_simplify (native 0.18, Debian's libmeshoptimizer-dev), CGAL's edge collapse (Debian's libcgal-dev) and the
+ * newest meshoptimizer from npm under node (tools/peers.h).
  *
  *   bench-simplify [--small] [--large] [--scan FILE] [--scaling] [--ratios 0.5,0.1,0.02] [--shape NAME]
  *                  [--threads N] [--sag S] [--normal-deg D] [--midpoint] [--post]
- *                  [--normals K] [--repeat N]
+ *                  [--normals K] [--repeat N] [--no-cgal] [--no-js]
  *   (K: the restorer's resurf_normal_scheme, 0..4; --shape none: only the scan; N runs per method, the time is the
- *   best of them, default 1)
+ *   best of them, default 1; --no-cgal, --no-js: leave those peers out)
+ *
+ * Set-up of the peers: tools/bench-setup-peers.sh installs libcgal-dev (header only; it brings boost, gmp, mpfr) and
+ * npm meshoptimizer 1.x into tools/node. Without CGAL's headers at configure time, or without node and the npm
+ * package at run time, their rows say n/a and everything else runs.
  *
  * Meshes: the irregular analytic sphere, torus and cubic surface of tools/shapes.h (jitter 0.3) at ~20k (--small)
  * and ~1M (--large) triangles (both by default), and a scanned mesh (--scan, default data/scans/dragon.ply when it
  * exists). Each is simplified to each ratio by:
- *   meshopt        meshopt_simplify (float positions, target_error 1 = no error bound, options 0);
+ *   meshopt        meshopt_simplify 0.18 (float positions, target_error 1 = no error bound, options 0);
  *   resurf-none    resurf_simplify, --restore none;
  *   resurf-inline  resurf_simplify with the defaults (inline restoration, sag offset);
+ *   cgal-lt        CGAL 5.5 Surface_mesh_simplification::edge_collapse, Lindstrom–Turk cost and placement, stopped
+ *                  at the triangle count (Surface_mesh of Simple_cartesian<double>; a soup that is not a valid
+ *                  polygon mesh is first repaired by CGAL's orient_polygon_soup, and a note says so);
+ *   cgal-gh        the same with GarlandHeckbert_plane_policies (classic plane quadrics);
+ *   mopt-js        npm meshoptimizer 1.x MeshoptSimplifier.simplify under node (wasm), the native call's settings;
+ *   mopt-js-upd    its simplifyWithUpdate, which also moves the vertices it keeps (no attributes, no lock);
  * with measure_samples = 0 (the benchmark measures below, not the call). Columns:
  *   tris          triangles reached
- *   time          wall seconds of the call alone (meshopt: float copy of the positions excluded)
+ *   time          wall seconds of the call alone (meshopt: float copy of the positions excluded; cgal: edge_collapse
+ *                 alone, not building the Surface_mesh; mopt-js: timed inside node around the call, wasm against
+ *                 the native code of the meshopt row, so expect it slower for the runtime as much as the version)
  *   Mtri/s        input triangles per second, millions
  *   B/tri         peak memory of the call per input triangle: the peak resident set while it runs minus the
- *                 resident set just before (Linux: /proc/self/clear_refs "5" resets VmHWM; malloc_trim first)
+ *                 resident set just before (Linux: /proc/self/clear_refs "5" resets VmHWM; malloc_trim first;
+ *                 cgal: the Surface_mesh's construction included; mopt-js: not measured, another process)
  *   H_orig mean_orig  two-sided Hausdorff and mean surface distance to the input mesh (resurf_compare, 200k
  *                 samples), relative to the bounding-box diagonal, ×1e-4
  *   true_mean true_max  distance of 200k area-uniform samples of the result to the analytic surface, ×1e-4
  *   vtx_mean vtx_max    distance of the result's vertices to the analytic surface, ×1e-4
  *   minang meanmin      smallest triangle angle, and the mean of each triangle's smallest angle (degrees)
- * then the ratios resurf/meshopt. --scaling times the sphere at 10% from 20k to 2M triangles and prints
- * time / (n log2 n). */
+ * then the ratios resurf/peer for each peer (none/..., inline/...) and mopt-js/meshopt (the npm version against the
+ * native 0.18), and last the issue's targets, met or not: on the analytic shapes the true-surface mean of
+ * resurf-inline ≤ 0.8× cgal-lt's and ≤ 0.5× meshopt's; on a scan its two-sided Hausdorff ≤ 0.8× meshopt's.
+ * --scaling times the sphere at 10% from 20k to 2M triangles and prints time / (n log2 n). */
 #include <float.h>
 #include <malloc.h>
 #include <stdio.h>
@@ -34,6 +51,7 @@
 
 #include "bench.h"
 #include "internal.h"
+#include "peers.h"
 #include "shapes.h"
 #ifdef HAVE_MESHOPTIMIZER
 #include <meshoptimizer.h>
@@ -85,6 +103,7 @@ typedef struct result {
     double true_mean, true_max, vtx_mean, vtx_max;
     double min_angle, mean_min_angle;
     int ok;
+    char why[200]; /* why a peer failed, or a note on its run */
 } result;
 
 /* Distances of area-uniform samples and of the vertices of m to the analytic surface. */
@@ -163,6 +182,7 @@ typedef struct config {
     int midpoint, post;
     int normals; /* resurf_normal_scheme of the restorer, or -1 for its default */
     int repeat;  /* runs per method: the time is the best of them */
+    int cgal, js; /* run those peers */
 } config;
 
 static int run_resurf(const resurf_mesh *m, double ratio, resurf_restore_mode mode, const config *cfg,
@@ -248,7 +268,7 @@ static void print_header(void)
 static void print_row(const char *mesh, double ratio, size_t in_tris, const result *r)
 {
     if (!r->ok) {
-        printf("%-22s %5.2f %-14s failed\n", mesh, ratio, r->method);
+        printf("%-22s %5.2f %-14s n/a: %s\n", mesh, ratio, r->method, r->why[0] ? r->why : "failed");
         return;
     }
     printf("%-22s %5.2f %-14s %8zu %7.3f %7.2f %6.0f %8.3f %8.3f %8.3f %8.3f %8.4f %8.4f %6.2f %6.2f\n", mesh, ratio,
@@ -260,43 +280,99 @@ static void print_row(const char *mesh, double ratio, size_t in_tris, const resu
 /* a / b, or NaN when b is 0 (meshoptimizer's vertices are the input's: their distance to S is 0) */
 static double quotient(double a, double b) { return b > 1e-12 ? a / b : NAN; }
 
-static void print_ratio(const char *mesh, double ratio, const result *a, const result *b)
+static void print_ratio(const char *mesh, double ratio, const char *label, const result *a, const result *b)
 {
-    printf("%-22s %5.2f %-14s %8.3f %7.2f %7s %6.2f %8.3f %8.3f %8.3f %8.3f %8.3f %8.3f\n", mesh, ratio,
-           a->method[7] == 'n' ? "none/mopt" : a->method[7] == 'p' ? "post/mopt" : "inline/mopt",
+    printf("%-22s %5.2f %-14s %8.3f %7.2f %7s %6.2f %8.3f %8.3f %8.3f %8.3f %8.3f %8.3f\n", mesh, ratio, label,
            quotient((double)a->tris, (double)b->tris), quotient(a->time, b->time), "", quotient(a->bytes, b->bytes),
            quotient(a->h_orig, b->h_orig), quotient(a->mean_orig, b->mean_orig),
            quotient(a->true_mean, b->true_mean), quotient(a->true_max, b->true_max),
            quotient(a->vtx_mean, b->vtx_mean), quotient(a->vtx_max, b->vtx_max));
 }
 
+/* The issue's targets, printed after every table as they were measured, met or not. */
+static char targets[64][160];
+static size_t target_count;
+
+static void check_target(const char *mesh, double ratio, const char *what, const result *a, const result *b,
+                         double a_value, double b_value, double bound)
+{
+    if (target_count == sizeof targets / sizeof targets[0])
+        return;
+    double q = a->ok && b->ok ? quotient(a_value, b_value) : NAN;
+    snprintf(targets[target_count++], sizeof targets[0], "%-22s %5.2f %-34s %7.3f  <= %.1f  %s", mesh, ratio, what, q,
+             bound, q != q ? "n/a" : q <= bound ? "met" : "NOT met");
+}
+
+enum { M_MESHOPT, M_NONE, M_RESURF, M_CGAL_LT, M_CGAL_GH, M_JS, M_JS_UPDATE, M_COUNT };
+
+/* One run of method i at ratio (the meshopt and resurf calls are local, the rest in tools/peers.h). */
+static int run_method(int i, const resurf_mesh *m, double ratio, const config *cfg, resurf_mesh **lod, result *r)
+{
+    size_t target_tris = (size_t)(ratio * (double)m->triangle_count);
+    switch (i) {
+    case M_MESHOPT:
+#ifdef HAVE_MESHOPTIMIZER
+        return run_meshopt(m, ratio, lod, r);
+#else
+        snprintf(r->why, sizeof r->why, "built without meshoptimizer 0.18");
+        return 0;
+#endif
+    case M_NONE:
+        return run_resurf(m, ratio, RESURF_RESTORE_NONE, cfg, lod, r);
+    case M_RESURF:
+        return run_resurf(m, ratio, cfg->post ? RESURF_RESTORE_POST : RESURF_RESTORE_INLINE, cfg, lod, r);
+    case M_CGAL_LT:
+    case M_CGAL_GH: {
+        if (!cfg->cgal) {
+            snprintf(r->why, sizeof r->why, "--no-cgal");
+            return 0;
+        }
+#ifdef HAVE_CGAL
+        long m0 = mem_start();
+        int ok = peer_cgal_simplify(m, target_tris, i == M_CGAL_LT ? PEER_CGAL_LINDSTROM_TURK
+                                                                    : PEER_CGAL_GARLAND_HECKBERT,
+                                    lod, &r->time, r->why, sizeof r->why);
+        r->bytes = mem_peak_bytes(m0);
+        return ok;
+#else
+        snprintf(r->why, sizeof r->why, "built without CGAL (libcgal-dev: tools/bench-setup-peers.sh)");
+        return 0;
+#endif
+    }
+    default:
+        if (!cfg->js) {
+            snprintf(r->why, sizeof r->why, "--no-js");
+            return 0;
+        }
+        r->bytes = NAN;
+        return peer_meshopt_js(PEER_MESHOPT_SCRIPT, m, target_tris,
+                               i == M_JS ? PEER_MESHOPT_JS_SIMPLIFY : PEER_MESHOPT_JS_UPDATE, cfg->repeat, lod,
+                               &r->time, r->why, sizeof r->why);
+    }
+}
+
 static void bench_mesh(const char *name, const resurf_mesh *m, shape_kind kind, const double *ratios, size_t nr,
                        const config *cfg)
 {
+    static const char *const methods[M_COUNT] = {"meshopt", "resurf-none", "resurf-inline", "cgal-lt", "cgal-gh",
+                                                 "mopt-js", "mopt-js-upd"};
+    static const char *const peer_labels[M_COUNT] = {"mopt", "", "", "cgal-lt", "cgal-gh", "mopt-js", "js-upd"};
     for (size_t k = 0; k < nr; ++k) {
-        result res[3];
+        result res[M_COUNT];
         memset(res, 0, sizeof res);
-        res[0].method = "meshopt";
-        res[1].method = "resurf-none";
-        res[2].method = cfg->post ? "resurf-post" : "resurf-inline";
-        for (int i = 0; i < 3; ++i) {
+        for (int i = 0; i < M_COUNT; ++i) {
+            res[i].method = i == M_RESURF && cfg->post ? "resurf-post" : methods[i];
             resurf_mesh *lod = NULL;
             int ok = 0;
             double best = INFINITY;
-            for (int run = 0; run < cfg->repeat; ++run) { /* the LOD is the same every run: time the best */
+            /* node repeats inside its own process (tools/peers.h); the others here, and the LOD is the same every
+               run: time the best */
+            int runs = i >= M_JS ? 1 : cfg->repeat;
+            for (int run = 0; run < runs; ++run) {
                 resurf_mesh_free(lod);
                 lod = NULL;
                 result r = res[i];
-                if (i == 0) {
-#ifdef HAVE_MESHOPTIMIZER
-                    ok = run_meshopt(m, ratios[k], &lod, &r);
-#endif
-                } else {
-                    resurf_restore_mode mode = i == 1 ? RESURF_RESTORE_NONE
-                                               : cfg->post ? RESURF_RESTORE_POST
-                                                           : RESURF_RESTORE_INLINE;
-                    ok = run_resurf(m, ratios[k], mode, cfg, &lod, &r);
-                }
+                ok = run_method(i, m, ratios[k], cfg, &lod, &r);
                 if (run == 0)
                     res[i] = r; /* the peak memory of the first run: later ones may reuse the allocator's pages */
                 best = r.time < best ? r.time : best;
@@ -308,15 +384,48 @@ static void bench_mesh(const char *name, const resurf_mesh *m, shape_kind kind, 
                 measure(m, kind, lod, &res[i]);
             res[i].ok = ok;
             print_row(name, ratios[k], m->triangle_count, &res[i]);
+            if (ok && res[i].why[0] && k == 0)
+                printf("  (%s: %s)\n", res[i].method, res[i].why);
+            size_t asked = (size_t)(ratios[k] * (double)m->triangle_count);
+            if (ok && (double)res[i].tris > 1.05 * (double)asked + 2)
+                printf("  (%s stopped at %zu triangles of %zu asked: its ratios are not at equal counts)\n",
+                       res[i].method, res[i].tris, asked);
             fflush(stdout);
             resurf_mesh_free(lod);
         }
-        if (res[0].ok) {
-            for (int i = 1; i < 3; ++i)
-                if (res[i].ok)
-                    print_ratio(name, ratios[k], &res[i], &res[0]);
+        char label[32];
+        for (int a = M_NONE; a <= M_RESURF; ++a)
+            for (int b = 0; b < M_COUNT; ++b)
+                if (res[a].ok && res[b].ok && (b == M_MESHOPT || b >= M_CGAL_LT)) {
+                    snprintf(label, sizeof label, "%s/%s", res[a].method + 7, peer_labels[b]);
+                    print_ratio(name, ratios[k], label, &res[a], &res[b]);
+                }
+        for (int a = M_JS; a <= M_JS_UPDATE; ++a) /* the npm version, wasm, against the native 0.18 */
+            if (res[a].ok && res[M_MESHOPT].ok) {
+                snprintf(label, sizeof label, "%s/mopt", peer_labels[a]);
+                print_ratio(name, ratios[k], label, &res[a], &res[M_MESHOPT]);
+            }
+        const result *r = &res[M_RESURF];
+        char what[64];
+        if (kind != SHAPE_COUNT) {
+            snprintf(what, sizeof what, "true_mean %s/cgal-lt", r->method + 7);
+            check_target(name, ratios[k], what, r, &res[M_CGAL_LT], r->true_mean, res[M_CGAL_LT].true_mean, 0.8);
+            snprintf(what, sizeof what, "true_mean %s/mopt", r->method + 7);
+            check_target(name, ratios[k], what, r, &res[M_MESHOPT], r->true_mean, res[M_MESHOPT].true_mean, 0.5);
+        } else {
+            snprintf(what, sizeof what, "H_orig %s/mopt", r->method + 7);
+            check_target(name, ratios[k], what, r, &res[M_MESHOPT], r->h_orig, res[M_MESHOPT].h_orig, 0.8);
         }
     }
+}
+
+static void print_targets(void)
+{
+    if (!target_count)
+        return;
+    printf("\ntargets (issue 19, at equal triangle counts)\n");
+    for (size_t i = 0; i < target_count; ++i)
+        printf("%s\n", targets[i]);
 }
 
 static size_t parse_list(const char *s, double *out, size_t max)
@@ -340,7 +449,7 @@ int main(int argc, char **argv)
     const char *scan = "data/scans/dragon.ply";
     double ratios[8] = {0.5, 0.1, 0.02};
     size_t nr = 3;
-    config cfg = {0, -1, 0, 0, 0, -1, 1};
+    config cfg = {0, -1, 0, 0, 0, -1, 1, 1, 1};
     for (int i = 1; i < argc; ++i) {
         if (!strcmp(argv[i], "--small"))
             small = 1;
@@ -370,10 +479,14 @@ int main(int argc, char **argv)
             cfg.repeat = atoi(argv[++i]) > 0 ? atoi(argv[i]) : 1;
         else if (!strcmp(argv[i], "--post"))
             cfg.post = 1;
+        else if (!strcmp(argv[i], "--no-cgal"))
+            cfg.cgal = 0;
+        else if (!strcmp(argv[i], "--no-js"))
+            cfg.js = 0;
         else {
             fprintf(stderr, "usage: bench-simplify [--small] [--large] [--scan FILE|''] [--scaling] [--ratios R,..]"
                             " [--shape NAME] [--threads N] [--sag S] [--normal-deg D] [--midpoint] [--post]"
-                            " [--normals K] [--repeat N]\n");
+                            " [--normals K] [--repeat N] [--no-cgal] [--no-js]\n");
             return 2;
         }
     }
@@ -430,5 +543,6 @@ int main(int argc, char **argv)
             printf("(scan %s not loaded: %s)\n", scan, e.message);
         }
     }
+    print_targets();
     return 0;
 }

@@ -1052,6 +1052,18 @@ RESURF_API resurf_status resurf_scene_primitive_info(const resurf_scene *scene, 
  * primitive or an index out of range. Borrowed: valid until the scene is freed; do not modify it. */
 RESURF_API const resurf_mesh *resurf_scene_primitive_mesh(const resurf_scene *scene, size_t index);
 
+/* The whole scene at `level` as one mesh in world space: every triangle primitive with a mesh (morphed ones at full
+ * detail) at that level (0 = full detail; a primitive with fewer levels uses its last), once for each node that
+ * shows its mesh, with the node's world matrix applied (through the node hierarchy of the default scene, else scene
+ * 0, else of every root node; a scene made from a mesh file or without nodes: each mesh once, untransformed).
+ * Normals go through the matrix's inverse transpose and are renormalised. A node whose MSFT_lod extension (in a
+ * loaded file) names level nodes shows their meshes at level 1, 2, ... (as resurf_preview_render() draws them).
+ * The mesh has normals and TEXCOORD_0 when every included primitive has them, no other attribute; vertices are not
+ * welded (each primitive instance keeps its own). level: 0 .. RESURF_SCENE_MAX_LEVELS - 1. alloc: NULL = the
+ * scene's. *out is freed with resurf_mesh_free(). RESURF_ERR_LIMIT above 2^32 vertices or triangles. */
+RESURF_API resurf_status resurf_scene_world_mesh(const resurf_scene *scene, int level, const resurf_allocator *alloc,
+                                                 resurf_mesh **out, resurf_error *error);
+
 /* Sets the levels of detail of primitive `index`: lods[0] is level 1 (the first reduced level), lods[k-1] level k.
  * The meshes are copied (the caller keeps its own). Each must have finite positions and indices in range, and
  * carry the attributes the primitive's mesh has, by name (extras the source lacks are written as float custom

@@ -1,6 +1,5 @@
-/* The preview sheet: the public calls. Gathers each level of the scene into one world-space mesh (every node that
- * shows a mesh, with its world transform), measures its error against level 0, lays out one cell per level, draws
- * it (raster.c), the heat map's distances (the BVH of level 0, per pixel), the labels (font.c) and the colour bar.
+/* The preview sheet: the public calls. Gathers each level of the scene into one world-space mesh (scene_world.c),
+ * measures its error against level 0, lays out one cell per level, draws it (raster.c), the heat map's distances (the BVH of level 0, per pixel), the labels (font.c) and the colour bar.
  * Memory: the image, level 0 and the level being drawn (plus level 0's BVH for a heat map). */
 #include <math.h>
 #include <stdio.h>
@@ -28,178 +27,6 @@ void resurf_preview_image_free(resurf_preview_image *image)
         return;
     resurfi_free(&image->allocator, image->rgba);
     memset(image, 0, sizeof *image);
-}
-
-/* ---- the scene's drawn primitives ---------------------------------------------------------------------------- */
-
-/* One mesh as one node shows it, with its levels: those set on its primitives (resurf_scene_set_lods), or the
- * meshes of the level nodes its MSFT_lod extension names (a file written with levels), drawn with the node's own
- * world transform (resurf writes level nodes with the transform of the node they stand in for). */
-typedef struct draw_item {
-    size_t mesh;
-    const double *world;             /* column-major 4 × 4, or NULL for the identity */
-    size_t lod_count;                /* MSFT_lod levels: lod_mesh[k - 1] is level k's mesh */
-    size_t lod_mesh[RESURF_SCENE_MAX_LEVELS - 1];
-    size_t coverage_count;           /* extras.MSFT_screencoverage, or 0 */
-    const double *coverage;
-} draw_item;
-
-typedef struct draw_list {
-    size_t count;
-    draw_item *items;
-} draw_list;
-
-/* The glTF mesh of level k of item, and the level of its primitives to take. */
-static size_t item_mesh(const draw_item *item, size_t k, size_t *prim_level)
-{
-    *prim_level = item->lod_count ? 0 : k;
-    if (k == 0 || item->lod_count == 0)
-        return item->mesh;
-    return item->lod_mesh[(k < item->lod_count ? k : item->lod_count) - 1];
-}
-
-/* A node's MSFT_lod levels, when every id names a node with a mesh (else none: the node shows level 0 alone). */
-static void read_msft_lod(const resurfi_gltf_view *v, const resurfi_gltf_node *node, draw_item *item)
-{
-    if (node->lod_count == 0 || node->lod_count > RESURF_SCENE_MAX_LEVELS - 1)
-        return;
-    for (size_t k = 0; k < node->lod_count; ++k) {
-        long long id = node->lod_ids[k];
-        if (id < 0 || (size_t)id >= v->node_count || v->nodes[id].mesh < 0)
-            return;
-        item->lod_mesh[k] = (size_t)v->nodes[id].mesh;
-    }
-    item->lod_count = node->lod_count;
-    item->coverage_count = node->coverage_count;
-    item->coverage = node->coverage;
-}
-
-/* Every node with a mesh that the default scene (else scene 0, else every root node) reaches, depth first; a scene
- * made from a mesh file has no nodes: its meshes untransformed. */
-static resurf_status gather(const resurf_scene *scene, const resurf_allocator *alloc, draw_list *out)
-{
-    const resurfi_gltf_view *v = scene->view;
-    size_t node_count = v ? v->node_count : 0;
-    size_t cap = node_count > scene->mesh_count ? node_count : scene->mesh_count;
-    out->count = 0;
-    out->items = resurfi_calloc(alloc, cap ? cap : 1, sizeof *out->items);
-    if (!out->items)
-        return RESURF_ERR_OUT_OF_MEMORY;
-    if (!v || node_count == 0) {
-        for (size_t m = 0; m < scene->mesh_count; ++m)
-            out->items[out->count++] = (draw_item){.mesh = m};
-        return RESURF_OK;
-    }
-    /* Each node has at most one parent and the graph has no cycle (checked by the loader), so a walk visits each
-     * node once and a stack of node_count entries holds it. */
-    long long *stack = resurfi_alloc(alloc, node_count, sizeof *stack);
-    unsigned char *is_child = resurfi_calloc(alloc, node_count, 1);
-    if (!stack || !is_child) {
-        resurfi_free(alloc, stack);
-        resurfi_free(alloc, is_child);
-        return RESURF_ERR_OUT_OF_MEMORY;
-    }
-    size_t top = 0;
-    long long chosen = v->default_scene != RESURFI_GLTF_NONE ? v->default_scene : v->scene_count ? 0 : -1;
-    if (chosen >= 0) {
-        const resurfi_gltf_scene *sc = &v->scenes[chosen];
-        for (size_t k = sc->node_count; k-- > 0 && top < node_count;)
-            stack[top++] = sc->nodes[k];
-    } else {
-        for (size_t n = 0; n < node_count; ++n)
-            for (size_t c = 0; c < v->nodes[n].child_count; ++c)
-                is_child[v->nodes[n].children[c]] = 1;
-        for (size_t n = node_count; n-- > 0;)
-            if (!is_child[n])
-                stack[top++] = (long long)n;
-    }
-    while (top > 0) {
-        long long n = stack[--top];
-        const resurfi_gltf_node *node = &v->nodes[n];
-        if (node->mesh >= 0 && out->count < cap) {
-            draw_item *item = &out->items[out->count++];
-            *item = (draw_item){.mesh = (size_t)node->mesh, .world = scene->world[n]};
-            read_msft_lod(v, node, item);
-        }
-        for (size_t c = node->child_count; c-- > 0 && top < node_count;)
-            stack[top++] = node->children[c];
-    }
-    resurfi_free(alloc, stack);
-    resurfi_free(alloc, is_child);
-    return RESURF_OK;
-}
-
-/* Primitive p's mesh at level k (NULL for points and lines). */
-static const resurf_mesh *prim_mesh(const resurf_scene *scene, size_t p, size_t k)
-{
-    return scene->prims[p].mesh ? resurfi_scene_level_mesh(&scene->prims[p], k) : NULL;
-}
-
-/* Appends m moved by the world matrix a (column-major; NULL = identity) to w from vertex *vbase and triangle
- * *tbase: positions by the matrix, normals (when w has them) by its inverse transpose, renormalised. */
-static void append(resurf_mesh *w, const resurf_mesh *m, const double *a, size_t *vbase, size_t *tbase)
-{
-    static const double identity[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
-    if (!a)
-        a = identity;
-    vec3 c0 = v3(a[0], a[1], a[2]), c1 = v3(a[4], a[5], a[6]), c2 = v3(a[8], a[9], a[10]);
-    vec3 t = v3(a[12], a[13], a[14]);
-    /* The inverse transpose's columns up to the determinant, whose sign alone matters here. */
-    double sign = v3_dot(c0, v3_cross(c1, c2)) < 0 ? -1 : 1;
-    vec3 n0 = v3_scale(v3_cross(c1, c2), sign), n1 = v3_scale(v3_cross(c2, c0), sign),
-         n2 = v3_scale(v3_cross(c0, c1), sign);
-    for (size_t k = 0; k < m->vertex_count; ++k) {
-        const double *p = m->positions + 3 * k;
-        vec3 q = v3_add(t, v3_add(v3_scale(c0, p[0]), v3_add(v3_scale(c1, p[1]), v3_scale(c2, p[2]))));
-        v3_store(w->positions + 3 * (*vbase + k), q);
-        if (w->normals) {
-            const double *n = m->normals + 3 * k;
-            vec3 r = v3_add(v3_scale(n0, n[0]), v3_add(v3_scale(n1, n[1]), v3_scale(n2, n[2])));
-            v3_store(w->normals + 3 * (*vbase + k), v3_normalize(r));
-        }
-    }
-    for (size_t k = 0; k < 3 * m->triangle_count; ++k)
-        w->indices[3 * *tbase + k] = (uint32_t)(*vbase + m->indices[k]);
-    *vbase += m->vertex_count;
-    *tbase += m->triangle_count;
-}
-
-/* Level `level` of every drawn node in one world-space mesh (normals kept only when every primitive has them). */
-static resurf_status flatten(const resurf_scene *scene, const draw_list *list, size_t level,
-                             const resurf_allocator *alloc, resurf_mesh **out, resurf_error *error)
-{
-    size_t vertices = 0, triangles = 0;
-    int normals = 1;
-    for (size_t i = 0; i < list->count; ++i) {
-        size_t k, mesh = item_mesh(&list->items[i], level, &k);
-        for (size_t p = scene->mesh_first[mesh]; p < scene->mesh_first[mesh + 1]; ++p) {
-            const resurf_mesh *m = prim_mesh(scene, p, k);
-            if (!m)
-                continue;
-            vertices += m->vertex_count;
-            triangles += m->triangle_count;
-            normals = normals && m->normals;
-            if (vertices > UINT32_MAX || triangles > UINT32_MAX)
-                return resurfi_error(error, RESURF_ERR_LIMIT, "level %zu draws more than 2^32 vertices or triangles",
-                                     level);
-        }
-    }
-    resurf_mesh *w = NULL;
-    resurf_status status =
-        resurf_mesh_create_with(vertices, triangles, normals ? RESURF_ATTR_NORMALS : 0, alloc, &w, error);
-    if (status != RESURF_OK)
-        return status;
-    size_t vbase = 0, tbase = 0;
-    for (size_t i = 0; i < list->count; ++i) {
-        size_t k, mesh = item_mesh(&list->items[i], level, &k);
-        for (size_t p = scene->mesh_first[mesh]; p < scene->mesh_first[mesh + 1]; ++p) {
-            const resurf_mesh *m = prim_mesh(scene, p, k);
-            if (m)
-                append(w, m, list->items[i].world, &vbase, &tbase);
-        }
-    }
-    *out = w;
-    return RESURF_OK;
 }
 
 /* ---- layout ------------------------------------------------------------------------------------------------ */
@@ -307,7 +134,7 @@ typedef struct sheet {
     resurf_preview_image img;
     layout l;
     rp_camera camera;
-    draw_list list;
+    resurfi_scene_instances list;
     resurf_mesh *level0;
     resurfi_bvh *bvh;
     double *depth, *position;
@@ -448,7 +275,7 @@ static resurf_status check_options(const resurf_preview_options *o, resurf_error
 }
 
 /* The levels of item: 1 + its MSFT_lod levels, or 1 + the most levels set on its primitives. */
-static size_t item_levels(const resurf_scene *scene, const draw_item *item)
+static size_t item_levels(const resurf_scene *scene, const resurfi_scene_instance *item)
 {
     if (item->lod_count)
         return 1 + item->lod_count;
@@ -461,12 +288,12 @@ static size_t item_levels(const resurf_scene *scene, const draw_item *item)
 
 /* The coverage from which level k shows, from the first item with levels: its file's MSFT_screencoverage, or the
  * values set on its mesh, or the defaults resurf_scene_save writes; -1 when unknown. */
-static double coverage_of(const resurf_scene *scene, const draw_list *list, size_t k, size_t levels)
+static double coverage_of(const resurf_scene *scene, const resurfi_scene_instances *list, size_t k, size_t levels)
 {
     if (levels < 2)
         return -1;
     for (size_t i = 0; i < list->count; ++i) {
-        const draw_item *item = &list->items[i];
+        const resurfi_scene_instance *item = &list->items[i];
         size_t n = item_levels(scene, item);
         if (n < 2)
             continue;
@@ -483,7 +310,7 @@ static double coverage_of(const resurf_scene *scene, const draw_list *list, size
 static resurf_status render(sheet *s, resurf_preview_report *rep)
 {
     const resurf_scene *scene = s->scene;
-    resurf_status status = gather(scene, s->alloc, &s->list);
+    resurf_status status = resurfi_scene_gather(scene, s->alloc, &s->list);
     if (status != RESURF_OK)
         return resurfi_error(s->error, status, "out of memory gathering the scene");
     size_t levels = 1;
@@ -492,7 +319,7 @@ static resurf_status render(sheet *s, resurf_preview_report *rep)
         levels = n > levels ? n : levels;
     }
     rep->levels = levels;
-    status = flatten(scene, &s->list, 0, s->alloc, &s->level0, s->error);
+    status = resurfi_scene_flatten(scene, &s->list, 0, NULL, s->alloc, &s->level0, s->error);
     if (status != RESURF_OK)
         return status;
     double lo[3], hi[3];
@@ -543,7 +370,7 @@ static resurf_status render(sheet *s, resurf_preview_report *rep)
             return resurfi_error(s->error, RESURF_ERR_CANCELLED, "cancelled by the progress callback");
         resurf_mesh *mesh = s->level0;
         if (k > 0) {
-            status = flatten(scene, &s->list, k, s->alloc, &mesh, s->error);
+            status = resurfi_scene_flatten(scene, &s->list, k, NULL, s->alloc, &mesh, s->error);
             if (status != RESURF_OK)
                 return status;
         }

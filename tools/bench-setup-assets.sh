@@ -7,11 +7,12 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 missing=()
-dpkg-query -W -f='${Status}' assimp-testmodels 2>/dev/null | grep -q 'install ok installed' || missing+=(assimp-testmodels)
+dpkg-query -W -f='${Status}' assimp-testmodels 2>/dev/null | grep -q 'install ok installed' ||
+  missing+=(assimp-testmodels)
 command -v node >/dev/null || missing+=(nodejs)
 command -v npm >/dev/null || missing+=(npm)
 if [ ${#missing[@]} -gt 0 ]; then
-  echo "bench-setup: installing ${missing[*]}" >&2
+  echo "bench-setup-assets: installing ${missing[*]}" >&2
   export DEBIAN_FRONTEND=noninteractive
   apt-get update -qq >/dev/null
   apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
@@ -19,7 +20,8 @@ fi
 
 # The version the benchmark was measured with (issue 19 compares against gltfpack 1.3).
 version=1.3
-if ! node -e "process.exit(require('./tools/node/node_modules/gltfpack/package.json').version.startsWith('$version.') ? 0 : 1)" 2>/dev/null; then
-  echo "bench-setup: installing gltfpack@$version (npm)" >&2
+installed=$(node -p "try { require('./tools/node/node_modules/gltfpack/package.json').version } catch { '' }")
+if [ "${installed%.*}" != "$version" ]; then
+  echo "bench-setup-assets: installing gltfpack@$version (npm)" >&2
   npm install --prefix tools/node --no-audit --no-fund "gltfpack@$version" >/dev/null
 fi
