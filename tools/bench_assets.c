@@ -708,7 +708,7 @@ int main(int argc, char **argv)
     static const char *const gltf_exts[] = {".gltf", ".glb", NULL}, *const scan_exts[] = {".ply", ".obj", NULL};
     collect(cfg.models, "", "", true, gltf_exts, false, cfg.only, assets, &count);
     size_t models = count;
-    collect(cfg.scans, "", "scans/", false, scan_exts, true, cfg.only, assets + models, &count);
+    collect(cfg.scans, "", "scans/", false, scan_exts, true, cfg.only, assets, &count);
     qsort(assets, models, sizeof *assets, compare_assets);
     qsort(assets + models, count - models, sizeof *assets, compare_assets);
 
