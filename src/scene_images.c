@@ -322,3 +322,29 @@ resurf_status resurfi_make_parent_folders(const char *path, resurf_error *error)
     }
     return RESURF_OK;
 }
+
+resurf_status resurfi_scene_image_bytes(const resurf_scene *s, size_t i, const unsigned char **data, size_t *size)
+{
+    *data = NULL;
+    *size = 0;
+    if (!s->view || i >= s->view->image_count)
+        return RESURF_ERR_INVALID_ARGUMENT;
+    const resurfi_gltf_view *v = s->view;
+    const resurfi_gltf_image *g = &v->images[i];
+    if (g->data) {
+        *data = g->data, *size = g->size;
+    } else if (g->buffer_view != RESURFI_GLTF_NONE) {
+        if (g->buffer_view < 0 || (size_t)g->buffer_view >= v->buffer_view_count)
+            return RESURF_ERR_PARSE;
+        const resurfi_gltf_buffer_view *bv = &v->buffer_views[g->buffer_view];
+        if (bv->buffer < 0 || (size_t)bv->buffer >= v->buffer_count)
+            return RESURF_ERR_PARSE;
+        const resurfi_gltf_buffer *b = &v->buffers[bv->buffer];
+        if (bv->byte_offset > b->size || bv->byte_length > b->size - bv->byte_offset)
+            return RESURF_ERR_PARSE;
+        *data = b->data + bv->byte_offset, *size = (size_t)bv->byte_length;
+    } else if (i < s->image_count && s->images[i].data) {
+        *data = s->images[i].data, *size = s->images[i].size;
+    }
+    return *data ? RESURF_OK : RESURF_ERR_IO;
+}

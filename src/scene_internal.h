@@ -96,6 +96,9 @@ typedef struct resurfi_scene_levels {
  * made from a mesh file (no nodes): each mesh once, untransformed. RESURF_ERR_OUT_OF_MEMORY is the only failure. */
 resurf_status resurfi_scene_gather(const resurf_scene *scene, const resurf_allocator *alloc,
                                    resurfi_scene_instances *out);
+/* The glTF mesh that level k of item shows, and the level of its primitives to take (a primitive with fewer levels
+ * shows its last: resurfi_scene_level_mesh). */
+size_t resurfi_scene_instance_mesh(const resurfi_scene_instance *item, size_t k, size_t *prim_level);
 /* Level `level` of the instances of list in one world-space mesh (from alloc): every primitive with a mesh at that
  * level (its last when it has fewer; from `levels` when not NULL), positions by the world matrix, normals by its
  * inverse transpose (renormalised); normals and TEXCOORD_0 kept when every included primitive has them. */
@@ -133,6 +136,10 @@ void resurfi_scene_free_images(resurf_scene *s);
  * to be written (the image is in the document, or already there: the output is beside its own input). */
 resurf_status resurfi_scene_out_image(const resurf_scene *s, size_t i, const char *out_path, int embed,
                                       resurfi_gltf_out_image *out, char **copy_to, resurf_error *error);
+/* The encoded bytes of image i wherever the source keeps them (a data: URI, a bufferView, the external file read at
+ * load), borrowed from the scene: RESURF_ERR_IO when there are none (a missing image), RESURF_ERR_PARSE for a
+ * bufferView out of its buffer. */
+resurf_status resurfi_scene_image_bytes(const resurf_scene *s, size_t i, const unsigned char **data, size_t *size);
 /* The mimeType that an image's first bytes show (PNG, JPEG, WebP, KTX2, DDS), or NULL. */
 const char *resurfi_image_mime_type(const unsigned char *bytes, size_t size);
 /* Creates the folders above path that do not exist. */

@@ -78,8 +78,7 @@ resurf_status resurfi_scene_gather(const resurf_scene *scene, const resurf_alloc
     return RESURF_OK;
 }
 
-/* The glTF mesh of level k of item, and the level of its primitives to take. */
-static size_t item_mesh(const resurfi_scene_instance *item, size_t k, size_t *prim_level)
+size_t resurfi_scene_instance_mesh(const resurfi_scene_instance *item, size_t k, size_t *prim_level)
 {
     *prim_level = item->lod_count ? 0 : k;
     if (k == 0 || item->lod_count == 0)
@@ -104,24 +103,11 @@ static const resurf_mesh *prim_mesh(const resurf_scene *scene, const resurfi_sce
  * (when w has it) as it is. */
 static void append(resurf_mesh *w, const resurf_mesh *m, const double *a, size_t *vbase, size_t *tbase)
 {
-    static const double identity[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
-    if (!a)
-        a = identity;
-    vec3 c0 = v3(a[0], a[1], a[2]), c1 = v3(a[4], a[5], a[6]), c2 = v3(a[8], a[9], a[10]);
-    vec3 t = v3(a[12], a[13], a[14]);
-    /* The inverse transpose's columns up to the determinant, whose sign alone matters here. */
-    double sign = v3_dot(c0, v3_cross(c1, c2)) < 0 ? -1 : 1;
-    vec3 n0 = v3_scale(v3_cross(c1, c2), sign), n1 = v3_scale(v3_cross(c2, c0), sign),
-         n2 = v3_scale(v3_cross(c0, c1), sign);
+    affine3 map = affine3_from(a);
     for (size_t k = 0; k < m->vertex_count; ++k) {
-        const double *p = m->positions + 3 * k;
-        vec3 q = v3_add(t, v3_add(v3_scale(c0, p[0]), v3_add(v3_scale(c1, p[1]), v3_scale(c2, p[2]))));
-        v3_store(w->positions + 3 * (*vbase + k), q);
-        if (w->normals) {
-            const double *n = m->normals + 3 * k;
-            vec3 r = v3_add(v3_scale(n0, n[0]), v3_add(v3_scale(n1, n[1]), v3_scale(n2, n[2])));
-            v3_store(w->normals + 3 * (*vbase + k), v3_normalize(r));
-        }
+        v3_store(w->positions + 3 * (*vbase + k), affine3_point(&map, m->positions + 3 * k));
+        if (w->normals)
+            v3_store(w->normals + 3 * (*vbase + k), affine3_normal(&map, m->normals + 3 * k));
     }
     if (w->texcoord_count > 0)
         memcpy(w->texcoords[0] + 2 * *vbase, m->texcoords[0], 2 * m->vertex_count * sizeof(double));
@@ -138,7 +124,7 @@ resurf_status resurfi_scene_flatten(const resurf_scene *scene, const resurfi_sce
     size_t vertices = 0, triangles = 0;
     int normals = 1, texcoords = 1;
     for (size_t i = 0; i < list->count; ++i) {
-        size_t k, mesh = item_mesh(&list->items[i], level, &k);
+        size_t k, mesh = resurfi_scene_instance_mesh(&list->items[i], level, &k);
         for (size_t p = scene->mesh_first[mesh]; p < scene->mesh_first[mesh + 1]; ++p) {
             const resurf_mesh *m = prim_mesh(scene, levels, p, k);
             if (!m)
@@ -159,7 +145,7 @@ resurf_status resurfi_scene_flatten(const resurf_scene *scene, const resurfi_sce
         return status;
     size_t vbase = 0, tbase = 0;
     for (size_t i = 0; i < list->count; ++i) {
-        size_t k, mesh = item_mesh(&list->items[i], level, &k);
+        size_t k, mesh = resurfi_scene_instance_mesh(&list->items[i], level, &k);
         for (size_t p = scene->mesh_first[mesh]; p < scene->mesh_first[mesh + 1]; ++p) {
             const resurf_mesh *m = prim_mesh(scene, levels, p, k);
             if (m)

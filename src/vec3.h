@@ -45,4 +45,36 @@ static inline vec3 v3_normalize(vec3 a)
 /* Twice the triangle's vector area: (b − a) × (c − a). */
 static inline vec3 v3_tri_cross(vec3 a, vec3 b, vec3 c) { return v3_cross(v3_sub(b, a), v3_sub(c, a)); }
 
+/* An affine map as a column-major 4 × 4 matrix (glTF's node matrices): columns c0, c1, c2 and the translation t. */
+typedef struct affine3 {
+    vec3 c0, c1, c2, t;
+    vec3 n0, n1, n2; /* the inverse transpose's columns up to the determinant, whose sign alone matters to normals */
+} affine3;
+
+/* a: column-major 4 × 4, or NULL for the identity. */
+static inline affine3 affine3_from(const double *a)
+{
+    static const double identity[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+    if (!a)
+        a = identity;
+    affine3 m = {.c0 = v3(a[0], a[1], a[2]), .c1 = v3(a[4], a[5], a[6]), .c2 = v3(a[8], a[9], a[10]),
+                 .t = v3(a[12], a[13], a[14])};
+    double sign = v3_dot(m.c0, v3_cross(m.c1, m.c2)) < 0 ? -1 : 1;
+    m.n0 = v3_scale(v3_cross(m.c1, m.c2), sign);
+    m.n1 = v3_scale(v3_cross(m.c2, m.c0), sign);
+    m.n2 = v3_scale(v3_cross(m.c0, m.c1), sign);
+    return m;
+}
+
+static inline vec3 affine3_point(const affine3 *m, const double *p)
+{
+    return v3_add(m->t, v3_add(v3_scale(m->c0, p[0]), v3_add(v3_scale(m->c1, p[1]), v3_scale(m->c2, p[2]))));
+}
+
+/* A normal under the map: by the inverse transpose, renormalised. */
+static inline vec3 affine3_normal(const affine3 *m, const double *n)
+{
+    return v3_normalize(v3_add(v3_scale(m->n0, n[0]), v3_add(v3_scale(m->n1, n[1]), v3_scale(m->n2, n[2]))));
+}
+
 #endif

@@ -4,6 +4,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include <jpeglib.h>
+
 #include "preview/preview_internal.h"
 #include "testutil.h"
 
@@ -16,7 +18,7 @@ static size_t covered(const resurf_mesh *mesh, const rp_camera *cam, unsigned w,
     ck_assert(rgba && depth);
     rp_panel panel = {rgba, w, 0, 0, w, h, depth, NULL, NULL};
     rp_style style = {.base = {0.8, 0.8, 0.8}};
-    ck_assert_int_eq(rp_draw_mesh(&panel, cam, mesh, &style, NULL), RESURF_OK);
+    ck_assert_int_eq(rp_draw_mesh(&panel, cam, mesh, NULL, &style, NULL), RESURF_OK);
     size_t n = 0;
     for (size_t k = 0; k < (size_t)w * h; ++k) {
         n += depth[k] > 0;
@@ -474,6 +476,203 @@ START_TEST(preview_cli)
 }
 END_TEST
 
+/* ---- textures ------------------------------------------------------------------------------------------------ */
+
+/* A side × side RGBA texture of four solid quadrants: red top left, green top right, blue bottom left, white
+ * bottom right (rows top to bottom, as glTF's v = 0 is the image's top). */
+static unsigned char *quadrant_texture(unsigned side)
+{
+    static const unsigned char colour[4][3] = {{255, 0, 0}, {0, 255, 0}, {0, 0, 255}, {255, 255, 255}};
+    unsigned char *rgba = malloc((size_t)side * side * 4);
+    ck_assert(rgba);
+    for (unsigned y = 0; y < side; ++y)
+        for (unsigned x = 0; x < side; ++x) {
+            const unsigned char *c = colour[(y >= side / 2) * 2 + (x >= side / 2)];
+            unsigned char *p = rgba + 4 * ((size_t)y * side + x);
+            p[0] = c[0], p[1] = c[1], p[2] = c[2], p[3] = 255;
+        }
+    return rgba;
+}
+
+/* The same texture as a baseline JPEG at quality 95, through libjpeg directly. */
+static unsigned char *quadrant_jpeg(unsigned side, size_t *size)
+{
+    unsigned char *rgba = quadrant_texture(side), *rgb = malloc((size_t)side * 3);
+    struct jpeg_compress_struct info;
+    struct jpeg_error_mgr err;
+    info.err = jpeg_std_error(&err);
+    jpeg_create_compress(&info);
+    unsigned char *out = NULL;
+    unsigned long out_size = 0;
+    jpeg_mem_dest(&info, &out, &out_size);
+    info.image_width = side, info.image_height = side, info.input_components = 3, info.in_color_space = JCS_RGB;
+    jpeg_set_defaults(&info);
+    jpeg_set_quality(&info, 95, TRUE);
+    jpeg_start_compress(&info, TRUE);
+    for (unsigned y = 0; y < side; ++y) {
+        for (unsigned x = 0; x < side; ++x)
+            memcpy(rgb + 3 * x, rgba + 4 * ((size_t)y * side + x), 3);
+        JSAMPROW row = rgb;
+        jpeg_write_scanlines(&info, &row, 1);
+    }
+    jpeg_finish_compress(&info);
+    jpeg_destroy_compress(&info);
+    free(rgba);
+    free(rgb);
+    *size = out_size;
+    return out;
+}
+
+/* A glTF of one quad [-1, 1]² in z = 0 facing +z, UV (0, 0) at its top left (-1, 1), whose material's base-colour
+ * texture is the file `image` (size bytes of data) beside it; loaded. */
+static resurf_scene *textured_quad(const char *dir, const unsigned char *data, size_t size)
+{
+    static const float pos[12] = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0};
+    static const float nrm[12] = {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
+    static const float uv[8] = {0, 1, 1, 1, 1, 0, 0, 0};
+    static const uint16_t idx[6] = {0, 1, 2, 0, 2, 3};
+    tu_bytes bin = {0};
+    for (int i = 0; i < 12; ++i)
+        tu_put_f32(&bin, pos[i]);
+    for (int i = 0; i < 12; ++i)
+        tu_put_f32(&bin, nrm[i]);
+    for (int i = 0; i < 8; ++i)
+        tu_put_f32(&bin, uv[i]);
+    for (int i = 0; i < 6; ++i)
+        tu_put_u16(&bin, idx[i]);
+    tu_align4(&bin);
+    char *image = tu_path(dir, "texture.img");
+    ck_assert_int_eq(tu_write_file(image, data, size), 0);
+    char *json = tu_strf(
+        "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}],"
+        "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0,\"NORMAL\":1,\"TEXCOORD_0\":2},"
+        "\"indices\":3,\"material\":0}]}],"
+        "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}}}],"
+        "\"textures\":[{\"source\":0,\"sampler\":0}],\"samplers\":[{\"wrapS\":33071,\"wrapT\":33071}],"
+        "\"images\":[{\"uri\":\"texture.img\"}],"
+        "\"buffers\":[{\"uri\":\"quad.bin\",\"byteLength\":%zu}],"
+        "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":128},"
+        "{\"buffer\":0,\"byteOffset\":128,\"byteLength\":12}],"
+        "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":4,\"type\":\"VEC3\","
+        "\"min\":[-1,-1,0],\"max\":[1,1,0]},"
+        "{\"bufferView\":0,\"byteOffset\":48,\"componentType\":5126,\"count\":4,\"type\":\"VEC3\"},"
+        "{\"bufferView\":0,\"byteOffset\":96,\"componentType\":5126,\"count\":4,\"type\":\"VEC2\"},"
+        "{\"bufferView\":1,\"componentType\":5123,\"count\":6,\"type\":\"SCALAR\"}]}",
+        bin.size);
+    char *gltf = tu_write_gltf(dir, "quad", json, &bin);
+    resurf_scene *scene = tu_load_scene_ok(gltf);
+    free(gltf);
+    free(json);
+    free(image);
+    free(bin.data);
+    return scene;
+}
+
+/* The pixels of the sheet by colour: red-, green-, blue-dominant and grey (r = g = b, lit, not text nor
+ * background), with their counts and centroids. */
+typedef struct colour_classes {
+    size_t n[4];
+    double x[4], y[4];
+} colour_classes;
+
+static colour_classes classify(const resurf_preview_image *img, int tolerance)
+{
+    colour_classes c;
+    memset(&c, 0, sizeof c);
+    for (unsigned y = 0; y < img->height; ++y)
+        for (unsigned x = 0; x < img->width; ++x) {
+            const unsigned char *p = img->rgba + 4 * ((size_t)y * img->width + x);
+            int r = p[0], g = p[1], b = p[2], k = -1;
+            if (r > 40 && g <= tolerance && b <= tolerance)
+                k = 0;
+            else if (g > 40 && r <= tolerance && b <= tolerance)
+                k = 1;
+            else if (b > 40 && r <= tolerance && g <= tolerance)
+                k = 2;
+            else if (abs(r - g) <= tolerance && abs(g - b) <= tolerance && r > 60 && r < 250)
+                k = 3;
+            if (k < 0)
+                continue;
+            c.n[k]++, c.x[k] += x, c.y[k] += y;
+        }
+    for (int k = 0; k < 4; ++k)
+        if (c.n[k])
+            c.x[k] /= (double)c.n[k], c.y[k] /= (double)c.n[k];
+    return c;
+}
+
+/* Seen from the front, the quad shows its texture the right way round: red top left, green top right, blue bottom
+ * left, white bottom right, each over a quarter of the quad; a red texel stays pure red (bilinear inside a solid
+ * quadrant, times the lighting). Once through PNG, once through JPEG (within its compression error). */
+static void check_quadrants(const unsigned char *data, size_t size, int tolerance)
+{
+    char *dir = tu_tempdir();
+    resurf_scene *scene = textured_quad(dir, data, size);
+    resurf_preview_options o = resurf_preview_options_default();
+    o.width = 240, o.height = 240, o.view = RESURF_PREVIEW_FRONT, o.measure = false;
+    resurf_preview_image img;
+    resurf_preview_report rep;
+    ck_assert_int_eq(resurf_preview_render(scene, &o, &img, &rep, NULL), RESURF_OK);
+    ck_assert_uint_eq(rep.textures_undrawn, 0);
+    colour_classes c = classify(&img, tolerance);
+    size_t total = c.n[0] + c.n[1] + c.n[2] + c.n[3];
+    ck_assert_uint_gt(total, 2000);
+    for (int k = 0; k < 4; ++k) /* each a quarter, give or take the boundary's blend */
+        ck_assert_msg(fabs((double)c.n[k] / (double)total - 0.25) < 0.04, "class %d: %zu of %zu", k, c.n[k], total);
+    ck_assert(c.x[0] < c.x[1] && c.x[2] < c.x[3]);   /* red left of green, blue left of white */
+    ck_assert(c.y[0] < c.y[2] && c.y[1] < c.y[3]);   /* red above blue, green above white (y grows downwards) */
+    resurf_preview_image_free(&img);
+    resurf_scene_free(scene);
+    tu_rmtree(dir);
+    free(dir);
+}
+
+START_TEST(preview_draws_png_and_jpeg_textures)
+{
+    unsigned char *rgba = quadrant_texture(8), *png = NULL;
+    size_t png_size = 0;
+    ck_assert_int_eq(rp_png_encode(rgba, 8, 8, NULL, &png, &png_size, NULL), RESURF_OK);
+    check_quadrants(png, png_size, 0);
+    free(png);
+    free(rgba);
+    size_t jpeg_size = 0;
+    unsigned char *jpeg = quadrant_jpeg(32, &jpeg_size);
+    check_quadrants(jpeg, jpeg_size, 12);
+    free(jpeg);
+}
+END_TEST
+
+/* An image that is neither PNG nor JPEG, or a broken PNG: the quad is drawn with its material's colour alone (grey
+ * under white light: no pixel of a texture's colours), and the report counts the image and says why. */
+START_TEST(preview_undecodable_texture_is_drawn_plain)
+{
+    static const unsigned char broken_png[16] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n', 0, 0, 0, 13, 'I', 'H'};
+    static const char not_an_image[] = "GIF89a and more";
+    const unsigned char *inputs[2] = {broken_png, (const unsigned char *)not_an_image};
+    size_t sizes[2] = {sizeof broken_png, sizeof not_an_image};
+    const char *why[2] = {"PNG", "neither PNG nor JPEG"};
+    for (int i = 0; i < 2; ++i) {
+        char *dir = tu_tempdir();
+        resurf_scene *scene = textured_quad(dir, inputs[i], sizes[i]);
+        resurf_preview_options o = resurf_preview_options_default();
+        o.width = 160, o.height = 160, o.view = RESURF_PREVIEW_FRONT, o.measure = false;
+        resurf_preview_image img;
+        resurf_preview_report rep;
+        ck_assert_int_eq(resurf_preview_render(scene, &o, &img, &rep, NULL), RESURF_OK);
+        ck_assert_uint_eq(rep.textures_undrawn, 1);
+        ck_assert_msg(strstr(rep.texture_warning, "images[0]") && strstr(rep.texture_warning, why[i]), "%s",
+                      rep.texture_warning);
+        colour_classes c = classify(&img, 0);
+        ck_assert_uint_eq(c.n[0] + c.n[1] + c.n[2], 0);
+        ck_assert_uint_gt(c.n[3], 1000);
+        resurf_preview_image_free(&img);
+        resurf_scene_free(scene);
+        tu_rmtree(dir);
+        free(dir);
+    }
+}
+END_TEST
+
 Suite *make_suite(void)
 {
     Suite *s = suite_create("preview");
@@ -488,6 +687,8 @@ Suite *make_suite(void)
     tcase_add_test(tc, preview_png_written_whole_or_not_at_all);
     tcase_add_test(tc, preview_reads_msft_lod_back);
     tcase_add_test(tc, preview_cli);
+    tcase_add_test(tc, preview_draws_png_and_jpeg_textures);
+    tcase_add_test(tc, preview_undecodable_texture_is_drawn_plain);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -154,7 +154,7 @@ START_TEST(chain_levels_on_any_threads)
         for (size_t k = 0; k < sizeof fa / sizeof *fa; ++k)
             ck_assert_msg(!memcmp(fa[k], fb[k], sizeof *fa[k]), "level %d field %zu: %.17g vs %.17g", l, k, *fa[k],
                           *fb[k]);
-        resurf_compare_report d = compare_ok(in, levels[0][l], 500000);
+        resurf_compare_report d = compare_ok(in, levels[0][l], tu_light() ? 200000 : 500000);
         ck_assert_msg(fabs(a->max_distance - d.hausdorff) <= 0.1 * d.hausdorff, "level %d: max %g, dense %g", l,
                       a->max_distance, d.hausdorff);
         ck_assert_msg(fabs(a->mean_distance - d.mean) <= 0.1 * d.mean, "level %d: mean %g, dense %g", l,
@@ -196,7 +196,7 @@ START_TEST(curved_uv_error_matches_compare)
     o.target_ratio = 0.05;
     resurf_simplify_report r;
     resurf_mesh *out = simplify_ok(in, &o, &r);
-    resurf_compare_report d = compare_ok(in, out, 400000);
+    resurf_compare_report d = compare_ok(in, out, tu_light() ? 200000 : 400000);
     ck_assert_double_gt(d.uv_error_mean, 1e-5);
     ck_assert_msg(fabs(r.uv_error_mean - d.uv_error_mean) <= 0.1 * d.uv_error_mean, "mean %g, compare %g",
                   r.uv_error_mean, d.uv_error_mean);

@@ -1238,7 +1238,10 @@ RESURF_API const char *resurf_scene_warning(const resurf_scene *scene, size_t in
  * its triangles, its two-sided error (resurf_compare's hausdorff between level 0 and the level, relative to level
  * 0's diagonal and in scene units) and its MSFT_lod screen coverage. Every node that shows a mesh is drawn with its
  * world transform, as a viewer would; primitives with morph targets at rest; points and lines are not drawn.
- * Materials and textures are not drawn (every surface is one grey).
+ * Each primitive shows its material's base colour (baseColorFactor) times its base-colour texture, PNG or JPEG
+ * (libpng, libjpeg), sampled bilinearly with its sampler's wrap modes at the texture coordinates the material names
+ * (KHR_texture_transform is not applied); a primitive without a material is a warm grey. An image that cannot be
+ * decoded leaves its surfaces with the colour alone and is counted in the report (textures_undrawn), never an error.
  * Deterministic: the same scene and options give the same pixels for any thread count and on any machine whose C
  * library computes the camera's sin, cos, tan and atan alike (the drawing itself uses exact IEEE operations only),
  * and, with the same libpng and zlib, the same PNG bytes. */
@@ -1297,6 +1300,11 @@ typedef struct resurf_preview_report {
                                                         level or when unknown */
     double diagonal;                                 /* of level 0's bounding box in world space */
     double heat_max;                                 /* the colour bar's top in scene units (0 without heatmap) */
+    size_t textures_undrawn;                         /* base-colour images that could not be drawn (missing, not
+                                                        PNG or JPEG, or broken): their surfaces show the material's
+                                                        colour alone */
+    char texture_warning[192];                       /* the first of them and why ("images[2] 'a.tga': neither
+                                                        PNG nor JPEG"), "" when none */
 } resurf_preview_report;
 
 /* Draws the sheet of scene into *out_image (required; on failure it is zeroed). A node's levels are those set on

@@ -49,6 +49,8 @@ struct resurfi_gltf_doc {
     std::vector<const char *> ext_used, ext_required, warning_ptrs, outside_ptrs;
     std::vector<std::vector<const char *>> prim_extensions;
     std::vector<resurfi_gltf_image> images;
+    std::vector<resurfi_gltf_material> materials;
+    std::vector<resurfi_gltf_texture> textures;
 };
 
 #endif

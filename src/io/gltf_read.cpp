@@ -399,6 +399,7 @@ void build_view(resurfi_gltf_doc *doc)
                 doc->prim_extensions[k].push_back(keep(doc, e.first));
             c.extension_count = doc->prim_extensions[k].size();
             c.extensions = doc->prim_extensions[k].data();
+            c.material = p.material < 0 ? RESURFI_GLTF_NONE : p.material;
             if (p.material != -1)
                 add_ref(doc, "meshes[" + std::to_string(mi) + "].primitives[" + std::to_string(pi) + "].material",
                         p.material, m.materials.size());
@@ -497,6 +498,16 @@ void build_view(resurfi_gltf_doc *doc)
         add_texture_ref(doc, where + ".normalTexture", mat.normalTexture.index);
         add_texture_ref(doc, where + ".occlusionTexture", mat.occlusionTexture.index);
         add_texture_ref(doc, where + ".emissiveTexture", mat.emissiveTexture.index);
+        resurfi_gltf_material c{{1, 1, 1, 1}, RESURFI_GLTF_NONE, 0};
+        const std::vector<double> &factor = mat.pbrMetallicRoughness.baseColorFactor;
+        for (size_t j = 0; j < 4 && j < factor.size(); ++j)
+            c.base_color[j] = factor[j];
+        const tinygltf::TextureInfo &base = mat.pbrMetallicRoughness.baseColorTexture;
+        if (base.index >= 0) {
+            c.base_color_texture = base.index;
+            c.base_color_texcoord = base.texCoord;
+        }
+        doc->materials.push_back(c);
     }
     for (size_t i = 0; i < m.textures.size(); ++i) {
         std::string where = "textures[" + std::to_string(i) + "]";
@@ -504,6 +515,13 @@ void build_view(resurfi_gltf_doc *doc)
             add_ref(doc, where + ".source", m.textures[i].source, m.images.size());
         if (m.textures[i].sampler != -1)
             add_ref(doc, where + ".sampler", m.textures[i].sampler, m.samplers.size());
+        resurfi_gltf_texture c{m.textures[i].source < 0 ? RESURFI_GLTF_NONE : m.textures[i].source, 10497, 10497};
+        int sampler = m.textures[i].sampler;
+        if (sampler >= 0 && (size_t)sampler < m.samplers.size()) {
+            c.wrap_s = m.samplers[sampler].wrapS;
+            c.wrap_t = m.samplers[sampler].wrapT;
+        }
+        doc->textures.push_back(c);
     }
     for (size_t i = 0; i < m.images.size(); ++i) {
         const tinygltf::Image &img = m.images[i];
@@ -577,6 +595,10 @@ void build_view(resurfi_gltf_doc *doc)
     v.warnings = doc->warning_ptrs.data();
     v.image_count = doc->images.size();
     v.images = doc->images.data();
+    v.material_count = doc->materials.size();
+    v.materials = doc->materials.data();
+    v.texture_count = doc->textures.size();
+    v.textures = doc->textures.data();
     v.outside_extension_count = doc->outside_ptrs.size();
     v.outside_extensions = doc->outside_ptrs.data();
 }

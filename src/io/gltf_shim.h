@@ -83,6 +83,7 @@ typedef struct resurfi_gltf_primitive {
     const resurfi_gltf_named *draco_attributes; /* name → Draco unique id (RESURFI_GLTF_BAD: not an integer) */
     size_t extension_count;    /* the names of its other extensions (FB_ngon_encoding, KHR_materials_variants...) */
     const char *const *extensions;
+    long long material;        /* RESURFI_GLTF_NONE when absent */
 } resurfi_gltf_primitive;
 
 typedef struct resurfi_gltf_mesh {
@@ -127,6 +128,20 @@ typedef struct resurfi_gltf_image {
     size_t size;
 } resurfi_gltf_image;
 
+/* What a material shows where it is lit (the preview draws it): pbrMetallicRoughness's base colour. */
+typedef struct resurfi_gltf_material {
+    double base_color[4];      /* baseColorFactor (linear RGBA; default 1, 1, 1, 1) */
+    long long base_color_texture; /* its baseColorTexture's texture, or RESURFI_GLTF_NONE */
+    int base_color_texcoord;   /* ... and the TEXCOORD_n set it samples (default 0) */
+} resurfi_gltf_material;
+
+/* A texture: its image and its sampler's wrap modes (glTF numbers: 10497 REPEAT (default), 33071 CLAMP_TO_EDGE,
+ * 33648 MIRRORED_REPEAT). */
+typedef struct resurfi_gltf_texture {
+    long long source;          /* the image, or RESURFI_GLTF_NONE */
+    int wrap_s, wrap_t;
+} resurfi_gltf_texture;
+
 typedef struct resurfi_gltf_view {
     size_t buffer_count, buffer_view_count, accessor_count, mesh_count, node_count, scene_count;
     const resurfi_gltf_buffer *buffers;
@@ -147,6 +162,9 @@ typedef struct resurfi_gltf_view {
     const char *const *warnings;
     size_t image_count;
     const resurfi_gltf_image *images;
+    size_t material_count, texture_count;
+    const resurfi_gltf_material *materials;
+    const resurfi_gltf_texture *textures;
     size_t outside_extension_count; /* extensions that appear on anything but a mesh primitive (each name once) */
     const char *const *outside_extensions;
 } resurfi_gltf_view;

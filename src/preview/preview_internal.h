@@ -39,20 +39,42 @@ typedef struct rp_panel {
     float *shade;
 } rp_panel;
 
-/* How a mesh is drawn: a base colour lit by Lambert + ambient from a light fixed to the camera (upper left, in
- * front), both sides lit alike (no culling: open meshes show their inside). wireframe darkens pixels within
- * RP_WIRE_PX of a triangle's edge. */
+/* A decoded texture: 8-bit RGBA, rows top to bottom (image_decode.c). */
+#define RP_TEXTURE_MAX_SIDE 16384
+typedef struct rp_texture {
+    unsigned width, height;
+    unsigned char *rgba;
+} rp_texture;
+
+/* Decodes a PNG or JPEG image (by its first bytes) into out (pixels from alloc). On failure *out is zeroed and why
+ * says what is wrong: RESURF_ERR_UNSUPPORTED for another type, RESURF_ERR_PARSE for broken bytes,
+ * RESURF_ERR_LIMIT for a side over RP_TEXTURE_MAX_SIDE, RESURF_ERR_OUT_OF_MEMORY. */
+resurf_status rp_texture_decode(const unsigned char *data, size_t size, const resurf_allocator *alloc,
+                                rp_texture *out, char *why, size_t why_size);
+void rp_texture_free(rp_texture *t, const resurf_allocator *alloc);
+
+/* glTF's sampler wrap modes. */
+enum { RP_WRAP_REPEAT = 10497, RP_WRAP_CLAMP = 33071, RP_WRAP_MIRROR = 33648 };
+
+/* How a mesh is drawn: a colour lit by Lambert + ambient from a light fixed to the camera (upper left, in front),
+ * both sides lit alike (no culling: open meshes show their inside). The colour is base, times the texture sampled
+ * bilinearly at the pixel's texture coordinates (perspective-correct; set `texcoord` of the mesh) when there is
+ * one. wireframe darkens pixels within RP_WIRE_PX of a triangle's edge. */
 #define RP_WIRE_PX 0.6
 typedef struct rp_style {
-    double base[3];         /* linear 0..1 */
+    double base[3];         /* 0..1 */
     int wireframe;
+    const rp_texture *texture; /* NULL: none */
+    unsigned texcoord;      /* the mesh's texture-coordinate set the texture uses (it must have it) */
+    int wrap_s, wrap_t;     /* RP_WRAP_* (anything else repeats) */
 } rp_style;
 
-/* Draws the triangles of a world-space mesh: z-buffer, perspective-correct interpolation of the mesh's normals
- * (face normals when it has none), no culling. Triangles with non-finite corners, zero screen area or a corner
- * behind camera->near are skipped. Returns RESURF_ERR_OUT_OF_MEMORY (camera-space copies of the vertices) or OK. */
-resurf_status rp_draw_mesh(rp_panel *panel, const rp_camera *camera, const resurf_mesh *mesh, const rp_style *style,
-                           const resurf_allocator *alloc);
+/* Draws the triangles of a mesh moved by world (NULL: the identity) into the panel: z-buffer, perspective-correct
+ * interpolation of the mesh's normals (face normals when it has none), no culling. Triangles with non-finite
+ * corners, zero screen area or a corner behind camera->near are skipped. Returns RESURF_ERR_OUT_OF_MEMORY
+ * (camera-space copies of the vertices) or OK. */
+resurf_status rp_draw_mesh(rp_panel *panel, const rp_camera *camera, const resurf_mesh *mesh, const affine3 *world,
+                           const rp_style *style, const resurf_allocator *alloc);
 
 /* ---- text (font.c) ------------------------------------------------------------------------------------------- */
 

@@ -1,5 +1,5 @@
 /* The preview's rasterizer: triangles into a panel with a z-buffer, perspective-correct interpolation, Lambert +
- * ambient lighting from a light fixed to the camera and an optional wireframe. Everything runs in double precision
+ * ambient lighting from a light fixed to the camera, bilinear texture sampling and an optional wireframe. Everything runs in double precision
  * (+, -, *, /, sqrt: exact IEEE operations, no libm call) in a fixed order on one thread, so a panel's pixels depend
  * on the mesh and camera alone. */
 #include <math.h>
@@ -10,6 +10,7 @@
 /* Camera-space corner: position, pixel position, and whether it can be drawn (finite, in front of the near
  * plane). */
 typedef struct corner {
+    vec3 w;                 /* world position */
     vec3 c;
     double sx, sy;
     int ok;
@@ -50,9 +51,48 @@ static unsigned char to_byte(double v)
     return v <= 0 ? 0 : v >= 255 ? 255 : (unsigned char)v;
 }
 
-resurf_status rp_draw_mesh(rp_panel *panel, const rp_camera *cam, const resurf_mesh *mesh, const rp_style *style,
-                           const resurf_allocator *alloc)
+/* A texel index under a wrap mode. */
+static long wrap_index(long i, long n, int mode)
 {
+    if (mode == RP_WRAP_CLAMP)
+        return i < 0 ? 0 : i >= n ? n - 1 : i;
+    if (mode == RP_WRAP_MIRROR) {
+        long period = 2 * n, k = ((i % period) + period) % period;
+        return k < n ? k : period - 1 - k;
+    }
+    return ((i % n) + n) % n;
+}
+
+/* The texture's colour at (u, v) (glTF: v = 0 is the image's top row), bilinear between the four nearest texel
+ * centres, 0..1 per channel. Coordinates are reduced to one period first so that huge values keep their fraction. */
+static void sample(const rp_style *st, double u, double v, double out[3])
+{
+    const rp_texture *t = st->texture;
+    double x = u * t->width - 0.5, y = v * t->height - 0.5;
+    if (!(fabs(x) < 1e9) || !(fabs(y) < 1e9)) {
+        out[0] = out[1] = out[2] = 1;
+        return;
+    }
+    double fx0 = floor(x), fy0 = floor(y), fx = x - fx0, fy = y - fy0;
+    long x0 = (long)fx0, y0 = (long)fy0;
+    long xs[2] = {wrap_index(x0, t->width, st->wrap_s), wrap_index(x0 + 1, t->width, st->wrap_s)};
+    long ys[2] = {wrap_index(y0, t->height, st->wrap_t), wrap_index(y0 + 1, t->height, st->wrap_t)};
+    double w[4] = {(1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy};
+    for (int c = 0; c < 3; ++c) {
+        double sum = 0;
+        for (int k = 0; k < 4; ++k)
+            sum += w[k] * t->rgba[4 * ((size_t)ys[k >> 1] * t->width + (size_t)xs[k & 1]) + c];
+        out[c] = sum / 255;
+    }
+}
+
+resurf_status rp_draw_mesh(rp_panel *panel, const rp_camera *cam, const resurf_mesh *mesh, const affine3 *world,
+                           const rp_style *style, const resurf_allocator *alloc)
+{
+    const double *uv = style->texture && style->texcoord < mesh->texcoord_count ? mesh->texcoords[style->texcoord]
+                                                                                 : NULL;
+    if (!uv || !style->texture->rgba || !style->texture->width || !style->texture->height)
+        uv = NULL;
     if (mesh->triangle_count == 0 || mesh->vertex_count == 0 || panel->w == 0 || panel->h == 0)
         return RESURF_OK;
     corner *corners = resurfi_alloc(alloc, mesh->vertex_count, sizeof *corners);
@@ -60,7 +100,8 @@ resurf_status rp_draw_mesh(rp_panel *panel, const rp_camera *cam, const resurf_m
         return RESURF_ERR_OUT_OF_MEMORY;
     for (size_t v = 0; v < mesh->vertex_count; ++v) {
         corner *k = &corners[v];
-        vec3 p = v3_load(mesh->positions + 3 * v);
+        vec3 p = world ? affine3_point(world, mesh->positions + 3 * v) : v3_load(mesh->positions + 3 * v);
+        k->w = p;
         k->c = to_camera(cam, p);
         k->ok = v3_finite(k->c) && k->c.z > cam->near;
         k->sx = k->ok ? cam->cx + cam->focal * k->c.x / k->c.z : 0;
@@ -116,8 +157,10 @@ resurf_status rp_draw_mesh(rp_panel *panel, const rp_camera *cam, const resurf_m
         }
         vec3 face = v3_normalize(v3_cross(v3_sub(k[1]->c, k[0]->c), v3_sub(k[2]->c, k[0]->c)));
         vec3 normal[3];
-        for (int m = 0; m < 3; ++m)
-            normal[m] = mesh->normals ? dir_to_camera(cam, v3_load(mesh->normals + 3 * (size_t)id[m])) : face;
+        for (int m = 0; m < 3; ++m) {
+            const double *n = mesh->normals ? mesh->normals + 3 * (size_t)id[m] : NULL;
+            normal[m] = !n ? face : dir_to_camera(cam, world ? affine3_normal(world, n) : v3_load(n));
+        }
         for (unsigned j = (unsigned)j0; j <= (unsigned)j1; ++j) {
             double py = j + 0.5;
             for (unsigned i = (unsigned)i0; i <= (unsigned)i1; ++i) {
@@ -151,16 +194,27 @@ resurf_status rp_draw_mesh(rp_panel *panel, const rp_camera *cam, const resurf_m
                     if (d < RP_WIRE_PX)
                         shade *= 0.45;
                 }
+                double colour[3] = {style->base[0], style->base[1], style->base[2]};
+                if (uv) {
+                    double u = 0, v = 0, texel[3];
+                    for (int m = 0; m < 3; ++m) {
+                        u += uv[2 * (size_t)id[m]] * w[m];
+                        v += uv[2 * (size_t)id[m] + 1] * w[m];
+                    }
+                    sample(style, u, v, texel);
+                    for (int c = 0; c < 3; ++c)
+                        colour[c] *= texel[c];
+                }
                 unsigned char *px8 = panel->rgba + 4 * ((size_t)(panel->y0 + j) * panel->stride + panel->x0 + i);
                 for (int c = 0; c < 3; ++c)
-                    px8[c] = to_byte(style->base[c] * shade);
+                    px8[c] = to_byte(colour[c] * shade);
                 px8[3] = 255;
                 if (panel->shade)
                     panel->shade[at] = (float)shade;
                 if (panel->position) {
                     vec3 q = v3(0, 0, 0);
                     for (int m = 0; m < 3; ++m)
-                        q = v3_madd(q, v3_load(mesh->positions + 3 * (size_t)id[m]), w[m]);
+                        q = v3_madd(q, k[m]->w, w[m]);
                     v3_store(panel->position + 3 * at, q);
                 }
             }

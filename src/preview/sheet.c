@@ -141,6 +141,9 @@ typedef struct sheet {
     float *panel_shade;      /* heat map: a panel's lighting factors, */
     float *shade, *distance; /* and the sheet's, with the distances */
     unsigned char ink[3];
+    rp_texture *textures;    /* per image of the document, decoded when first drawn */
+    signed char *texture_state; /* per image: 0 not tried, 1 decoded, -1 cannot be drawn */
+    resurf_preview_report *rep;
 } sheet;
 
 static void clear_panel(sheet *s, rp_panel *p)
@@ -149,25 +152,96 @@ static void clear_panel(sheet *s, rp_panel *p)
         s->depth[k] = 0;
 }
 
+/* A surface without a material. */
 static const double base_colour[3] = {0.80, 0.78, 0.74};
 
+/* The decoded image i, or NULL when it cannot be drawn (counted and, the first time, described in the report). */
+static const rp_texture *texture_of(sheet *s, size_t i)
+{
+    if (!s->textures || i >= s->scene->view->image_count)
+        return NULL;
+    if (s->texture_state[i] == 0) {
+        const unsigned char *data;
+        size_t size;
+        char why[128] = "";
+        resurf_status st = resurfi_scene_image_bytes(s->scene, i, &data, &size);
+        if (st == RESURF_OK)
+            st = rp_texture_decode(data, size, s->alloc, &s->textures[i], why, sizeof why);
+        else
+            snprintf(why, sizeof why, "%s", st == RESURF_ERR_IO ? "missing" : "outside its buffer");
+        s->texture_state[i] = st == RESURF_OK ? 1 : -1;
+        if (st != RESURF_OK && s->rep->textures_undrawn++ == 0) {
+            const char *uri = s->scene->view->images[i].uri;
+            snprintf(s->rep->texture_warning, sizeof s->rep->texture_warning, "images[%zu]%s%.60s%s: %s", i,
+                     uri[0] && strncmp(uri, "data:", 5) ? " '" : "", uri[0] && strncmp(uri, "data:", 5) ? uri : "",
+                     uri[0] && strncmp(uri, "data:", 5) ? "'" : "", why);
+        }
+    }
+    return s->texture_state[i] > 0 ? &s->textures[i] : NULL;
+}
+
+/* How primitive p is drawn: its material's base colour and base-colour texture (when its image decodes and the
+ * primitive has the texture coordinates it names), else the sheet's grey. The heat pictures need no colour. */
+static rp_style style_of(sheet *s, size_t p, int colour)
+{
+    rp_style st = {.base = {base_colour[0], base_colour[1], base_colour[2]}, .wireframe = s->o.wireframe};
+    const resurfi_gltf_view *v = s->scene->view;
+    if (!colour || !v)
+        return st;
+    const resurf_scene_primitive *info = &s->scene->prims[p].info;
+    long long mi = v->meshes[info->mesh].primitives[info->primitive].material;
+    if (mi < 0 || (size_t)mi >= v->material_count)
+        return st;
+    const resurfi_gltf_material *mat = &v->materials[mi];
+    for (int c = 0; c < 3; ++c)
+        st.base[c] = mat->base_color[c] < 0 ? 0 : mat->base_color[c] > 1 ? 1 : mat->base_color[c];
+    long long ti = mat->base_color_texture;
+    if (ti < 0 || (size_t)ti >= v->texture_count || v->textures[ti].source < 0 || mat->base_color_texcoord < 0)
+        return st;
+    st.texture = texture_of(s, (size_t)v->textures[ti].source);
+    st.texcoord = (unsigned)mat->base_color_texcoord;
+    st.wrap_s = v->textures[ti].wrap_s;
+    st.wrap_t = v->textures[ti].wrap_t;
+    return st;
+}
+
+/* Level k of every drawn node into the panel, primitive by primitive with its node's world transform. */
+static resurf_status draw_scene(sheet *s, rp_panel *panel, size_t k, int colour)
+{
+    const resurf_scene *scene = s->scene;
+    for (size_t i = 0; i < s->list.count; ++i) {
+        size_t prim_level, mesh = resurfi_scene_instance_mesh(&s->list.items[i], k, &prim_level);
+        affine3 world = affine3_from(s->list.items[i].world);
+        for (size_t p = scene->mesh_first[mesh]; p < scene->mesh_first[mesh + 1]; ++p) {
+            const resurf_mesh *m = scene->prims[p].mesh ? resurfi_scene_level_mesh(&scene->prims[p], prim_level)
+                                                        : NULL;
+            if (!m)
+                continue;
+            rp_style style = style_of(s, p, colour);
+            if (rp_draw_mesh(panel, &s->camera, m, &world, &style, s->alloc) != RESURF_OK)
+                return resurfi_error(s->error, RESURF_ERR_OUT_OF_MEMORY, "out of memory drawing level %zu", k);
+        }
+    }
+    return RESURF_OK;
+}
+
 /* Level k's cell: its picture, its heat picture, its labels. */
-static resurf_status draw_level(sheet *s, size_t k, const resurf_mesh *mesh, resurf_preview_report *rep)
+static resurf_status draw_level(sheet *s, size_t k, resurf_preview_report *rep)
 {
     const layout *l = &s->l;
     unsigned cx = (unsigned)(k % l->cols) * l->cell_w, cy = (unsigned)(k / l->cols) * l->cell_h;
-    rp_style style = {.base = {base_colour[0], base_colour[1], base_colour[2]}, .wireframe = s->o.wireframe};
     if (l->panel_h > 0 && l->cell_w > 0) {
         rp_panel p = {s->img.rgba, s->img.width, cx, cy, l->cell_w, l->panel_h, s->depth, NULL, NULL};
         clear_panel(s, &p);
-        if (rp_draw_mesh(&p, &s->camera, mesh, &style, s->alloc) != RESURF_OK)
-            return resurfi_error(s->error, RESURF_ERR_OUT_OF_MEMORY, "out of memory drawing level %zu", k);
+        resurf_status status = draw_scene(s, &p, k, 1);
+        if (status != RESURF_OK)
+            return status;
         if (s->o.heatmap) {
             rp_panel h = {s->img.rgba, s->img.width, cx, cy + l->panel_h, l->cell_w, l->panel_h, s->depth,
                           s->position, s->panel_shade};
             clear_panel(s, &h);
-            if (rp_draw_mesh(&h, &s->camera, mesh, &style, s->alloc) != RESURF_OK)
-                return resurfi_error(s->error, RESURF_ERR_OUT_OF_MEMORY, "out of memory drawing level %zu", k);
+            if ((status = draw_scene(s, &h, k, 0)) != RESURF_OK)
+                return status;
             heat_job job = {s->bvh, &h, s->distance, s->img.width};
             if (s->bvh)
                 resurfi_parallel_for(h.h, 8, s->o.threads, heat_rows, &job);
@@ -319,6 +393,13 @@ static resurf_status render(sheet *s, resurf_preview_report *rep)
         levels = n > levels ? n : levels;
     }
     rep->levels = levels;
+    size_t images = scene->view ? scene->view->image_count : 0;
+    if (images) {
+        s->textures = resurfi_calloc(s->alloc, images, sizeof *s->textures);
+        s->texture_state = resurfi_calloc(s->alloc, images, 1);
+        if (!s->textures || !s->texture_state)
+            return resurfi_error(s->error, RESURF_ERR_OUT_OF_MEMORY, "out of memory for the textures");
+    }
     status = resurfi_scene_flatten(scene, &s->list, 0, NULL, s->alloc, &s->level0, s->error);
     if (status != RESURF_OK)
         return status;
@@ -389,7 +470,7 @@ static resurf_status render(sheet *s, resurf_preview_report *rep)
             rep->level_error[k] = k == 0 ? 0 : NAN;
             rep->level_error_rel[k] = k == 0 ? 0 : NAN;
         }
-        status = draw_level(s, k, mesh, rep);
+        status = draw_level(s, k, rep);
         if (mesh != s->level0)
             resurf_mesh_free(mesh);
         if (status != RESURF_OK)
@@ -428,7 +509,12 @@ resurf_status resurf_preview_render(const resurf_scene *scene, const resurf_prev
     s.img.allocator = s.alloc->allocate ? *s.alloc : (resurf_allocator){0};
     resurf_preview_report rep;
     memset(&rep, 0, sizeof rep);
+    s.rep = &rep;
     status = render(&s, &rep);
+    for (size_t i = 0; s.textures && i < scene->view->image_count; ++i)
+        rp_texture_free(&s.textures[i], s.alloc);
+    resurfi_free(s.alloc, s.textures);
+    resurfi_free(s.alloc, s.texture_state);
     resurfi_bvh_free(s.bvh);
     resurf_mesh_free(s.level0);
     resurfi_free(s.alloc, s.list.items);

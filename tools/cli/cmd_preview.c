@@ -15,8 +15,9 @@ static const char usage[] =
     "shaded with each level's own normals, with the level, its triangles, its error (the two-sided distance to\n"
     "level 0 measured as 'resurf compare' does, relative to the diagonal and in scene units) and its screen\n"
     "coverage under each. The levels are those of MSFT_lod (as 'resurf lod' writes them). Nodes are drawn with\n"
-    "their transforms. Materials and textures are not drawn. The same input and options give the same PNG bytes\n"
-    "on any thread count.\n\n"
+    "their transforms, surfaces with their material's base colour and PNG or JPEG base-colour texture (an image\n"
+    "that cannot be decoded: the colour alone, with a warning). The same input and options give the same PNG\n"
+    "bytes on any thread count.\n\n"
     "  -o, --output SHEET.png the picture (written atomically)\n"
     "  --view V               three-quarter (default), front (from +z), side (from +x), top (from +y) or iso\n"
     "  --yaw DEG, --pitch DEG turn the camera about the vertical, raise it: added to the view's angles\n"
@@ -91,6 +92,9 @@ int cli_write_preview(const resurf_scene *scene, const char *path, const resurf_
         return CLI_FAILED;
     if (s != RESURF_OK)
         return cli_fail_error(&error);
+    if (report.textures_undrawn)
+        fprintf(stderr, "resurf: warning: %s: %zu base-colour image%s drawn as the material's colour alone; %s\n",
+                path, report.textures_undrawn, report.textures_undrawn == 1 ? "" : "s", report.texture_warning);
     if (verbosity >= 2) {
         printf("%-6s %12s %14s %14s %10s\n", "level", "triangles", "error (rel)", "error", "coverage");
         for (size_t k = 0; k < report.levels; ++k) {
