@@ -708,7 +708,7 @@ static resurf_status load_document(const unsigned char *data, size_t size, scene
     resurfi_gltf_doc *doc = NULL;
     if (status == RESURF_OK) {
         status = resurfi_gltf_parse(json, json_size, bin, bin_size, kind == KIND_GLB, dir, path, (uint64_t)1 << 32,
-                                    &doc, error);
+                                    opts->lenient, &doc, error);
         if (status != RESURF_OK && error && error->offset >= 0)
             error->offset += (long long)json_offset;
     }

@@ -150,6 +150,10 @@ resurf_status resurfi_scene_check_document(load_ctx *c)
     resurf_status status = check_buffer_views(c);
     for (size_t i = 0; i < v->accessor_count && status == RESURF_OK; ++i)
         status = check_accessor(c, i);
+    /* Only a document that breaks the schema, read leniently, gets here with one: nothing could write it back. */
+    for (size_t i = 0; i < v->mesh_count && status == RESURF_OK; ++i)
+        if (v->meshes[i].primitive_count == 0)
+            status = FAIL(c, "meshes[%zu] has no primitives (glTF requires at least one)", i);
     for (size_t i = 0; i < v->ref_count && status == RESURF_OK; ++i)
         if (v->refs[i].index < 0 || (uint64_t)v->refs[i].index >= v->refs[i].limit)
             status = FAIL(c, "%s: %lld does not exist (%zu to choose from)", v->refs[i].where, v->refs[i].index,

@@ -6,8 +6,10 @@
 // that overflowed to infinity (1e999). The second pass is tinygltf's own load, with file callbacks that read
 // regular files only and an image callback that keeps image bytes as they are.
 //
-// Nothing here judges the content: indices, ranges and references are copied into the view as the file gives
-// them, and scene_check.c checks them (the Khronos glTF 2.0 specification, sections 3.6-3.7 and 5).
+// Before both, gltf_schema.cpp checks the JSON against the glTF 2.0 schema (types, required properties, enums,
+// ranges): the first problem fails the load, or with `lenient` each becomes a warning. Beyond that nothing here
+// judges the content: indices, ranges and references are copied into the view as the file gives them, and
+// scene_check.c checks them (the Khronos glTF 2.0 specification, sections 3.6-3.7 and 5).
 #include <sys/stat.h>
 
 #include <algorithm>
@@ -26,6 +28,7 @@
 #include <tiny_gltf.h>
 
 #include "gltf_internal.hpp"
+#include "gltf_schema.hpp"
 
 namespace {
 
@@ -603,9 +606,12 @@ void build_view(resurfi_gltf_doc *doc)
     v.outside_extensions = doc->outside_ptrs.data();
 }
 
+// Schema problems a lenient load lists one warning each; more are counted in one last warning.
+constexpr size_t MAX_SCHEMA_WARNINGS = 100;
+
 resurf_status parse(const char *json, size_t json_size, const unsigned char *bin, size_t bin_size, int is_glb,
-                    const char *base_dir, const char *name, uint64_t max_external_bytes, resurfi_gltf_doc **out_doc,
-                    resurf_error *error)
+                    const char *base_dir, const char *name, uint64_t max_external_bytes, int lenient,
+                    resurfi_gltf_doc **out_doc, resurf_error *error)
 {
     std::unique_ptr<resurfi_gltf_doc> doc(new resurfi_gltf_doc());
 
@@ -627,6 +633,16 @@ resurf_status parse(const char *json, size_t json_size, const unsigned char *bin
     }
     if (!root.is_object())
         return resurfi_fail(error, RESURF_ERR_PARSE, name, 0, -1, "the JSON is not an object");
+    std::vector<std::string> problems;
+    bool integers_rewritten = false;
+    size_t problem_count =
+        resurfi_gltf_schema_check(root, lenient ? MAX_SCHEMA_WARNINGS : 1, &problems, &integers_rewritten);
+    if (problem_count && !lenient)
+        return resurfi_fail(error, RESURF_ERR_PARSE, name, 0, -1, "%s", problems[0].c_str());
+    doc->warnings = std::move(problems);
+    if (problem_count > doc->warnings.size())
+        doc->warnings.push_back(std::to_string(problem_count - doc->warnings.size()) +
+                                " more problems with the glTF schema");
     if (!base_dir) {
         std::string uri;
         long long b = external_buffer(root, &uri);
@@ -640,7 +656,7 @@ resurf_status parse(const char *json, size_t json_size, const unsigned char *bin
     find_nonfinite(root, where, doc->nonfinite_count, doc->first_nonfinite);
     outside_extensions(root, doc->outside_extensions);
     std::string rewritten;
-    if (take_draco(root, doc->draco))
+    if (take_draco(root, doc->draco) || integers_rewritten)
         rewritten = root.dump();
     root = nlohmann::json();
 
@@ -715,12 +731,13 @@ resurf_status parse(const char *json, size_t json_size, const unsigned char *bin
 
 extern "C" resurf_status resurfi_gltf_parse(const char *json, size_t json_size, const unsigned char *bin,
                                             size_t bin_size, int is_glb, const char *base_dir, const char *name,
-                                            uint64_t max_external_bytes, resurfi_gltf_doc **out_doc,
+                                            uint64_t max_external_bytes, int lenient, resurfi_gltf_doc **out_doc,
                                             resurf_error *error)
 {
     *out_doc = nullptr;
     try {
-        return parse(json, json_size, bin, bin_size, is_glb, base_dir, name, max_external_bytes, out_doc, error);
+        return parse(json, json_size, bin, bin_size, is_glb, base_dir, name, max_external_bytes, lenient, out_doc,
+                     error);
     } catch (const std::bad_alloc &) {
         return resurfi_fail(error, RESURF_ERR_OUT_OF_MEMORY, name, 0, -1, "out of memory reading the glTF document");
     } catch (const std::exception &e) {

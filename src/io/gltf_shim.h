@@ -176,10 +176,12 @@ typedef struct resurfi_gltf_doc resurfi_gltf_doc;
  * or NULL for a document in memory, which may not refer to external buffers (an error naming the uri);
  * name: for messages. KHR_draco_mesh_compression is never decoded here (the C side checks the references and
  * calls resurfi_draco_decode); external files are read only when regular and at most max_external_bytes long.
+ * The JSON is checked against the glTF 2.0 schema first: the first problem fails with RESURF_ERR_PARSE naming the
+ * JSON path and the cause, or (lenient) every problem becomes one of the view's warnings.
  * On success *out_doc owns the parsed document and its view. */
 resurf_status resurfi_gltf_parse(const char *json, size_t json_size, const unsigned char *bin, size_t bin_size,
                                  int is_glb, const char *base_dir, const char *name, uint64_t max_external_bytes,
-                                 resurfi_gltf_doc **out_doc, resurf_error *error);
+                                 int lenient, resurfi_gltf_doc **out_doc, resurf_error *error);
 const resurfi_gltf_view *resurfi_gltf_doc_view(const resurfi_gltf_doc *doc);
 void resurfi_gltf_doc_free(resurfi_gltf_doc *doc);
 

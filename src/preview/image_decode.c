@@ -20,7 +20,11 @@ static int is_png(const unsigned char *d, size_t n)
 
 static int is_jpeg(const unsigned char *d, size_t n) { return n >= 3 && d[0] == 0xff && d[1] == 0xd8 && d[2] == 0xff; }
 
-static int too_big(size_t w, size_t h) { return w == 0 || h == 0 || w > RP_TEXTURE_MAX_SIDE || h > RP_TEXTURE_MAX_SIDE; }
+/* A bound on what a few hundred hostile bytes can make the decoder allocate: a side of 16384, 2^26 pixels. */
+static int too_big(size_t w, size_t h)
+{
+    return w == 0 || h == 0 || w > RP_TEXTURE_MAX_SIDE || h > RP_TEXTURE_MAX_SIDE || w * h > RP_TEXTURE_MAX_PIXELS;
+}
 
 static resurf_status decode_png(const unsigned char *data, size_t size, const resurf_allocator *alloc,
                                 rp_texture *out, char *why, size_t why_size)
@@ -33,8 +37,8 @@ static resurf_status decode_png(const unsigned char *data, size_t size, const re
         return RESURF_ERR_PARSE;
     }
     if (too_big(img.width, img.height)) {
-        snprintf(why, why_size, "PNG of %u x %u pixels (at most %d a side)", img.width, img.height,
-                 RP_TEXTURE_MAX_SIDE);
+        snprintf(why, why_size, "PNG of %u x %u pixels (at most %d a side, %lu in all)", img.width, img.height,
+                 RP_TEXTURE_MAX_SIDE, (unsigned long)RP_TEXTURE_MAX_PIXELS);
         png_image_free(&img);
         return RESURF_ERR_LIMIT;
     }
@@ -96,8 +100,9 @@ static resurf_status decode_jpeg(const unsigned char *data, size_t size, const r
     info.do_fancy_upsampling = TRUE;
     jpeg_start_decompress(&info);
     if (too_big(info.output_width, info.output_height) || info.output_components != 3) {
-        snprintf(why, why_size, "JPEG of %u x %u pixels, %d components (at most %d a side, 3 components)",
-                 info.output_width, info.output_height, info.output_components, RP_TEXTURE_MAX_SIDE);
+        snprintf(why, why_size, "JPEG of %u x %u pixels, %d components (at most %d a side, %lu in all, 3 components)",
+                 info.output_width, info.output_height, info.output_components, RP_TEXTURE_MAX_SIDE,
+                 (unsigned long)RP_TEXTURE_MAX_PIXELS);
         jpeg_destroy_decompress(&info);
         return RESURF_ERR_LIMIT;
     }

@@ -41,6 +41,7 @@ typedef struct rp_panel {
 
 /* A decoded texture: 8-bit RGBA, rows top to bottom (image_decode.c). */
 #define RP_TEXTURE_MAX_SIDE 16384
+#define RP_TEXTURE_MAX_PIXELS ((size_t)1 << 26)
 typedef struct rp_texture {
     unsigned width, height;
     unsigned char *rgba;
@@ -48,7 +49,7 @@ typedef struct rp_texture {
 
 /* Decodes a PNG or JPEG image (by its first bytes) into out (pixels from alloc). On failure *out is zeroed and why
  * says what is wrong: RESURF_ERR_UNSUPPORTED for another type, RESURF_ERR_PARSE for broken bytes,
- * RESURF_ERR_LIMIT for a side over RP_TEXTURE_MAX_SIDE, RESURF_ERR_OUT_OF_MEMORY. */
+ * RESURF_ERR_LIMIT for a side over RP_TEXTURE_MAX_SIDE or more than RP_TEXTURE_MAX_PIXELS pixels, RESURF_ERR_OUT_OF_MEMORY. */
 resurf_status rp_texture_decode(const unsigned char *data, size_t size, const resurf_allocator *alloc,
                                 rp_texture *out, char *why, size_t why_size);
 void rp_texture_free(rp_texture *t, const resurf_allocator *alloc);

@@ -106,7 +106,7 @@ static int end_kind(pos_flags f)
 static int map_ok(pos_flags fx, int seam_y) { return (fx & POS_SEAM) ? seam_y : !seam_y; }
 
 /* Plans collapsing edge (a, b), given a's fan (live corners): the edge's triangles, which ends may go (the rule
- * above), where the vertex goes and at what quadric cost. */
+ * above), where the vertex goes and at what cost (the quadric's, plus the attribute quadrics' of attributes.c). */
 void plan_collapse(const simplifier *s, uint32_t a, uint32_t b, const u32vec *fan_a, plan *pl)
 {
     memset(pl, 0, sizeof *pl);
@@ -158,7 +158,8 @@ void plan_collapse(const simplifier *s, uint32_t a, uint32_t b, const u32vec *fa
         pl->pinned = reason_a != BLOCK_NONE;
         pl->p = pl->pinned ? pa : free_placement(s, &q, pa, pb, seam_edge);
     }
-    pl->cost = qeval(s, &q, pl->p);
+    pl->attr_cost = attribute_cost(s, pl, a, b, pl->p);
+    pl->cost = qeval(s, &q, pl->p) + pl->attr_cost;
 }
 
 static int push_fresh(const simplifier *s, lane *L, candidate c) { return simp_buf_append(s->alloc, &L->fresh, &c, 1); }
@@ -286,6 +287,12 @@ static int apply_collapse(simplifier *s, lane *L, uint32_t keep, uint32_t gone, 
         s->tri[t].dead = 1;
     }
     L->dead_tris += (size_t)maps;
+    for (int k = 0; k < maps; ++k) /* each wedge of gone into its image (once: both maps may be the same) */
+        if (k == 0 || from[k] != from[0]) {
+            attribute_merge(s, to[k], from[k]);
+            if (s->wedge_root)
+                s->wedge_root[from[k]] = to[k];
+        }
     /* Re-label gone's live corners. keep's list becomes its fan after the collapse, gone's live corners first
      * (the order of splicing gone's list in front of keep's), without the dead corners either list held. */
     L->fan_c.count = 0;
@@ -507,7 +514,7 @@ int try_candidate(simplifier *s, pending *q, lane *L, scratch *sc, int defer)
     uint32_t near = home != NONE ? home : s->home ? s->home[a] : NONE; /* a triangle of M near p */
     double excess = distance_excess(s, L, fa, fb, a, b, p, &pl, err, near);
     if (excess > 0) {
-        float priced = scaled_cost(s, qeval(s, &qab, p) + excess_penalty(&qab, excess));
+        float priced = scaled_cost(s, qeval(s, &qab, p) + pl.attr_cost + excess_penalty(&qab, excess));
         if (e.cost < priced * 0.999999f) {
             r->blocked_distance++;
             return push_fresh(s, L, (candidate){priced, a, b, e.stamp});

@@ -1,6 +1,7 @@
 /* The simplifier's output: one snapshot of the working mesh turned into a resurf_mesh. Used positions are numbered
  * (number_output), placed (place_output: POST restoration, then the sag offset), given attributes from the input
- * (attribute_block: the closest input triangle on the vertex's side of any seam); measure.c then measures it. */
+ * (attribute_block: the closest input triangle on the vertex's side of any seam, find_sides); measure.c then
+ * measures it. */
 #include <math.h>
 
 #include "simplify_internal.h"
@@ -24,6 +25,8 @@ typedef struct output {
     uint32_t *sag_count;
     uint8_t *outcome;     /* per u: POST restoration left it (1) */
     uint8_t *held;        /* per u: a locked position (POS_LOCKED), which keeps the input's place */
+    uint32_t *side_tri;   /* per output vertex at a seam: the closest input triangle on its side, else NONE */
+    double *side_bary;    /* 3 per output vertex: the barycentrics of that closest point */
 } output;
 
 static void output_free(output *o, const resurf_allocator *alloc)
@@ -44,6 +47,8 @@ static void output_free(output *o, const resurf_allocator *alloc)
     resurfi_free(alloc, o->sag_count);
     resurfi_free(alloc, o->outcome);
     resurfi_free(alloc, o->held);
+    resurfi_free(alloc, o->side_tri);
+    resurfi_free(alloc, o->side_bary);
 }
 
 typedef struct output_job {
@@ -105,10 +110,77 @@ static int chart_visit(void *ctx, uint32_t t, vec3 point, const double bary[3], 
     return 0;
 }
 
-/* The input triangle that gives output vertex ov its attributes, with barycentrics: the closest one on the
- * vertex's side of any seam (its wedge's chart), else the closest one. */
+/* The sides of the seams: for each output vertex at a position with two or more (a seam), the closest input
+ * triangle with a corner whose wedge became or merged into the vertex's wedge. A chart alone cannot tell the sides
+ * apart where a seam does not cut its chart in two (a cylinder's or a sphere's UV seam): both sides are one chart,
+ * and the closest triangle of a vertex on the seam is as likely to lie across it. The wedges merged into a vertex
+ * lie on its side, so their triangles do too. One pass over the input's triangles, in order: the answer does not
+ * depend on the thread count. */
+static resurf_status find_sides(simplifier *s, output *o)
+{
+    if (!s->wedge_root || !s->charts.of_wedge)
+        return RESURF_OK;
+    const resurf_mesh *in = s->in;
+    uint32_t *root = s->wedge_root;
+    for (size_t v = 0; v < in->vertex_count; ++v) { /* every vertex straight to its live wedge */
+        uint32_t r = (uint32_t)v;
+        while (root[r] != r)
+            r = root[r];
+        for (uint32_t x = (uint32_t)v; root[x] != r;) {
+            uint32_t next = root[x];
+            root[x] = r;
+            x = next;
+        }
+    }
+    uint32_t *ov_of_wedge = resurfi_alloc(s->alloc, in->vertex_count, sizeof *ov_of_wedge);
+    o->side_tri = resurfi_alloc(s->alloc, o->nv, sizeof *o->side_tri);
+    o->side_bary = resurfi_alloc(s->alloc, o->nv, 3 * sizeof *o->side_bary);
+    double *best = resurfi_alloc(s->alloc, o->nv, sizeof *best);
+    if (!ov_of_wedge || !o->side_tri || !o->side_bary || !best) {
+        resurfi_free(s->alloc, ov_of_wedge);
+        resurfi_free(s->alloc, best);
+        return RESURF_ERR_OUT_OF_MEMORY;
+    }
+    memset(ov_of_wedge, 0xff, in->vertex_count * sizeof *ov_of_wedge);
+    memset(o->side_tri, 0xff, o->nv * sizeof *o->side_tri);
+    for (size_t u = 0; u < o->nu; ++u)
+        if (o->ufirst[u] != NONE && o->ov_next[o->ufirst[u]] != NONE)
+            for (uint32_t ov = o->ufirst[u]; ov != NONE; ov = o->ov_next[ov]) {
+                ov_of_wedge[o->ov_wedge[ov]] = ov;
+                best[ov] = INFINITY;
+            }
+    for (size_t t = 0; t < in->triangle_count; ++t) {
+        const uint32_t *idx = in->indices + 3 * t;
+        for (int k = 0; k < 3; ++k) {
+            uint32_t ov = ov_of_wedge[root[idx[k]]];
+            if (ov == NONE || o->side_tri[ov] == t)
+                continue;
+            double b[3];
+            vec3 p = o->base[o->ov_u[ov]];
+            vec3 q = resurfi_closest_on_triangle(p, resurfi_position(in, idx[0]), resurfi_position(in, idx[1]),
+                                                 resurfi_position(in, idx[2]), b);
+            double d2 = v3_dist2(p, q);
+            if (d2 < best[ov]) {
+                best[ov] = d2;
+                o->side_tri[ov] = (uint32_t)t;
+                memcpy(o->side_bary + 3 * (size_t)ov, b, sizeof b);
+            }
+        }
+    }
+    resurfi_free(s->alloc, ov_of_wedge);
+    resurfi_free(s->alloc, best);
+    return RESURF_OK;
+}
+
+/* The input triangle that gives output vertex ov its attributes, with barycentrics: at a seam, the closest one on
+ * the vertex's side (find_sides); elsewhere the closest one on the vertex's side of any seam (its wedge's chart),
+ * else the closest one. */
 static uint32_t attribute_source(const simplifier *s, const output *o, uint32_t ov, double bary[3])
 {
+    if (o->side_tri && o->side_tri[ov] != NONE) {
+        memcpy(bary, o->side_bary + 3 * (size_t)ov, 3 * sizeof *bary);
+        return o->side_tri[ov];
+    }
     uint32_t u = o->ov_u[ov];
     vec3 p = o->base[u];
     double d2;
@@ -404,7 +476,7 @@ resurf_status build_output(simplifier *s, resurf_mesh **out, resurf_simplify_rep
         if (m->triangle_groups)
             for (size_t i = 0; i < o.nt; ++i)
                 m->triangle_groups[i] = s->in->triangle_groups[s->src[o.tris[i]]];
-        if (has_attributes(s->in) && s->bvh) {
+        if (has_attributes(s->in) && s->bvh && (st = find_sides(s, &o)) == RESURF_OK) {
             output_job job = {s, &o, m};
             resurfi_pool_for(s->pool, o.nv, BLOCK_POSITIONS, attribute_block, &job);
         }
@@ -412,7 +484,8 @@ resurf_status build_output(simplifier *s, resurf_mesh **out, resurf_simplify_rep
         rep->triangles = o.nt;
         rep->vertices = o.nv;
         rep->positions = o.nu;
-        st = measure_level(s, m, rep);
+        if (st == RESURF_OK)
+            st = measure_level(s, m, rep);
     }
     output_free(&o, s->alloc);
     if (st != RESURF_OK) {

@@ -2,7 +2,7 @@
  * attribute vertices with equal attributes merged into wedges; fins dropped (drop_fins) and triangles with a
  * repeated position; each position's corners threaded into a list; per position (in parallel, beside the
  * restorer's set-up): border, seam and non-manifold flags and the quadric; the attribute charts; the restorer's
- * homes; the first candidates (collapse.c) and the scheduler's buffers (schedule.c). */
+ * homes; the wedges' attribute quadrics (attributes.c); the first candidates (collapse.c) and the scheduler's buffers (schedule.c). */
 #include <math.h>
 #include <stdlib.h>
 
@@ -336,6 +336,10 @@ static resurf_status prepare_mesh(simplifier *s, resurf_error *error)
     }
     memset(head, 0, pc * sizeof *head);
     st = RESURF_OK;
+    if (attrs) { /* the wedges' forest starts as each vertex's wedge */
+        s->wedge_root = rep;
+        rep = NULL;
+    }
 done:
     if (s->remap != remap)
         resurfi_free(s->alloc, remap);
@@ -637,6 +641,8 @@ resurf_status simplify_start(simplifier *s, scratch *scratch, resurf_error *erro
         seams = (s->P[p].flags & (POS_SEAM | POS_COMPLEX)) != 0;
     if (seams && has_attributes(s->in) && find_charts(s, &scratch[0]) != RESURF_OK)
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory finding attribute charts");
+    if (attributes_start(s, scratch) != RESURF_OK)
+        return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory building attribute quadrics");
     if (!(s->gen = resurfi_calloc(s->alloc, s->pos_count, sizeof *s->gen)))
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
     st = seed_candidates(s, scratch);

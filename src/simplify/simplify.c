@@ -25,6 +25,7 @@
  *   simplify.c           this file: the public functions, the options and their checks, a call's life;
  *   simplify_internal.h  the working mesh, the per-concern state the simplifier holds, the small inline helpers;
  *   setup.c              weld, wedges, fins, corner lists, per-position analysis, charts, the set-up's order;
+ *   attributes.c         the attribute quadrics of the wedges: built, priced, merged;
  *   collapse.c           placement, cost, the vertex-kind rule (a table), applying a collapse, trying a candidate,
  *                        the pass loop;
  *   guards.h, guards.c   the guards of one collapse, and the contract of what a collapse in a parallel chunk may
@@ -65,6 +66,9 @@ resurf_simplify_options resurf_simplify_options_default(void)
     o.max_normal_change_deg = 60;
     o.border_weight = 1;
     o.drop_fins = true;
+    o.normal_weight = 0;
+    o.texcoord_weight = 0.25;
+    o.color_weight = 0.25;
     o.measure_samples = 100000;
     return o;
 }
@@ -93,6 +97,10 @@ static resurf_status check_options(const resurf_simplify_options *o, resurf_erro
         bad = "max_normal_change_deg must be in (0, 180]";
     else if (!(o->border_weight >= 0 && isfinite(o->border_weight)))
         bad = "border_weight must be finite and >= 0";
+    else if (!(o->normal_weight >= 0 && isfinite(o->normal_weight)) ||
+             !(o->texcoord_weight >= 0 && isfinite(o->texcoord_weight)) ||
+             !(o->color_weight >= 0 && isfinite(o->color_weight)))
+        bad = "normal_weight, texcoord_weight and color_weight must be finite and >= 0";
     else if (o->restore_options && o->restore_options->struct_size != sizeof(resurf_restore_options))
         bad = "restore_options was not initialised by resurf_restore_options_default()";
     else if (o->thread_pool && !o->thread_pool->run)
@@ -111,6 +119,8 @@ static void simplifier_free(simplifier *s)
     resurfi_free(s->alloc, s->mark);
     resurfi_free(s->alloc, s->charts.of_input_tri);
     resurfi_free(s->alloc, s->charts.of_wedge);
+    resurfi_free(s->alloc, s->attr.data);
+    resurfi_free(s->alloc, s->wedge_root);
     simp_queue_free(&s->queue);
     resurfi_free(s->alloc, s->gen);
     resurfi_free(s->alloc, s->home);

@@ -82,7 +82,8 @@ typedef struct plan {
     uint32_t shared[2];      /* the triangles on the edge */
     int shared_count;
     vec3 p;
-    double cost;
+    double cost;             /* the quadric's at p, plus attr_cost */
+    double attr_cost;        /* the attribute quadrics' (attributes.c), 0 without them */
 } plan;
 
 /* A working triangle: its corners 3t..3t+2 (corner c is triangle c / 3, slot c % 3). The arrays of one triangle
@@ -179,6 +180,19 @@ typedef struct charts {
     uint32_t *of_wedge;
 } charts;
 
+/* Attribute quadrics (attributes.c), one record of `stride` doubles per wedge (indexed by its input vertex id), or
+ * none (data NULL) when the input has no attribute the options weigh. */
+enum { ATTR_MAX = 3 + 2 * RESURF_MAX_TEXCOORD_SETS + 4 }; /* components weighed at most: normal, texcoords, colour */
+typedef struct attr_quadrics {
+    double *data;
+    size_t stride;                /* ATTR_HEAD + 4 × count */
+    unsigned count;               /* components weighed */
+    const double *src[ATTR_MAX];  /* per component: the input's array, */
+    unsigned step[ATTR_MAX];      /* its doubles per vertex, */
+    unsigned offset[ATTR_MAX];    /* the component's place in a vertex's values */
+    double scale[ATTR_MAX];       /* and its factor: weight × the diagonal */
+} attr_quadrics;
+
 /* The report's input side (measure.c), found at the first measured level and kept for the others. */
 typedef struct measure_state {
     double *in_area_prefix;   /* the input's cumulative triangle areas, triangle_count + 1 */
@@ -216,6 +230,9 @@ typedef struct simplifier {
     const resurfi_bvh *bvh;     /* over the input's triangles, input triangle ids */
     uint32_t *home;             /* inline restoration: per position, a triangle of the input near it */
     charts charts;
+    uint32_t *wedge_root; /* with attributes: per input vertex, the wedge it became or merged into (a union-find
+                             forest: follow it to a live wedge; output.c finds the triangles of a seam's side) */
+    attr_quadrics attr;
     measure_state measure;
 
     simp_queue queue;
@@ -342,7 +359,7 @@ static inline void prefetch_walk(const simplifier *s, uint32_t a, size_t ahead)
 }
 
 /* Asks for what a collapse reads of the positions around a fan: their records (both cache lines: the checks read
- * their places, the new candidates their quadrics) and their marks (link_ok). One neighbour per corner covers a
+ * their places, the new candidates their quadrics), their marks (link_ok) and their wedges' attribute quadrics. One neighbour per corner covers a
  * closed fan. */
 static inline void prefetch_ring(const simplifier *s, const lane *L, const u32vec *fan)
 {
@@ -351,6 +368,11 @@ static inline void prefetch_ring(const simplifier *s, const lane *L, const u32ve
         PREFETCH(&s->P[x]);
         PREFETCH(&s->P[x].q.c);
         PREFETCH(&L->mark[x]);
+        if (s->attr.data) { /* the neighbour's wedge's attribute quadric, which the new candidates price */
+            const double *r = s->attr.data + s->attr.stride * TW(corner_next(fan->data[i]));
+            for (size_t k = 0; k < s->attr.stride; k += 8)
+                PREFETCH(r + k);
+        }
     }
 }
 
@@ -362,6 +384,11 @@ size_t fan_pairs(const simplifier *s, const u32vec *fan, scratch *sc);
 int analyse_position(simplifier *s, uint32_t a, scratch *sc, pos_flags *out_flags, resurfi_quadric *out_q,
                      uint32_t *out_up);
 resurf_status simplify_start(simplifier *s, scratch *scratch, resurf_error *error);
+
+/* attributes.c: the attribute quadrics of the wedges */
+resurf_status attributes_start(simplifier *s, scratch *scratch);
+double attribute_cost(const simplifier *s, const plan *pl, uint32_t a, uint32_t b, vec3 p);
+void attribute_merge(simplifier *s, uint32_t to, uint32_t from);
 
 /* collapse.c: planning, the first candidates, applying, the pass loop */
 void plan_collapse(const simplifier *s, uint32_t a, uint32_t b, const u32vec *fan_a, plan *pl);

@@ -50,6 +50,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     resurf_load_options options = resurf_load_options_default();
     options.max_triangles = 1u << 20;
+    /* Odd sizes load leniently, so that documents the schema refuses still reach tinygltf and the index checks. */
+    options.lenient = size & 1;
     resurf_scene *scene = NULL;
     resurf_error error;
     resurf_status s = resurf_scene_load_memory(data, size, FUZZ_SCENE_FORMAT, &options, &scene, &error);
@@ -72,7 +74,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             sum += check_mesh(m);
     }
     for (size_t i = 0; i < resurf_scene_warning_count(scene); ++i)
-        REQUIRE(resurf_scene_warning(scene, i) != NULL);
+        REQUIRE(resurf_scene_warning(scene, i) != NULL && !strchr(resurf_scene_warning(scene, i), '\n'));
     /* resurf info's description, both forms: its length as promised, the text cut where dst ends. */
     for (int json = 0; json < 2; ++json) {
         size_t length = 0, again = 0;

@@ -7,6 +7,7 @@
 #define RESURF_CLI_H
 
 #include <getopt.h>
+#include <stdbool.h>
 #include <stdio.h>
 
 #include "resurf/resurf.h"
@@ -56,6 +57,8 @@ int cli_parse_unsigned(const char *command, const char *option, const char *text
 int cli_parse_threads(const char *command, const char *text, unsigned *out);
 /* --levels R1,R2,...: up to max ratios in (0, 1], non-increasing. */
 int cli_parse_levels(const char *command, const char *text, double *out, size_t max, size_t *count);
+/* --attribute-weights N,UV,C: the simplifier's normal_weight, texcoord_weight, color_weight (each >= 0). */
+int cli_parse_attribute_weights(const char *command, const char *text, resurf_simplify_options *o);
 
 /* Refuses (prints, returns CLI_FAILED) when output names the same file as one of the inputs; else 0. */
 int cli_check_output(const char *output, const char *const *inputs, int input_count);
@@ -83,9 +86,21 @@ int cli_set_max_triangles(const char *command, const char *text);
 /* The limit in force, for commands that load through other calls (resurf_scene_load: load options' max_triangles). */
 size_t cli_max_triangles(void);
 
+/* --lenient, taken by every command that loads scenes (info, lod, preview): a glTF document that breaks the glTF
+ * 2.0 schema loads with a warning per problem instead of failing (resurf_load_options.lenient). Add
+ * CLI_LENIENT_OPTION to the command's long options; cli_shared_option() takes it, or call cli_set_lenient(); the
+ * command loads with lenient = cli_lenient() and prints the scene's warnings. */
+enum { CLI_OPT_LENIENT = 0x100 }; /* no short option */
+#define CLI_LENIENT_OPTION {"lenient", no_argument, NULL, CLI_OPT_LENIENT}
+#define CLI_LENIENT_HELP                                                                                        \
+    "  --lenient          accept a glTF document that breaks the glTF 2.0 schema (wrong types, missing required\n" \
+    "                     properties, values out of range) with a warning per problem (default: refused)\n"
+void cli_set_lenient(void);
+bool cli_lenient(void);
+
 /* The options every mesh command shares, for the `default:` of its getopt switch: 'f' (--format: sets *format;
- * pass NULL when the command has no --format), 'T' (--max-triangles), 'h' (--help: prints usage) and anything
- * unknown. Returns CLI_NEXT to go on parsing, CLI_OK after --help, CLI_USAGE after an error. */
+ * pass NULL when the command has no --format), 'T' (--max-triangles), CLI_OPT_LENIENT, 'h' (--help: prints usage)
+ * and anything unknown. Returns CLI_NEXT to go on parsing, CLI_OK after --help, CLI_USAGE after an error. */
 enum { CLI_NEXT = -1 };
 int cli_shared_option(const char *command, const char *usage, int option, resurf_format *format);
 

@@ -194,6 +194,12 @@ int cli_set_max_triangles(const char *command, const char *text)
 
 size_t cli_max_triangles(void) { return max_triangles; }
 
+static bool lenient = false; /* resurf_load_options_default()'s, until --lenient says */
+
+void cli_set_lenient(void) { lenient = true; }
+
+bool cli_lenient(void) { return lenient; }
+
 int cli_load(const char *path, resurf_format format, resurf_mesh **out)
 {
     if (interrupted_by)
@@ -257,6 +263,9 @@ int cli_shared_option(const char *command, const char *usage, int option, resurf
         return CLI_NEXT;
     case 'T':
         return cli_set_max_triangles(command, optarg) ? CLI_USAGE : CLI_NEXT;
+    case CLI_OPT_LENIENT:
+        cli_set_lenient();
+        return CLI_NEXT;
     case 'h':
         fputs(usage, stdout);
         return CLI_OK;
@@ -303,5 +312,23 @@ int cli_parse_levels(const char *command, const char *text, double *out, size_t 
         s = end + 1;
     }
     *count = n;
+    return 0;
+}
+
+int cli_parse_attribute_weights(const char *command, const char *text, resurf_simplify_options *o)
+{
+    double w[3];
+    const char *s = text;
+    for (int k = 0; k < 3; ++k) {
+        char *end;
+        w[k] = strtod(s, &end);
+        if (end == s || !(w[k] >= 0 && w[k] < HUGE_VAL) || *end != (k < 2 ? ',' : 0))
+            return cli_usage(command, "--attribute-weights wants three weights >= 0 (normals, texcoords, colours) "
+                             "separated by commas: '%s'", text);
+        s = end + 1;
+    }
+    o->normal_weight = w[0];
+    o->texcoord_weight = w[1];
+    o->color_weight = w[2];
     return 0;
 }

@@ -5,7 +5,7 @@
 #include "cli.h"
 
 static const char usage[] =
-    "usage: resurf info FILE [--json] [--format obj|ply|off|stl] [--max-triangles N]\n\n"
+    "usage: resurf info FILE [--json] [--format obj|ply|off|stl] [--max-triangles N] [--lenient]\n\n"
     "Prints vertices, triangles, distinct positions, connected components, boundary loops and edges,\n"
     "non-manifold edges and vertices, degenerate and zero-area triangles, inconsistently oriented edges,\n"
     "unreferenced vertices, the bounding box and the attributes of a mesh.\n"
@@ -15,7 +15,8 @@ static const char usage[] =
     "extensions.\n\n"
     "  --json           machine-readable output on stdout\n"
     "  --format FMT     read as FMT whatever the file name says\n"
-    CLI_MAX_TRIANGLES_HELP;
+    CLI_MAX_TRIANGLES_HELP
+    CLI_LENIENT_HELP;
 
 static void print_text(const char *path, const resurf_mesh *m, const resurf_validate_report *v, const double lo[3],
                        const double hi[3], double diagonal)
@@ -99,6 +100,7 @@ static int scene_info(const char *path, int json)
     resurf_load_options lo = resurf_load_options_default();
     lo.max_triangles = cli_max_triangles();
     lo.allow_missing_images = 1; /* a missing image is part of what info reports ("missing") */
+    lo.lenient = cli_lenient();
     lo.progress = cli_progress();
     resurf_scene *scene = NULL;
     resurf_error error;
@@ -106,6 +108,8 @@ static int scene_info(const char *path, int json)
     cli_progress_done();
     if (s != RESURF_OK)
         return cli_fail_error(&error);
+    for (size_t i = 0; i < resurf_scene_warning_count(scene); ++i)
+        fprintf(stderr, "resurf: warning: %s\n", resurf_scene_warning(scene, i));
     size_t length = 0;
     char *text = NULL;
     s = resurf_scene_describe(scene, json, NULL, 0, &length, &error);
@@ -134,6 +138,7 @@ int cmd_info(int argc, char **argv)
         {"json", no_argument, NULL, 'j'},
         {"format", required_argument, NULL, 'f'},
         CLI_MAX_TRIANGLES_OPTION,
+        CLI_LENIENT_OPTION,
         {"help", no_argument, NULL, 'h'},
         {NULL, 0, NULL, 0},
     };

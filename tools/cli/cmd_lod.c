@@ -32,10 +32,12 @@ static const char usage[] =
     "  --compression-level N  Draco 0 (fastest) .. 10 (smallest), default 7\n"
     "  --pixels P             MSFT_lod switching: a level shows once its error covers at most P pixels (default 1)\n"
     "  --screen-height H      ... on a screen H pixels high (default 1080)\n"
+    "  --attribute-weights N,UV,C  weights of normals, texture coordinates and colours in the collapse cost\n"
+    "                         (0 = that attribute off; default 0,0.25,0.25)\n"
     "  --threads N            worker threads, 0 = all cores (default)\n"
     "  --preview SHEET.png    also draw every level with its error, as 'resurf preview' does\n"
     "  --preview-size WxH     the sheet's size (default 1600x900)\n"
-    "  --json                 print the table as JSON on stdout\n" CLI_MAX_TRIANGLES_HELP;
+    "  --json                 print the table as JSON on stdout\n" CLI_MAX_TRIANGLES_HELP CLI_LENIENT_HELP;
 
 enum { MAX_LEVELS = RESURF_SCENE_MAX_LEVELS - 1 };
 
@@ -69,10 +71,12 @@ int cmd_lod(int argc, char **argv)
         {"pixels", required_argument, NULL, 'p'},
         {"screen-height", required_argument, NULL, 'H'},
         {"threads", required_argument, NULL, 't'},
+        {"attribute-weights", required_argument, NULL, 'W'},
         {"json", no_argument, NULL, 'j'},
         {"preview", required_argument, NULL, 'P'},
         {"preview-size", required_argument, NULL, 'Z'},
         CLI_MAX_TRIANGLES_OPTION,
+        CLI_LENIENT_OPTION,
         {"help", no_argument, NULL, 'h'},
         {NULL, 0, NULL, 0},
     };
@@ -133,6 +137,10 @@ int cmd_lod(int argc, char **argv)
             if (cli_parse_threads("lod", optarg, &sim.threads))
                 return CLI_USAGE;
             break;
+        case 'W':
+            if (cli_parse_attribute_weights("lod", optarg, &sim))
+                return CLI_USAGE;
+            break;
         case 'j': json = 1; break;
         case 'P': preview = optarg; break;
         case 'Z':
@@ -143,6 +151,7 @@ int cmd_lod(int argc, char **argv)
             if (cli_set_max_triangles("lod", optarg))
                 return CLI_USAGE;
             break;
+        case CLI_OPT_LENIENT: cli_set_lenient(); break;
         case 'h': fputs(usage, stdout); return CLI_OK;
         default: return CLI_USAGE;
         }
@@ -176,6 +185,7 @@ int cmd_lod(int argc, char **argv)
 
     resurf_load_options lo = resurf_load_options_default();
     lo.max_triangles = cli_max_triangles();
+    lo.lenient = cli_lenient();
     lo.allow_missing_images = allow_missing_images;
     resurf_error error;
     resurf_scene *scene = NULL;

@@ -29,7 +29,7 @@ static const char usage[] =
     "                         transparent\n"
     "  --samples N            sample points per surface for the error (default 10000; 0 = vertices only)\n"
     "  --no-error             do not measure the errors (faster; the labels then show none)\n"
-    "  --threads N            worker threads, 0 = all cores (default)\n" CLI_MAX_TRIANGLES_HELP;
+    "  --threads N            worker threads, 0 = all cores (default)\n" CLI_MAX_TRIANGLES_HELP CLI_LENIENT_HELP;
 
 int cli_parse_preview_size(const char *command, const char *option, const char *text, resurf_preview_options *o)
 {
@@ -129,6 +129,7 @@ int cmd_preview(int argc, char **argv)
         {"no-error", no_argument, NULL, 'E'},
         {"threads", required_argument, NULL, 't'},
         CLI_MAX_TRIANGLES_OPTION,
+        CLI_LENIENT_OPTION,
         {"help", no_argument, NULL, 'h'},
         {NULL, 0, NULL, 0},
     };
@@ -181,6 +182,7 @@ int cmd_preview(int argc, char **argv)
             if (cli_set_max_triangles("preview", optarg))
                 return CLI_USAGE;
             break;
+        case CLI_OPT_LENIENT: cli_set_lenient(); break;
         case 'h': fputs(usage, stdout); return CLI_OK;
         default: return CLI_USAGE;
         }
@@ -198,6 +200,7 @@ int cmd_preview(int argc, char **argv)
 
     resurf_load_options lo = resurf_load_options_default();
     lo.max_triangles = cli_max_triangles();
+    lo.lenient = cli_lenient();
     lo.progress = cli_progress();
     lo.allow_missing_images = true; /* drawn untextured: the sheet shows the geometry, with the loader's warning */
     resurf_error error;

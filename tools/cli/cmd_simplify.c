@@ -30,6 +30,8 @@ static const char usage[] =
     "                            facing opposite ways goes whole, a same-facing repeat goes alone)\n"
     "  --min-angle DEG           refuse collapses that make a triangle angle smaller than DEG (default off)\n"
     "  --max-normal-change DEG   refuse collapses that turn a triangle by more than DEG (default: the library's)\n"
+    "  --attribute-weights N,UV,C  weights of normals, texture coordinates and colours in the collapse cost\n"
+    "                            (0 = that attribute off; default 0,0.25,0.25)\n"
     "  --samples N               samples of the result measured against IN, and of IN against the result, for\n"
     "                            the report (0 = none)\n"
     "  --threads N               worker threads, 0 = all cores (default); the result is the same for any N\n"
@@ -148,6 +150,7 @@ int cmd_simplify(int argc, char **argv)
         {"keep-fins", no_argument, NULL, 'k'},
         {"min-angle", required_argument, NULL, 'a'},
         {"max-normal-change", required_argument, NULL, 'N'},
+        {"attribute-weights", required_argument, NULL, 'W'},
         {"samples", required_argument, NULL, 's'},
         {"threads", required_argument, NULL, 't'},
         {"json", no_argument, NULL, 'j'},
@@ -230,6 +233,10 @@ int cmd_simplify(int argc, char **argv)
                 return CLI_USAGE;
             if (!(o.max_normal_change_deg > 0 && o.max_normal_change_deg <= 180))
                 return cli_usage("simplify", "--max-normal-change must be in (0, 180], not %s", optarg);
+            break;
+        case 'W':
+            if (cli_parse_attribute_weights("simplify", optarg, &o))
+                return CLI_USAGE;
             break;
         case 's':
             if (cli_parse_unsigned("simplify", "samples", optarg, &n))
