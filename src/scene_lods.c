@@ -1,6 +1,8 @@
 /* One-call levels of detail for a whole scene (resurf_scene_build_lods): every triangle primitive gets a chain from
  * resurf_simplify_lods (simplification with inline restoration onto the primitive's ORIGINAL smooth surface,
- * Semenova et al. §4.2), and every mesh that got levels gets its MSFT_lod screen coverage from the measured errors.
+ * Semenova et al. §4.2), or one resurf_simplify call per level when the levels have different error bounds; the
+ * chain keeps only the levels that help; the levels are measured in world space over the whole scene
+ * (scene_world.c), and every mesh that got levels gets its MSFT_lod screen coverage from its own world errors.
  *
  * The call is all or nothing: the chains of every primitive and the coverage arrays are made first, and only when
  * all of them exist (no error, no cancel, no allocation left to fail) are they moved into the scene, which
@@ -9,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "hash.h"
 #include "scene_internal.h"
 
 resurf_scene_lod_options resurf_scene_lod_options_default(void)
@@ -17,13 +20,15 @@ resurf_scene_lod_options resurf_scene_lod_options_default(void)
     memset(&o, 0, sizeof o);
     o.struct_size = sizeof o;
     o.set_screen_coverage = true;
+    o.keep_shared_borders = true;
     o.pixels = 1;
     o.screen_height = 1080;
     return o;
 }
 
 /* MSFT_screencoverage from the measured errors (the derivation is in resurf.h at resurf_scene_build_lods):
- * errors[k] is level k's relative error (errors[0], full detail, is not used), out receives `levels` values. */
+ * errors[k] is level k's error relative to the mesh's own world diagonal (errors[0], full detail, is not used), out
+ * receives `levels` values. */
 static void coverage_from_errors(const double *errors, size_t levels, double pixels, double height, double *out)
 {
     for (size_t k = 1; k < levels; ++k) {
@@ -90,34 +95,316 @@ static void free_chains(const resurf_allocator *alloc, resurf_mesh ***chains, si
     resurfi_free(alloc, chains);
 }
 
+/* A level misses its ratio when it keeps more than MISS_SLACK × its target + MISS_TRIANGLES triangles: a level
+ * short of its target by less is still the level asked for (a guard may keep a few collapses from happening), one
+ * that stays at several times its target is not (BoxTextured's 12 triangles at "10%"); the constant term keeps a
+ * primitive of a few triangles, whose targets round to nearly nothing, from missing by one triangle. */
+#define MISS_SLACK 1.5
+#define MISS_TRIANGLES 2
+
+/* The largest scale of a world matrix (column-major; NULL = identity): its longest column, which is exact for the
+ * translation · rotation · scale products of glTF node transforms. */
+static double matrix_scale(const double *a)
+{
+    if (!a)
+        return 1;
+    double best = 0;
+    for (int c = 0; c < 3; ++c)
+        best = fmax(best, sqrt(a[4 * c] * a[4 * c] + a[4 * c + 1] * a[4 * c + 1] + a[4 * c + 2] * a[4 * c + 2]));
+    return best > 0 ? best : 1;
+}
+
+/* Level k's error bound in world units from the options (0 = none). */
+static double world_bound(const resurf_scene_lod_options *o, size_t k, double diagonal)
+{
+    double b = 0;
+    if (o->level_max_error_rel && o->level_max_error_rel[k] > 0)
+        b = o->level_max_error_rel[k] * diagonal;
+    if (o->level_max_error && o->level_max_error[k] > 0 && (b == 0 || o->level_max_error[k] < b))
+        b = o->level_max_error[k];
+    return b;
+}
+
+/* The simplify options of a level: the caller's, with the level's bound (in the primitive's units) added. */
+static resurf_simplify_options level_options(const resurf_simplify_options *sim, double bound)
+{
+    resurf_simplify_options o = *sim;
+    o.target_triangles = 0;
+    o.target_ratio = 0;
+    if (bound > 0)
+        o.max_error = o.max_error > 0 ? fmin(o.max_error, bound) : bound;
+    return o;
+}
+
+/* One primitive's chain: one resurf_simplify_lods run when every level has the same bound and a ratio, else one
+ * resurf_simplify run per level from the original (a bound that grows from level to level cannot be one run: a
+ * candidate skipped for its error leaves the queue). */
+static resurf_status make_chain(const resurf_mesh *in, const double *ratios, size_t count, const double *bounds,
+                                const resurf_simplify_options *sim, resurf_mesh **chain,
+                                resurf_simplify_report *reports, resurf_error *e)
+{
+    int one_run = ratios != NULL;
+    for (size_t k = 1; k < count; ++k)
+        one_run = one_run && bounds[k] == bounds[0];
+    if (one_run) {
+        resurf_simplify_options o = level_options(sim, bounds[0]);
+        return resurf_simplify_lods(in, ratios, count, &o, chain, reports, e);
+    }
+    for (size_t k = 0; k < count; ++k) {
+        resurf_simplify_options o = level_options(sim, bounds[k]);
+        o.target_ratio = ratios ? ratios[k] : 0;
+        resurf_status st = resurf_simplify(in, &o, &chain[k], &reports[k], e);
+        if (st != RESURF_OK) {
+            for (size_t j = 0; j < k; ++j) {
+                resurf_mesh_free(chain[j]);
+                chain[j] = NULL;
+            }
+            return st;
+        }
+    }
+    return RESURF_OK;
+}
+
+/* How many levels of a chain help (see resurf.h at resurf_scene_build_lods); *why: 0 all of them, 1 the next one
+ * has no fewer triangles than the one before, 2 it missed its ratio. */
+static size_t levels_that_help(const resurf_mesh *in, resurf_mesh *const *chain, const resurf_simplify_report *rep,
+                               const double *ratios, size_t count, int *why)
+{
+    size_t before = in->triangle_count;
+    *why = 0;
+    for (size_t k = 0; k < count; ++k) {
+        size_t t = chain[k]->triangle_count;
+        if (t >= before) {
+            *why = 1;
+            return k;
+        }
+        if (ratios && rep[k].stop != RESURF_STOP_ERROR &&
+            (double)t > MISS_SLACK * ratios[k] * (double)in->triangle_count + MISS_TRIANGLES) {
+            *why = 2;
+            return k;
+        }
+        before = t;
+    }
+    return count;
+}
+
+/* ---- shared borders ---- */
+
+/* A position as a key: its three coordinates' bits (-0 as +0, so that equal coordinates are equal keys). */
+typedef struct pos_key {
+    uint64_t bits[3];
+} pos_key;
+
+static pos_key key_of(const double *p)
+{
+    pos_key k;
+    for (int c = 0; c < 3; ++c) {
+        double v = p[c] == 0 ? 0.0 : p[c];
+        memcpy(&k.bits[c], &v, sizeof v);
+    }
+    return k;
+}
+
+static uint64_t key_hash(const pos_key *k)
+{
+    return resurfi_mix64(k->bits[0] ^ resurfi_mix64(k->bits[1] ^ resurfi_mix64(k->bits[2])));
+}
+
+/* One slot of the table of a mesh's positions: the first primitive that uses it, and whether another does too. */
+typedef struct pos_slot {
+    pos_key key;
+    size_t prim;            /* SIZE_MAX: empty */
+    int shared;
+} pos_slot;
+
+/* For every triangle primitive of mesh m, locks[p] (one byte per vertex, or NULL when none is locked): the
+ * vertices whose position another primitive of the mesh also uses (a morphed primitive included, which keeps its
+ * full detail), so that no level opens a crack between them. Only vertices that triangles use count. */
+static resurf_status shared_positions(const resurf_scene *scene, size_t m, const resurf_allocator *alloc,
+                                      uint8_t **locks)
+{
+    size_t first = scene->mesh_first[m], last = scene->mesh_first[m + 1], total = 0, with_mesh = 0;
+    for (size_t p = first; p < last; ++p)
+        if (scene->prims[p].mesh) {
+            total += scene->prims[p].mesh->vertex_count;
+            with_mesh++;
+        }
+    if (with_mesh < 2 || total == 0)
+        return RESURF_OK;
+    size_t cap = 16;
+    while (cap < 2 * total)
+        cap *= 2;
+    pos_slot *table = resurfi_alloc(alloc, cap, sizeof *table);
+    if (!table)
+        return RESURF_ERR_OUT_OF_MEMORY;
+    for (size_t i = 0; i < cap; ++i)
+        table[i].prim = SIZE_MAX;
+    /* Pass 1: which positions more than one primitive uses; pass 2: the locks of each triangle primitive. */
+    resurf_status st = RESURF_OK;
+    for (int pass = 0; pass < 2 && st == RESURF_OK; ++pass) {
+        for (size_t p = first; p < last && st == RESURF_OK; ++p) {
+            const resurf_mesh *mesh = scene->prims[p].mesh;
+            if (!mesh || (pass == 1 && scene->prims[p].info.kind != RESURF_PRIMITIVE_TRIANGLES))
+                continue;
+            uint8_t *lock = NULL;
+            size_t locked = 0;
+            if (pass == 1 && !(lock = resurfi_calloc(alloc, mesh->vertex_count + 1, 1))) {
+                st = RESURF_ERR_OUT_OF_MEMORY;
+                break;
+            }
+            for (size_t t = 0; t < 3 * mesh->triangle_count; ++t) {
+                uint32_t v = mesh->indices[t];
+                pos_key k = key_of(mesh->positions + 3 * (size_t)v);
+                size_t i = (size_t)key_hash(&k) & (cap - 1);
+                while (table[i].prim != SIZE_MAX && memcmp(&table[i].key, &k, sizeof k))
+                    i = (i + 1) & (cap - 1);
+                if (pass == 0) {
+                    if (table[i].prim == SIZE_MAX)
+                        table[i] = (pos_slot){k, p, 0};
+                    else if (table[i].prim != p)
+                        table[i].shared = 1;
+                } else if (table[i].shared && !lock[v]) {
+                    lock[v] = 1;
+                    locked++;
+                }
+            }
+            if (pass == 1 && locked)
+                locks[p] = lock;
+            else
+                resurfi_free(alloc, lock);
+        }
+    }
+    resurfi_free(alloc, table);
+    return st;
+}
+
+/* Two-sided distances between level `level` of the instances in list and `full` (level 0 of the same instances),
+ * in world units. A level without triangles is not measurable: *out gets NaN. */
+static resurf_status measure_level(const resurf_scene *scene, const resurfi_scene_instances *list,
+                                   const resurf_mesh *full, size_t level, const resurfi_scene_levels *levels,
+                                   const resurf_compare_options *co, resurf_compare_report *out, resurf_error *error)
+{
+    resurf_mesh *w = NULL;
+    resurf_status st = resurfi_scene_flatten(scene, list, level, levels, co->allocator, &w, error);
+    if (st != RESURF_OK)
+        return st;
+    if (w->triangle_count == 0 || full->triangle_count == 0) {
+        out->hausdorff = out->mean = out->test_to_ref_max = out->ref_to_test_max = NAN;
+        out->diagonal = resurf_mesh_bounds(full, NULL, NULL);
+        resurf_mesh_free(w);
+        return RESURF_OK;
+    }
+    st = resurf_compare(full, w, co, out, NULL, error);
+    resurf_mesh_free(w);
+    return st;
+}
+
+/* Everything a call allocates, freed in one place. */
+typedef struct lod_work {
+    const resurf_allocator *alloc;
+    resurfi_scene_instances list;
+    resurf_mesh *full;            /* level 0 of the whole scene in world space */
+    resurf_mesh ***chains;        /* per primitive: `count` levels, or NULL */
+    size_t *kept;                 /* per primitive: the levels that help */
+    double *mesh_scale;           /* per mesh: the largest scale of its nodes */
+    size_t *mesh_levels;          /* per mesh: 1 + the most levels its primitives kept */
+    double *errors;               /* per mesh and level: the mesh's own relative world error */
+    double **coverage;            /* per mesh */
+    uint8_t **locks;              /* per primitive: its vertices shared with other primitives of its mesh, or NULL */
+} lod_work;
+
+static void lod_work_free(lod_work *w, size_t prim_count, size_t mesh_count, size_t count)
+{
+    free_chains(w->alloc, w->chains, prim_count, count);
+    for (size_t p = 0; w->locks && p < prim_count; ++p)
+        resurfi_free(w->alloc, w->locks[p]);
+    resurfi_free(w->alloc, w->locks);
+    for (size_t m = 0; w->coverage && m < mesh_count; ++m)
+        resurfi_free(w->alloc, w->coverage[m]);
+    resurfi_free(w->alloc, w->coverage);
+    resurfi_free(w->alloc, w->errors);
+    resurfi_free(w->alloc, w->mesh_levels);
+    resurfi_free(w->alloc, w->mesh_scale);
+    resurfi_free(w->alloc, w->kept);
+    resurf_mesh_free(w->full);
+    resurfi_free(w->alloc, w->list.items);
+}
+
+static resurf_status check_arguments(const double *ratios, size_t count, const resurf_simplify_options *sim,
+                                     const resurf_scene_lod_options *o, resurf_error *error)
+{
+    if (count < 1 || count > RESURF_SCENE_MAX_LEVELS - 1)
+        return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "%zu levels of detail (1 to %d)", count,
+                             RESURF_SCENE_MAX_LEVELS - 1);
+    for (size_t k = 0; ratios && k < count; ++k)
+        if (!(ratios[k] > 0 && ratios[k] <= 1) || (k && ratios[k] > ratios[k - 1]))
+            return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT,
+                                 "ratios[%zu] = %g: ratios must lie in (0, 1] and never increase", k, ratios[k]);
+    if (!(o->pixels > 0 && isfinite(o->pixels)) || !(o->screen_height > 0 && isfinite(o->screen_height)))
+        return resurfi_error(error, RESURF_ERR_INVALID_OPTIONS, "pixels (%g) and screen_height (%g) must be positive",
+                             o->pixels, o->screen_height);
+    for (size_t k = 0; k < count; ++k) {
+        double rel = o->level_max_error_rel ? o->level_max_error_rel[k] : 0;
+        double abs = o->level_max_error ? o->level_max_error[k] : 0;
+        if (!(rel >= 0 && isfinite(rel)) || !(abs >= 0 && isfinite(abs)))
+            return resurfi_error(error, RESURF_ERR_INVALID_OPTIONS,
+                                 "level %zu: the error bounds must be finite and >= 0", k + 1);
+        if (!ratios && rel == 0 && abs == 0 && !(sim->max_error > 0) && !(sim->max_error_rel > 0))
+            return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT,
+                                 "level %zu has neither a ratio nor an error bound", k + 1);
+    }
+    return RESURF_OK;
+}
+
 resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios, size_t count,
                                       const resurf_simplify_options *simplify, const resurf_scene_lod_options *options,
                                       resurf_scene_lod_report *out_report,
                                       resurf_simplify_report *out_primitive_reports, resurf_error *error)
 {
-    if (!scene || !ratios)
-        return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "scene or ratios is NULL");
+    if (!scene)
+        return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "scene is NULL");
     RESURFI_CHECK_OPTIONS_ALLOC(simplify, resurf_simplify_options, error);
     RESURFI_CHECK_OPTIONS(options, resurf_scene_lod_options, error);
-    if (count < 1 || count > RESURF_SCENE_MAX_LEVELS - 1)
-        return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "%zu levels of detail (1 to %d)", count,
-                             RESURF_SCENE_MAX_LEVELS - 1);
-    for (size_t k = 0; k < count; ++k)
-        if (!(ratios[k] > 0 && ratios[k] <= 1) || (k && ratios[k] > ratios[k - 1]))
-            return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT,
-                                 "ratios[%zu] = %g: ratios must lie in (0, 1] and never increase", k, ratios[k]);
     const resurf_scene_lod_options o = options ? *options : resurf_scene_lod_options_default();
-    if (!(o.pixels > 0 && isfinite(o.pixels)) || !(o.screen_height > 0 && isfinite(o.screen_height)))
-        return resurfi_error(error, RESURF_ERR_INVALID_OPTIONS, "pixels (%g) and screen_height (%g) must be positive",
-                             o.pixels, o.screen_height);
     resurf_simplify_options sim = simplify ? *simplify : resurf_simplify_options_default();
+    resurf_status st = check_arguments(ratios, count, &sim, &o, error);
+    if (st != RESURF_OK)
+        return st;
 
-    const size_t prim_count = scene->prim_count, mesh_count = scene->mesh_count, levels = count + 1;
+    const size_t prim_count = scene->prim_count, mesh_count = scene->mesh_count;
     if (out_primitive_reports)
         memset(out_primitive_reports, 0, prim_count * count * sizeof *out_primitive_reports);
     resurf_scene_lod_report report;
     memset(&report, 0, sizeof report);
-    report.levels = levels;
+
+    /* Everything here ends in the scene or is freed: the scene's allocator (the levels' meshes come from
+     * simplify->allocator when it is set, else from the primitive's mesh, which is the scene's). */
+    lod_work w = {.alloc = &scene->alloc};
+    const resurf_allocator *alloc = w.alloc;
+    w.chains = resurfi_calloc(alloc, prim_count, sizeof *w.chains);
+    w.kept = resurfi_calloc(alloc, prim_count + 1, sizeof *w.kept);
+    w.mesh_scale = resurfi_calloc(alloc, mesh_count + 1, sizeof *w.mesh_scale);
+    w.mesh_levels = resurfi_calloc(alloc, mesh_count + 1, sizeof *w.mesh_levels);
+    w.errors = resurfi_calloc(alloc, (mesh_count + 1) * (count + 1), sizeof *w.errors);
+    w.coverage = resurfi_calloc(alloc, mesh_count + 1, sizeof *w.coverage);
+    w.locks = resurfi_calloc(alloc, prim_count + 1, sizeof *w.locks);
+    if (!w.locks || !w.kept || !w.mesh_scale || !w.mesh_levels || !w.errors || !w.coverage ||
+        resurfi_scene_gather(scene, alloc, &w.list) != RESURF_OK)
+        st = resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory building levels of detail");
+    /* The levels measured are the ones made here, not those an MSFT_lod extension of the input names. */
+    for (size_t i = 0; st == RESURF_OK && i < w.list.count; ++i)
+        w.list.items[i].lod_count = 0;
+    if (st == RESURF_OK)
+        st = resurfi_scene_flatten(scene, &w.list, 0, NULL, alloc, &w.full, error);
+    if (st == RESURF_OK)
+        report.diagonal = resurf_mesh_bounds(w.full, NULL, NULL);
+    for (size_t m = 0; st == RESURF_OK && m < mesh_count; ++m)
+        if (o.keep_shared_borders && shared_positions(scene, m, alloc, w.locks) != RESURF_OK)
+            st = resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory finding shared borders");
+    for (size_t i = 0; st == RESURF_OK && i < w.list.count; ++i) {
+        double *sc = &w.mesh_scale[w.list.items[i].mesh];
+        *sc = fmax(*sc, matrix_scale(w.list.items[i].world));
+    }
 
     /* The work of each primitive is taken as proportional to its triangles, for the progress fraction. */
     double total = 0;
@@ -125,17 +412,8 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
         if (scene->prims[p].info.kind == RESURF_PRIMITIVE_TRIANGLES)
             total += (double)scene->prims[p].mesh->triangle_count + 1;
 
-    /* Everything here ends in the scene or is freed: the scene's allocator (the levels' meshes come from
-     * simplify->allocator when it is set, else from the primitive's mesh, which is the scene's). */
-    const resurf_allocator *alloc = &scene->alloc;
-    resurf_mesh ***chains = resurfi_calloc(alloc, prim_count, sizeof *chains);
-    double *errors = resurfi_calloc(alloc, mesh_count * levels, sizeof *errors); /* per mesh and level */
-    double **coverage = resurfi_calloc(alloc, mesh_count, sizeof *coverage);
-    resurf_status st = RESURF_OK;
-    if (!chains || !errors || !coverage)
-        st = resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory building levels of detail");
-
-    /* Phase 1: the chains, one primitive after the other; the scene is only read. */
+    /* Phase 1: the chains, one primitive after the other, and the levels of each that help; the scene is only
+     * read. */
     scene_progress sp = {&o.progress, 0, 0, 0};
     sim.progress.fn = o.progress.fn ? forward_progress : NULL;
     sim.progress.user = &sp;
@@ -144,8 +422,6 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
         const resurfi_scene_prim *prim = &scene->prims[p];
         if (prim->info.kind == RESURF_PRIMITIVE_MORPHED) {
             report.morphed++;
-            for (size_t k = 0; k < levels; ++k)
-                report.level_triangles[k] += prim->mesh->triangle_count;
             continue;
         }
         if (prim->info.kind != RESURF_PRIMITIVE_TRIANGLES) {
@@ -157,14 +433,19 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
         sp.span = weight / total;
         done += weight;
         resurf_simplify_report reports[RESURF_SCENE_MAX_LEVELS - 1];
+        double bounds[RESURF_SCENE_MAX_LEVELS - 1];
+        double scale = w.mesh_scale[prim->info.mesh] > 0 ? w.mesh_scale[prim->info.mesh] : 1;
+        for (size_t k = 0; k < count; ++k)
+            bounds[k] = world_bound(&o, k, report.diagonal) / scale;
         resurf_error e;
-        if (!(chains[p] = resurfi_calloc(alloc, count, sizeof **chains))) {
+        sim.vertex_lock = w.locks[p];
+        if (!(w.chains[p] = resurfi_calloc(alloc, count, sizeof **w.chains))) {
             st = resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory building levels of detail");
             break;
         }
-        st = resurf_simplify_lods(prim->mesh, ratios, count, &sim, chains[p], reports, &e);
+        st = make_chain(prim->mesh, ratios, count, bounds, &sim, w.chains[p], reports, &e);
         for (size_t k = 0; k < count && st == RESURF_OK; ++k)
-            if (!same_layout(prim->mesh, chains[p][k]))
+            if (!same_layout(prim->mesh, w.chains[p][k]))
                 st = resurfi_error(&e, RESURF_ERR_INTERNAL, "level %zu lost an attribute of the input", k + 1);
         if (st != RESURF_OK) {
             /* The primitive's name first, so that a scene of many primitives says which one failed. */
@@ -173,70 +454,138 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
             break;
         }
         report.primitives++;
-        report.level_triangles[0] += prim->mesh->triangle_count;
-        for (size_t k = 0; k < count; ++k) {
-            double err = reports[k].max_distance_rel;
-            report.level_triangles[k + 1] += chains[p][k]->triangle_count;
-            if (isfinite(err)) {
-                double *mesh_err = &errors[prim->info.mesh * levels + k + 1];
-                *mesh_err = fmax(*mesh_err, err);
-                report.level_error_rel[k + 1] = fmax(report.level_error_rel[k + 1], err);
-            }
-            if (out_primitive_reports)
-                out_primitive_reports[p * count + k] = reports[k];
-        }
+        int why;
+        size_t kept = levels_that_help(prim->mesh, w.chains[p], reports, ratios, count, &why);
+        w.kept[p] = kept;
+        if (why == 1)
+            report.level_unreduced[kept + 1]++;
+        else if (why == 2)
+            report.level_missed[kept + 1]++;
+        size_t *ml = &w.mesh_levels[prim->info.mesh];
+        *ml = *ml > kept + 1 ? *ml : kept + 1;
+        for (size_t k = 0; out_primitive_reports && k < count && k <= kept; ++k)
+            out_primitive_reports[p * count + k] = reports[k];
     }
     /* A cancel after the last progress call of the last primitive still cancels. */
     if (st == RESURF_OK && resurfi_progress(&o.progress, RESURF_STAGE_FINISH, 1.0))
         st = resurfi_error(error, RESURF_ERR_CANCELLED, "cancelled");
 
-    /* Phase 2: the coverage of every mesh that got levels (a mesh of morphed or point primitives got none). */
-    for (size_t m = 0; m < mesh_count && st == RESURF_OK && o.set_screen_coverage; ++m) {
-        int has_levels = 0;
-        for (size_t p = scene->mesh_first[m]; p < scene->mesh_first[m + 1]; ++p)
-            has_levels |= chains[p] != NULL;
-        if (!has_levels)
+    size_t levels = 1;
+    for (size_t m = 0; m < mesh_count; ++m)
+        levels = w.mesh_levels[m] > levels ? w.mesh_levels[m] : levels;
+    report.levels = levels;
+    for (size_t p = 0; p < prim_count; ++p) {
+        const resurfi_scene_prim *prim = &scene->prims[p];
+        for (size_t k = 0; prim->mesh && st == RESURF_OK && k < levels; ++k) {
+            size_t e = k < w.kept[p] ? k : w.kept[p];
+            report.level_triangles[k] += e && w.chains[p] ? w.chains[p][e - 1]->triangle_count
+                                                          : prim->mesh->triangle_count;
+        }
+    }
+
+    /* Phase 2: the errors in world space, of the whole scene and of each mesh with levels as its first node shows
+     * it, with the chains as they will be set. */
+    resurfi_scene_levels stand_in = {(resurf_mesh *const *const *)w.chains, w.kept};
+    resurf_compare_options co = resurf_compare_options_default();
+    co.samples = sim.measure_samples;
+    co.threads = sim.threads;
+    co.allocator = alloc;
+    for (size_t k = 1; k < levels && st == RESURF_OK && sim.measure_samples > 0; ++k) {
+        resurf_compare_report m;
+        st = measure_level(scene, &w.list, w.full, k, &stand_in, &co, &m, error);
+        if (st != RESURF_OK)
+            break;
+        double d = m.diagonal > 0 ? m.diagonal : NAN;
+        report.level_error[k] = m.hausdorff;
+        report.level_error_rel[k] = m.hausdorff / d;
+        report.level_mean_rel[k] = m.mean / d;
+        report.level_to_full_rel[k] = m.test_to_ref_max / d;
+        report.level_from_full_rel[k] = m.ref_to_test_max / d;
+    }
+    size_t scene_triangles = w.full ? w.full->triangle_count : 0;
+    for (size_t m = 0; m < mesh_count && st == RESURF_OK && sim.measure_samples > 0 && o.set_screen_coverage; ++m) {
+        if (w.mesh_levels[m] < 2)
             continue;
-        if (!(coverage[m] = resurfi_alloc(alloc, levels, sizeof **coverage))) {
+        double *err = w.errors + m * (count + 1);
+        if (w.list.count == 1) { /* the scene is this one instance: its errors are the mesh's */
+            for (size_t k = 1; k < w.mesh_levels[m]; ++k)
+                err[k] = report.level_error_rel[k];
+            continue;
+        }
+        resurfi_scene_instance one = {.mesh = m};
+        for (size_t i = 0; i < w.list.count; ++i)
+            if (w.list.items[i].mesh == m) {
+                one = w.list.items[i];
+                break;
+            }
+        resurfi_scene_instances single = {1, &one};
+        resurf_mesh *full = NULL;
+        st = resurfi_scene_flatten(scene, &single, 0, NULL, alloc, &full, error);
+        /* The scene's sample budget, spread by triangles (at least 1,000 samples a mesh). */
+        resurf_compare_options mco = co;
+        double share = st == RESURF_OK && scene_triangles ? (double)full->triangle_count / (double)scene_triangles
+                                                           : 1;
+        if (st == RESURF_OK)
+            mco.samples = (size_t)fmin((double)co.samples, fmax(1000.0, share * (double)co.samples));
+        for (size_t k = 1; k < w.mesh_levels[m] && st == RESURF_OK; ++k) {
+            resurf_compare_report r;
+            st = measure_level(scene, &single, full, k, &stand_in, &mco, &r, error);
+            if (st == RESURF_OK)
+                err[k] = r.diagonal > 0 ? r.hausdorff / r.diagonal : NAN;
+        }
+        resurf_mesh_free(full);
+    }
+    if (st == RESURF_OK && resurfi_progress(&o.progress, RESURF_STAGE_FINISH, 1.0))
+        st = resurfi_error(error, RESURF_ERR_CANCELLED, "cancelled");
+
+    /* Phase 3: the coverage of every mesh that has levels. */
+    for (size_t m = 0; m < mesh_count && st == RESURF_OK && o.set_screen_coverage; ++m) {
+        if (w.mesh_levels[m] < 2)
+            continue;
+        if (!(w.coverage[m] = resurfi_alloc(alloc, w.mesh_levels[m], sizeof **w.coverage))) {
             st = resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory building levels of detail");
             break;
         }
-        coverage_from_errors(errors + m * levels, levels, o.pixels, o.screen_height, coverage[m]);
+        coverage_from_errors(w.errors + m * (count + 1), w.mesh_levels[m], o.pixels, o.screen_height,
+                             w.coverage[m]);
     }
 
     if (st != RESURF_OK) {
         if (out_primitive_reports)
             memset(out_primitive_reports, 0, prim_count * count * sizeof *out_primitive_reports);
-        free_chains(alloc, chains, prim_count, count);
-        for (size_t m = 0; coverage && m < mesh_count; ++m)
-            resurfi_free(alloc, coverage[m]);
-        resurfi_free(alloc, coverage);
-        resurfi_free(alloc, errors);
+        lod_work_free(&w, prim_count, mesh_count, count);
         return st;
     }
 
-    /* Phase 3: move everything into the scene; nothing can fail from here on. */
+    /* Phase 4: move everything into the scene; nothing can fail from here on. Levels that do not help are freed. */
     for (size_t p = 0; p < prim_count; ++p) {
-        if (!chains[p])
+        if (!w.chains[p])
             continue;
         resurfi_scene_prim *prim = &scene->prims[p];
         for (size_t k = 0; k < prim->lod_count; ++k)
             resurf_mesh_free(prim->lods[k]);
         resurfi_free(alloc, prim->lods);
-        prim->lods = chains[p];
-        prim->lod_count = count;
-        chains[p] = NULL;
+        for (size_t k = w.kept[p]; k < count; ++k)
+            resurf_mesh_free(w.chains[p][k]);
+        prim->lods = w.kept[p] ? w.chains[p] : NULL;
+        prim->lod_count = w.kept[p];
+        if (!w.kept[p])
+            resurfi_free(alloc, w.chains[p]);
+        w.chains[p] = NULL;
     }
     for (size_t m = 0; m < mesh_count; ++m) {
-        if (!coverage[m])
+        size_t own = 1;
+        for (size_t p = scene->mesh_first[m]; p < scene->mesh_first[m + 1]; ++p)
+            own = scene->prims[p].lod_count + 1 > own ? scene->prims[p].lod_count + 1 : own;
+        if (!w.coverage[m] && (!scene->coverage[m] || scene->coverage_count[m] == own))
             continue;
+        /* New values, or old ones that no longer fit the mesh's levels (the defaults are written then). */
         resurfi_free(alloc, scene->coverage[m]);
-        scene->coverage[m] = coverage[m];
-        scene->coverage_count[m] = levels;
+        scene->coverage[m] = w.coverage[m];
+        scene->coverage_count[m] = w.coverage[m] ? own : 0;
+        w.coverage[m] = NULL;
     }
-    resurfi_free(alloc, chains);
-    resurfi_free(alloc, coverage);
-    resurfi_free(alloc, errors);
+    lod_work_free(&w, prim_count, mesh_count, count);
     if (out_report)
         *out_report = report;
     resurfi_clear_error(error);

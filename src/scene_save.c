@@ -925,7 +925,7 @@ resurf_status resurf_scene_save(const resurf_scene *scene, const char *path, con
     if (o.level < -1 || o.level >= (int)levels)
         return resurfi_error(error, RESURF_ERR_INVALID_OPTIONS, "level %d: the scene has levels 0..%zu", o.level,
                              levels - 1);
-    int per_file = o.level < 0 && levels > 1 && o.layout == RESURF_LOD_FILES;
+    int per_file = o.level < 0 && o.layout == RESURF_LOD_FILES; /* even one level: the names stay */
     if (format == OUT_DRC && o.level < 0 && levels > 1 && !per_file)
         return resurfi_fail(error, RESURF_ERR_UNSUPPORTED, path, 0, -1,
                             "a .drc file holds one level: choose one or use the files layout");

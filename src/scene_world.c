@@ -93,8 +93,9 @@ static const resurf_mesh *prim_mesh(const resurf_scene *scene, const resurfi_sce
     const resurfi_scene_prim *prim = &scene->prims[p];
     if (!prim->mesh)
         return NULL;
-    if (k > 0 && levels && levels->chains && levels->chains[p] && levels->counts[p] > 0)
-        return levels->chains[p][(k < levels->counts[p] ? k : levels->counts[p]) - 1];
+    if (k > 0 && levels && levels->chains && levels->chains[p]) /* a chain that kept no level: full detail */
+        return levels->counts[p] ? levels->chains[p][(k < levels->counts[p] ? k : levels->counts[p]) - 1]
+                                 : prim->mesh;
     return resurfi_scene_level_mesh(prim, k);
 }
 

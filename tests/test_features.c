@@ -1,5 +1,8 @@
 /* Tests for what the simplifier keeps in place (src/simplify/setup.c, collapse.c, output.c): vertices the caller
- * locks, against the input's own coordinates (a locked position is in every level bit-exact). */
+ * locks, against the input's own coordinates (a locked position is in every level bit-exact), and sharp features
+ * against the analytic shapes of tools/shapes.h: a box keeps its corners and its faces flat, a flat panel stays
+ * flat, a capped cylinder is no worse than plain edge collapse, while a smooth sphere still gains from
+ * restoration. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -128,6 +131,154 @@ START_TEST(vertex_lock_one_copy_locks_the_position)
 }
 END_TEST
 
+/* ---- features ------------------------------------------------------------------------------------------------ */
+
+static resurf_mesh *simplified(const resurf_mesh *in, double ratio, resurf_restore_mode mode)
+{
+    resurf_simplify_options o = resurf_simplify_options_default();
+    o.target_ratio = ratio;
+    o.restore = mode;
+    o.measure_samples = 0;
+    resurf_mesh *out = NULL;
+    resurf_error e;
+    ck_assert_msg(resurf_simplify(in, &o, &out, NULL, &e) == RESURF_OK, "%s", e.message);
+    ck_assert_uint_le(out->triangle_count, (size_t)(ratio * (double)in->triangle_count));
+    return out;
+}
+
+static double hausdorff_rel(const resurf_mesh *ref, const resurf_mesh *test)
+{
+    resurf_compare_options co = resurf_compare_options_default();
+    co.samples = 50000;
+    resurf_compare_report d;
+    ck_assert_int_eq(resurf_compare(ref, test, &co, &d, NULL, NULL), RESURF_OK);
+    return d.hausdorff / d.diagonal;
+}
+
+/* Mean distance to the analytic surface over the result's triangles (area-weighted; 10 points each: the corners'
+ * Gauss points of a degree-3 rule are not needed, a fixed barycentric pattern is the same for both runs). */
+static double true_mean(shape_kind kind, const resurf_mesh *m)
+{
+    static const double w[6][3] = {{1. / 3, 1. / 3, 1. / 3}, {0.6, 0.2, 0.2}, {0.2, 0.6, 0.2},
+                                   {0.2, 0.2, 0.6}, {0.5, 0.5, 0},           {0, 0.5, 0.5}};
+    double sum = 0, area_sum = 0;
+    for (size_t t = 0; t < m->triangle_count; ++t) {
+        const uint32_t *i = m->indices + 3 * t;
+        vec3 a = resurfi_position(m, i[0]), b = resurfi_position(m, i[1]), c = resurfi_position(m, i[2]);
+        double area = 0.5 * v3_len(v3_tri_cross(a, b, c));
+        for (int k = 0; k < 6; ++k) {
+            vec3 p = v3_add(v3_add(v3_scale(a, w[k][0]), v3_scale(b, w[k][1])), v3_scale(c, w[k][2]));
+            double q[3] = {p.x, p.y, p.z};
+            sum += area * shape_distance(kind, q) / 6;
+        }
+        area_sum += area;
+    }
+    return sum / area_sum;
+}
+
+/* The box [−1,1]³ at 10% and 2% (restored inline, the default): its 8 corners are in the result bit-exact and every
+ * vertex lies on a face plane (max |coordinate| = 1) to 1e-12 of the diagonal. Before the feature rule the sag
+ * offset pushed the vertices of its edges out by up to 1.2% of the diagonal. */
+START_TEST(features_cube_keeps_corners_and_flat_faces)
+{
+    resurf_mesh *in = shape_mesh(SHAPE_CUBE, tu_light() ? 4000 : 12000, 0.3, 3, 0);
+    ck_assert_ptr_nonnull(in);
+    uint8_t *corner = calloc(in->vertex_count, 1);
+    size_t corners = 0;
+    for (size_t v = 0; v < in->vertex_count; ++v) {
+        const double *p = in->positions + 3 * v;
+        if (fabs(p[0]) == 1 && fabs(p[1]) == 1 && fabs(p[2]) == 1)
+            corner[v] = 1, ++corners;
+    }
+    ck_assert_uint_eq(corners, 8);
+    const double ratios[2] = {0.1, 0.02};
+    for (int r = 0; r < 2; ++r) {
+        resurf_mesh *out = simplified(in, ratios[r], RESURF_RESTORE_INLINE);
+        ck_assert_uint_eq(locked_found(in, corner, out), 8);
+        double worst = 0, diagonal = sqrt(12.0);
+        for (size_t v = 0; v < out->vertex_count; ++v) {
+            const double *p = out->positions + 3 * v;
+            double m = fmax(fabs(p[0]), fmax(fabs(p[1]), fabs(p[2])));
+            worst = fmax(worst, fabs(m - 1));
+        }
+        ck_assert_msg(worst <= 1e-12 * diagonal, "%g%%: a vertex %g of the diagonal off the faces", 100 * ratios[r],
+                      worst / diagonal);
+        resurf_mesh_free(out);
+    }
+    free(corner);
+    resurf_mesh_free(in);
+}
+END_TEST
+
+/* A flat panel (the plane z = 0 over [−1,1]², open) at 10% and 2%: every vertex on z = 0 to 1e-12 of the diagonal,
+ * its four border corners bit-exact. */
+START_TEST(features_flat_panel_stays_flat)
+{
+    resurf_mesh *in = shape_mesh(SHAPE_PLANE, tu_light() ? 4000 : 12000, 0.3, 4, 0);
+    ck_assert_ptr_nonnull(in);
+    uint8_t *corner = calloc(in->vertex_count, 1);
+    size_t corners = 0;
+    for (size_t v = 0; v < in->vertex_count; ++v)
+        if (fabs(in->positions[3 * v]) == 1 && fabs(in->positions[3 * v + 1]) == 1)
+            corner[v] = 1, ++corners;
+    ck_assert_uint_eq(corners, 4);
+    const double ratios[2] = {0.1, 0.02};
+    for (int r = 0; r < 2; ++r) {
+        resurf_mesh *out = simplified(in, ratios[r], RESURF_RESTORE_INLINE);
+        ck_assert_uint_eq(locked_found(in, corner, out), 4);
+        double worst = 0;
+        for (size_t v = 0; v < out->vertex_count; ++v)
+            worst = fmax(worst, fabs(out->positions[3 * v + 2]));
+        ck_assert_msg(worst <= 1e-12 * sqrt(8.0), "a vertex %g off the plane", worst);
+        resurf_mesh_free(out);
+    }
+    free(corner);
+    resurf_mesh_free(in);
+}
+END_TEST
+
+/* CAD-like analytic parts: the default (inline restoration, sag offset) against --restore none in two-sided
+ * Hausdorff distance at 10% and 2%: no worse on the box (both keep it exactly), within 10% on the capped cylinder
+ * (measured 1.08x at 10%, 1.00x at 2%: the target of 1.0x is not met there yet). Before the feature rule the
+ * default was 40x worse on the capped cylinder (2.4% of the diagonal against 0.06%). */
+START_TEST(features_parts_no_worse_than_no_restoration)
+{
+    const shape_kind kinds[2] = {SHAPE_CAPPED_CYLINDER, SHAPE_CUBE};
+    const double bound[2] = {1.1, 1.0};
+    const double ratios[2] = {0.1, 0.02};
+    for (int k = 0; k < 2; ++k) {
+        resurf_mesh *in = shape_mesh(kinds[k], tu_light() ? 8000 : 20000, 0.3, 1, 0);
+        ck_assert_ptr_nonnull(in);
+        for (int r = 0; r < 2; ++r) {
+            resurf_mesh *none = simplified(in, ratios[r], RESURF_RESTORE_NONE);
+            resurf_mesh *inline_ = simplified(in, ratios[r], RESURF_RESTORE_INLINE);
+            double hn = hausdorff_rel(in, none), hi = hausdorff_rel(in, inline_);
+            ck_assert_msg(hi <= hn * bound[k] + 1e-12, "%s at %g%%: inline %g, none %g", shape_name(kinds[k]),
+                          100 * ratios[r], hi, hn);
+            resurf_mesh_free(none);
+            resurf_mesh_free(inline_);
+        }
+        resurf_mesh_free(in);
+    }
+}
+END_TEST
+
+/* The smooth sphere still gains from restoration: at 10% its true-surface mean is under 0.8x that of plain edge
+ * collapse (measured about 0.7x). */
+START_TEST(features_sphere_still_gains)
+{
+    resurf_mesh *in = shape_mesh(SHAPE_SPHERE, tu_light() ? 8000 : 20000, 0.3, 1, 0);
+    ck_assert_ptr_nonnull(in);
+    resurf_mesh *none = simplified(in, 0.1, RESURF_RESTORE_NONE);
+    resurf_mesh *inline_ = simplified(in, 0.1, RESURF_RESTORE_INLINE);
+    double mn = true_mean(SHAPE_SPHERE, none), mi = true_mean(SHAPE_SPHERE, inline_);
+    ck_assert_msg(mi < 0.8 * mn, "inline %g, none %g", mi, mn);
+    resurf_mesh_free(none);
+    resurf_mesh_free(inline_);
+    resurf_mesh_free(in);
+}
+END_TEST
+
 Suite *make_suite(void)
 {
     Suite *s = suite_create("features");
@@ -135,6 +286,12 @@ Suite *make_suite(void)
     tcase_add_test(lock, vertex_lock_keeps_positions_exactly);
     tcase_add_test(lock, vertex_lock_one_copy_locks_the_position);
     suite_add_tcase(s, lock);
+    TCase *features = tcase_create("features");
+    tcase_add_test(features, features_cube_keeps_corners_and_flat_faces);
+    tcase_add_test(features, features_flat_panel_stays_flat);
+    tcase_add_test(features, features_parts_no_worse_than_no_restoration);
+    tcase_add_test(features, features_sphere_still_gains);
+    suite_add_tcase(s, features);
     return s;
 }
 

@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "scene_internal.h"
 #include "testutil.h"
 
 /* ---- a glTF of hand-made primitives ----------------------------------------------------------------------- */
@@ -196,6 +197,331 @@ START_TEST(world_mesh_of_a_mesh_scene)
 }
 END_TEST
 
+/* ---- resurf_scene_build_lods in world space ------------------------------------------------------------ */
+
+static resurf_simplify_options fast_options(void)
+{
+    resurf_simplify_options o = resurf_simplify_options_default();
+    o.measure_samples = tu_light() ? 2000 : 8000;
+    return o;
+}
+
+static resurf_scene_lod_report build_with(resurf_scene *s, const double *ratios, size_t count,
+                                          const resurf_scene_lod_options *lo, resurf_simplify_report *pr,
+                                          resurf_simplify_options so)
+{
+    resurf_scene_lod_report r;
+    resurf_error e;
+    resurf_status st = resurf_scene_build_lods(s, ratios, count, &so, lo, &r, pr, &e);
+    ck_assert_msg(st == RESURF_OK, "build_lods: %s", e.message);
+    return r;
+}
+
+static resurf_scene_lod_report build_ok(resurf_scene *s, const double *ratios, size_t count,
+                                        const resurf_scene_lod_options *lo, resurf_simplify_report *pr)
+{
+    return build_with(s, ratios, count, lo, pr, fast_options());
+}
+
+/* The same sphere under an untransformed node and under a node scaled by 2 (and moved): the relative errors are the
+ * same and the absolute ones twice as large, since a similarity changes neither the collapses nor where the
+ * samples fall. */
+START_TEST(lod_world_error_scales_with_the_node)
+{
+    resurf_mesh *m = shape_mesh(SHAPE_SPHERE, tu_light() ? 800 : 2000, 0.2, 3, 0);
+    char *dir = tu_tempdir();
+    int prim_mesh[] = {0};
+    char *one = write_scene(dir, "one", &m, prim_mesh, 1, "[{\"mesh\":0}]", "0");
+    char *two = write_scene(dir, "two", &m, prim_mesh, 1, "[{\"mesh\":0,\"scale\":[2,2,2],\"translation\":[5,0,1]}]",
+                            "0");
+    resurf_scene *a = tu_load_scene_ok(one), *b = tu_load_scene_ok(two);
+    const double ratios[] = {0.3, 0.1};
+    resurf_scene_lod_report ra = build_ok(a, ratios, 2, NULL, NULL), rb = build_ok(b, ratios, 2, NULL, NULL);
+    ck_assert_uint_eq(ra.levels, 3);
+    ck_assert_uint_eq(rb.levels, 3);
+    ck_assert_double_eq_tol(rb.diagonal, 2 * ra.diagonal, 1e-12 * ra.diagonal);
+    for (int k = 1; k < 3; ++k) {
+        ck_assert_uint_eq(ra.level_triangles[k], rb.level_triangles[k]);
+        ck_assert(ra.level_error_rel[k] > 0);
+        ck_assert_double_eq_tol(rb.level_error_rel[k], ra.level_error_rel[k], 1e-9 * ra.level_error_rel[k]);
+        ck_assert_double_eq_tol(rb.level_error[k], 2 * ra.level_error[k], 1e-9 * ra.level_error[k]);
+        ck_assert_double_eq_tol(rb.level_mean_rel[k], ra.level_mean_rel[k], 1e-9 * ra.level_mean_rel[k]);
+    }
+    resurf_scene_free(a);
+    resurf_scene_free(b);
+    resurf_mesh_free(m);
+    free(one);
+    free(two);
+    tu_rmtree(dir);
+    free(dir);
+}
+END_TEST
+
+/* The triangles of m on one side of the plane z = 0 (by centroid), with their own vertices: a half with a border. */
+static resurf_mesh *half(const resurf_mesh *m, int upper)
+{
+    size_t nt = 0;
+    uint32_t *map = malloc(m->vertex_count * sizeof *map);
+    for (size_t v = 0; v < m->vertex_count; ++v)
+        map[v] = UINT32_MAX;
+    size_t nv = 0;
+    for (size_t t = 0; t < m->triangle_count; ++t) {
+        const uint32_t *c = m->indices + 3 * t;
+        double z = m->positions[3 * c[0] + 2] + m->positions[3 * c[1] + 2] + m->positions[3 * c[2] + 2];
+        if ((z > 0) != upper)
+            continue;
+        nt++;
+        for (int i = 0; i < 3; ++i)
+            if (map[c[i]] == UINT32_MAX)
+                map[c[i]] = (uint32_t)nv++;
+    }
+    resurf_mesh *h = NULL;
+    ck_assert_int_eq(resurf_mesh_create(nv, nt, 0, &h, NULL), RESURF_OK);
+    for (size_t v = 0; v < m->vertex_count; ++v)
+        if (map[v] != UINT32_MAX)
+            memcpy(h->positions + 3 * map[v], m->positions + 3 * v, 3 * sizeof(double));
+    nt = 0;
+    for (size_t t = 0; t < m->triangle_count; ++t) {
+        const uint32_t *c = m->indices + 3 * t;
+        double z = m->positions[3 * c[0] + 2] + m->positions[3 * c[1] + 2] + m->positions[3 * c[2] + 2];
+        if ((z > 0) != upper)
+            continue;
+        for (int i = 0; i < 3; ++i)
+            h->indices[3 * nt + i] = map[c[i]];
+        nt++;
+    }
+    free(map);
+    return h;
+}
+
+/* The positions of mesh's border edges (edges of one triangle), as sorted pairs of float-exact coordinates, into
+ * out (6 doubles per edge, sorted); returns the count. */
+static int cmp6(const void *a, const void *b) { return memcmp(a, b, 6 * sizeof(double)); }
+static size_t border_edges(const resurf_mesh *m, double *out)
+{
+    size_t n = 0;
+    for (size_t t = 0; t < m->triangle_count; ++t)
+        for (int i = 0; i < 3; ++i) {
+            uint32_t a = m->indices[3 * t + i], b = m->indices[3 * t + (i + 1) % 3];
+            int twin = 0;
+            for (size_t u = 0; u < m->triangle_count && !twin; ++u)
+                for (int j = 0; j < 3; ++j) {
+                    uint32_t c = m->indices[3 * u + j], d = m->indices[3 * u + (j + 1) % 3];
+                    if (!memcmp(m->positions + 3 * c, m->positions + 3 * b, 24) &&
+                        !memcmp(m->positions + 3 * d, m->positions + 3 * a, 24))
+                        twin = 1;
+                }
+            if (twin)
+                continue;
+            const double *p = m->positions + 3 * a, *q = m->positions + 3 * b;
+            if (memcmp(p, q, 24) > 0) {
+                const double *x = p;
+                p = q;
+                q = x;
+            }
+            memcpy(out + 6 * n, p, 24);
+            memcpy(out + 6 * n + 3, q, 24);
+            n++;
+        }
+    qsort(out, n, 6 * sizeof(double), cmp6);
+    return n;
+}
+
+/* A sphere as two primitives of one mesh (two hemispheres sharing the equator's positions): at every level both
+ * halves have the same border, bit for bit, so no crack opens; simplified alone (keep_shared_borders false) they do
+ * not, which shows that the check can fail. */
+START_TEST(lod_two_primitives_keep_their_shared_border)
+{
+    resurf_mesh *sphere = shape_mesh(SHAPE_SPHERE, tu_light() ? 600 : 1500, 0.2, 5, 0);
+    resurf_mesh *halves[2] = {half(sphere, 1), half(sphere, 0)};
+    char *dir = tu_tempdir();
+    int prim_mesh[] = {0, 0};
+    char *path = write_scene(dir, "halves", halves, prim_mesh, 2, "[{\"mesh\":0}]", "0");
+    const double ratios[] = {0.4, 0.15};
+    for (int keep = 1; keep >= 0; --keep) {
+        resurf_scene *s = tu_load_scene_ok(path);
+        resurf_scene_lod_options lo = resurf_scene_lod_options_default();
+        lo.keep_shared_borders = keep;
+        /* The halves' border zigzags (triangles go by their centroids): its turns would be border corners, which
+         * never move, and the borders would match without the lock too. */
+        resurf_simplify_options so = fast_options();
+        so.corner_angle_deg = 180;
+        resurf_scene_lod_report r = build_with(s, ratios, 2, &lo, NULL, so);
+        ck_assert_uint_eq(r.levels, 3);
+        int all_equal = 1;
+        for (size_t k = 0; k < 3; ++k) {
+            const resurf_mesh *a = resurfi_scene_level_mesh(&s->prims[0], k),
+                              *b = resurfi_scene_level_mesh(&s->prims[1], k);
+            double *ea = malloc(3 * a->triangle_count * 6 * sizeof(double)),
+                   *eb = malloc(3 * b->triangle_count * 6 * sizeof(double));
+            size_t na = border_edges(a, ea), nb = border_edges(b, eb);
+            ck_assert_uint_gt(na, 0);
+            int equal = na == nb && !memcmp(ea, eb, na * 6 * sizeof(double));
+            if (keep)
+                ck_assert_msg(equal, "level %zu: the halves' borders differ (%zu and %zu edges)", k, na, nb);
+            all_equal = all_equal && equal;
+            free(ea);
+            free(eb);
+        }
+        if (!keep)
+            ck_assert_msg(!all_equal, "simplified alone, the halves still share their borders");
+        else
+            ck_assert(r.level_triangles[2] < r.level_triangles[0] / 4);
+        resurf_scene_free(s);
+    }
+    resurf_mesh_free(halves[0]);
+    resurf_mesh_free(halves[1]);
+    resurf_mesh_free(sphere);
+    free(path);
+    tu_rmtree(dir);
+    free(dir);
+}
+END_TEST
+
+/* A box of 12 triangles whose faces each have their own normals (every vertex on a normal seam): nothing can be
+ * collapsed, so no level is kept (no moved copy), the report says why, and the CLI warns naming the guard. */
+START_TEST(lod_unreducible_box_gets_no_levels)
+{
+    static const double corner[6][4][3] = {
+        {{0, 0, 0}, {0, 1, 0}, {1, 1, 0}, {1, 0, 0}}, {{0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}},
+        {{0, 0, 0}, {1, 0, 0}, {1, 0, 1}, {0, 0, 1}}, {{1, 0, 0}, {1, 1, 0}, {1, 1, 1}, {1, 0, 1}},
+        {{1, 1, 0}, {0, 1, 0}, {0, 1, 1}, {1, 1, 1}}, {{0, 1, 0}, {0, 0, 0}, {0, 0, 1}, {0, 1, 1}}};
+    static const double normal[6][3] = {{0, 0, -1}, {0, 0, 1}, {0, -1, 0}, {1, 0, 0}, {0, 1, 0}, {-1, 0, 0}};
+    resurf_mesh *box = NULL;
+    ck_assert_int_eq(resurf_mesh_create(24, 12, RESURF_ATTR_NORMALS, &box, NULL), RESURF_OK);
+    for (int f = 0; f < 6; ++f) {
+        for (int i = 0; i < 4; ++i) {
+            memcpy(box->positions + 3 * (4 * f + i), corner[f][i], 24);
+            memcpy(box->normals + 3 * (4 * f + i), normal[f], 24);
+        }
+        uint32_t b = 4 * (uint32_t)f, t[6] = {b, b + 1, b + 2, b, b + 2, b + 3};
+        memcpy(box->indices + 6 * f, t, sizeof t);
+    }
+    char *dir = tu_tempdir();
+    int prim_mesh[] = {0};
+    char *path = write_scene(dir, "box", &box, prim_mesh, 1, "[{\"mesh\":0}]", "0");
+    resurf_scene *s = tu_load_scene_ok(path);
+    const double ratios[] = {0.5, 0.25};
+    resurf_simplify_report pr[2];
+    resurf_scene_lod_report r = build_ok(s, ratios, 2, NULL, pr);
+    ck_assert_uint_eq(r.levels, 1);
+    ck_assert_uint_eq(r.level_unreduced[1], 1);
+    ck_assert_uint_eq(s->prims[0].lod_count, 0);
+    ck_assert_uint_eq(pr[0].triangles, 12);
+    ck_assert_int_eq(pr[0].stop, RESURF_STOP_BLOCKED);
+    ck_assert_uint_gt(pr[0].blocked_seam + pr[0].blocked_feature + pr[0].blocked_border, 0);
+    ck_assert_uint_eq(pr[1].input_triangles, 0); /* not kept: zeroed */
+    char *out = tu_path(dir, "box.glb");
+    resurf_scene_save_report saved;
+    tu_save_scene_ok(s, out, NULL, &saved);
+    ck_assert_uint_eq(saved.levels, 1);
+    char *text = tu_read_file(out, NULL);
+    ck_assert_ptr_null(strstr(text, "MSFT_lod"));
+    free(text);
+    resurf_scene_free(s);
+
+    char *cmd = tu_strf("'%s' lod '%s' -o '%s' --levels 0.5,0.25 2>&1", RESURF_CLI, path, out), *log = NULL;
+    ck_assert_int_eq(tu_run(cmd, &log), 0);
+    ck_assert_msg(strstr(log, "warning: meshes[0].primitives[0]: level 1") && strstr(log, "could not reduce") &&
+                      (strstr(log, "seam ") || strstr(log, "feature ")),
+                  "%s", log);
+    free(log);
+    free(cmd);
+    free(out);
+    resurf_mesh_free(box);
+    free(path);
+    tu_rmtree(dir);
+    free(dir);
+}
+END_TEST
+
+/* A chain by errors alone: each level stops where its bound stops it (RESURF_STOP_ERROR), larger bounds give
+ * fewer triangles, and a smaller bound than the previous one's result ends the chain. */
+START_TEST(lod_chain_by_errors_alone)
+{
+    resurf_mesh *m = shape_mesh(SHAPE_TORUS, tu_light() ? 1500 : 4000, 0.2, 7, 0);
+    char *dir = tu_tempdir();
+    int prim_mesh[] = {0};
+    char *path = write_scene(dir, "torus", &m, prim_mesh, 1, "[{\"mesh\":0,\"scale\":[3,3,3]}]", "0");
+    resurf_scene *s = tu_load_scene_ok(path);
+    const double errors[] = {0.0005, 0.004};
+    resurf_scene_lod_options lo = resurf_scene_lod_options_default();
+    lo.level_max_error_rel = errors;
+    resurf_simplify_report pr[2];
+    resurf_scene_lod_report r = build_ok(s, NULL, 2, &lo, pr);
+    ck_assert_uint_eq(r.levels, 3);
+    for (int k = 0; k < 2; ++k) {
+        ck_assert_int_eq(pr[k].stop, RESURF_STOP_ERROR);
+        /* The bound is on the estimate, in the primitive's units: the world bound over the node's scale. */
+        ck_assert_double_le(pr[k].max_error_estimate, errors[k] * r.diagonal / 3 * (1 + 1e-12));
+    }
+    ck_assert_uint_lt(r.level_triangles[1], r.level_triangles[0]);
+    ck_assert_uint_lt(r.level_triangles[2], r.level_triangles[1]);
+    resurf_scene_free(s);
+
+    /* From the CLI, --errors alone: the same chain. */
+    char *out = tu_path(dir, "t.glb");
+    char *cmd = tu_strf("'%s' lod '%s' -o '%s' --errors 0.0005,0.004 --json", RESURF_CLI, path, out), *log = NULL;
+    ck_assert_int_eq(tu_run(cmd, &log), 0);
+    char *want = tu_strf("\"triangles\": %zu, \"error_rel\"", r.level_triangles[2]);
+    ck_assert_msg(strstr(log, want), "%s in %s", want, log);
+    free(want);
+    free(log);
+    free(cmd);
+    /* A level with neither a ratio nor an error bound is refused. */
+    s = tu_load_scene_ok(path);
+    const double one[] = {0.001, 0};
+    lo.level_max_error_rel = one;
+    resurf_simplify_options so = fast_options();
+    ck_assert_int_eq(resurf_scene_build_lods(s, NULL, 2, &so, &lo, NULL, NULL, NULL), RESURF_ERR_INVALID_ARGUMENT);
+    ck_assert_uint_eq(s->prims[0].lod_count, 0);
+    resurf_scene_free(s);
+    free(out);
+    resurf_mesh_free(m);
+    free(path);
+    tu_rmtree(dir);
+    free(dir);
+}
+END_TEST
+
+/* A level that misses its ratio by far (lock_border on an open grid keeps the border's vertices, so a 2% level
+ * cannot be reached) ends the chain, is counted as missed, and the CLI says so with the guard that blocked. */
+START_TEST(lod_missed_target_is_reported)
+{
+    resurf_mesh *g = tu_grid(tu_light() ? 12 : 20);
+    char *dir = tu_tempdir();
+    int prim_mesh[] = {0};
+    char *path = write_scene(dir, "grid", &g, prim_mesh, 1, "[{\"mesh\":0}]", "0");
+    resurf_scene *s = tu_load_scene_ok(path);
+    const double ratios[] = {0.5, 0.02};
+    resurf_simplify_options so = fast_options();
+    so.lock_border = true;
+    resurf_simplify_report pr[2];
+    resurf_scene_lod_report r;
+    ck_assert_int_eq(resurf_scene_build_lods(s, ratios, 2, &so, NULL, &r, pr, NULL), RESURF_OK);
+    ck_assert_uint_eq(r.levels, 2);
+    ck_assert_uint_eq(r.level_missed[2], 1);
+    ck_assert_uint_eq(s->prims[0].lod_count, 1);
+    ck_assert_int_eq(pr[1].stop, RESURF_STOP_BLOCKED);
+    ck_assert_uint_gt(pr[1].blocked_border, 0);
+    ck_assert_double_gt((double)pr[1].triangles, 1.5 * 0.02 * (double)g->triangle_count + 2);
+    resurf_scene_free(s);
+    char *out = tu_path(dir, "g.glb");
+    char *cmd = tu_strf("'%s' lod '%s' -o '%s' --levels 0.5,0.02 --lock-border 2>&1", RESURF_CLI, path, out),
+         *log = NULL;
+    ck_assert_int_eq(tu_run(cmd, &log), 0);
+    ck_assert_msg(strstr(log, "level 2 (ratio 0.02") && strstr(log, "missed its ratio") && strstr(log, "border "),
+                  "%s", log);
+    free(log);
+    free(cmd);
+    free(out);
+    resurf_mesh_free(g);
+    free(path);
+    tu_rmtree(dir);
+    free(dir);
+}
+END_TEST
+
 Suite *make_suite(void)
 {
     Suite *s = suite_create("scene_world");
@@ -203,6 +529,14 @@ Suite *make_suite(void)
     tcase_add_test(tc, world_mesh_applies_node_transforms);
     tcase_add_test(tc, world_mesh_of_a_mesh_scene);
     suite_add_tcase(s, tc);
+    TCase *lod = tcase_create("lod");
+    tcase_set_timeout(lod, 600);
+    tcase_add_test(lod, lod_world_error_scales_with_the_node);
+    tcase_add_test(lod, lod_two_primitives_keep_their_shared_border);
+    tcase_add_test(lod, lod_unreducible_box_gets_no_levels);
+    tcase_add_test(lod, lod_chain_by_errors_alone);
+    tcase_add_test(lod, lod_missed_target_is_reported);
+    suite_add_tcase(s, lod);
     return s;
 }
 

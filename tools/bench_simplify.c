@@ -515,13 +515,14 @@ int main(int argc, char **argv)
         return 0;
     }
     print_header();
-    static const shape_kind kinds[] = {SHAPE_SPHERE, SHAPE_TORUS, SHAPE_CUBIC};
+    /* the shapes with sharp features only when named (--shape cube, --shape capped-cylinder) */
+    static const shape_kind kinds[] = {SHAPE_SPHERE, SHAPE_TORUS, SHAPE_CUBIC, SHAPE_CUBE, SHAPE_CAPPED_CYLINDER};
     static const size_t sizes[] = {20000, 1000000};
     for (int s = 0; s < 2; ++s) {
         if ((s == 0 && !small) || (s == 1 && !large))
             continue;
-        for (int k = 0; k < 3; ++k) {
-            if (no_shapes || (only != SHAPE_COUNT && kinds[k] != only))
+        for (int k = 0; k < 5; ++k) {
+            if (no_shapes || (only != SHAPE_COUNT && kinds[k] != only) || (only == SHAPE_COUNT && k >= 3))
                 continue;
             resurf_mesh *m = shape_mesh(kinds[k], sizes[s], 0.3, 1, 0);
             char name[64];

@@ -5,7 +5,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 packages=(gcc g++ meson ninja-build pkg-config check libtinygltf-dev nlohmann-json3-dev libdraco-dev draco
-          libmeshoptimizer-dev valgrind clang libclang-rt-14-dev xz-utils libpng-dev libjpeg-dev zlib1g-dev)
+          libmeshoptimizer-dev valgrind clang libclang-rt-14-dev xz-utils libpng-dev libjpeg-dev zlib1g-dev
+          assimp-testmodels)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")

@@ -11,7 +11,8 @@
 
 static const double torus_R = 1.0, torus_r = 0.4;
 
-static const char *const names[SHAPE_COUNT] = {"sphere", "torus", "cubic", "cylinder", "saddle", "plane"};
+static const char *const names[SHAPE_COUNT] = {"sphere", "torus", "cubic",  "cylinder",
+                                                "saddle", "plane", "cube", "capped-cylinder"};
 
 const char *shape_name(shape_kind kind) { return (unsigned)kind < SHAPE_COUNT ? names[kind] : "unknown"; }
 
@@ -125,9 +126,48 @@ static void graph_closest(shape_kind kind, const double p[3], double out[3])
     }
 }
 
+/* ---- the shapes with sharp features: which face is closest ----------------------------------------------------- */
+
+/* The box [−1,1]³: outside it the closest point is p clamped to the box; inside, p moved onto the nearest face. The
+ * face: the axis where p is farthest out (or least inside), the first one on a tie. */
+static int cube_face(const double p[3], double out[3])
+{
+    int axis = 0;
+    for (int k = 1; k < 3; ++k)
+        if (fabs(p[k]) > fabs(p[axis]))
+            axis = k;
+    for (int k = 0; k < 3; ++k)
+        out[k] = clamp1(p[k]);
+    if (fabs(p[axis]) <= 1)
+        out[axis] = p[axis] < 0 ? -1 : 1;
+    return p[axis] < 0 ? -(axis + 1) : axis + 1;
+}
+
+/* The capped cylinder: the closest of the wall's point and the two caps' (0 = wall, 1 = top, −1 = bottom). */
+static int capped_cylinder_part(const double p[3], double out[3])
+{
+    double rho = hypot(p[0], p[1]);
+    double cx = rho > 0 ? p[0] / rho : 1, cy = rho > 0 ? p[1] / rho : 0;
+    double wall[3] = {cx, cy, clamp1(p[2])};
+    double disk[3] = {rho <= 1 ? p[0] : cx, rho <= 1 ? p[1] : cy, p[2] < 0 ? -1 : 1};
+    double dw = (p[0] - wall[0]) * (p[0] - wall[0]) + (p[1] - wall[1]) * (p[1] - wall[1]) +
+                (p[2] - wall[2]) * (p[2] - wall[2]);
+    double dd = (p[0] - disk[0]) * (p[0] - disk[0]) + (p[1] - disk[1]) * (p[1] - disk[1]) +
+                (p[2] - disk[2]) * (p[2] - disk[2]);
+    const double *best = dw <= dd ? wall : disk;
+    out[0] = best[0], out[1] = best[1], out[2] = best[2];
+    return dw <= dd ? 0 : p[2] < 0 ? -1 : 1;
+}
+
 void shape_closest(shape_kind kind, const double p[3], double out[3])
 {
     switch (kind) {
+    case SHAPE_CUBE:
+        cube_face(p, out);
+        return;
+    case SHAPE_CAPPED_CYLINDER:
+        capped_cylinder_part(p, out);
+        return;
     case SHAPE_SPHERE: {
         double l = sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
         if (l == 0) {
@@ -194,6 +234,17 @@ void shape_normal(shape_kind kind, const double p[3], double n[3])
     case SHAPE_CYLINDER:
         n[0] = c[0], n[1] = c[1], n[2] = 0;
         return;
+    case SHAPE_CUBE: {
+        int face = cube_face(p, c);
+        n[0] = n[1] = n[2] = 0;
+        n[abs(face) - 1] = face < 0 ? -1 : 1;
+        return;
+    }
+    case SHAPE_CAPPED_CYLINDER: {
+        int part = capped_cylinder_part(p, c);
+        n[0] = part ? 0 : c[0], n[1] = part ? 0 : c[1], n[2] = part;
+        return;
+    }
     default: {
         double fx, fy, fxx, fxy, fyy;
         graph_f(kind, c[0], c[1], &fx, &fy, &fxx, &fxy, &fyy);
@@ -352,6 +403,130 @@ static void mesh_torus(builder *b, size_t triangles, double jitter, uint64_t see
         }
 }
 
+/* The box: the cube-sphere's lattice without the projection. Points of an edge are jittered along it only. */
+static void mesh_cube(builder *b, size_t triangles, double jitter, uint64_t seed)
+{
+    long n = (long)fmax(2, round(sqrt((double)triangles / 12.0)));
+    for (int a = 0; a < 3; ++a)
+        for (int s = -1; s <= 1; s += 2) {
+            int u = (a + 1) % 3, v = (a + 2) % 3;
+            if (s < 0) {
+                int t = u;
+                u = v;
+                v = t;
+            }
+            uint32_t *ids = malloc((size_t)(n + 1) * (size_t)(n + 1) * sizeof(uint32_t));
+            if (!ids) {
+                b->failed = 1;
+                return;
+            }
+            for (long j = 0; j <= n; ++j)
+                for (long i = 0; i <= n; ++i) {
+                    long lat[3];
+                    lat[a] = s > 0 ? n : 0;
+                    lat[u] = i;
+                    lat[v] = j;
+                    double c[3];
+                    for (int k = 0; k < 3; ++k)
+                        c[k] = grid_coord(lat[k], n, jitter, lattice_jitter(seed, lat[0], lat[1], lat[2], k));
+                    ids[j * (n + 1) + i] = add_vertex(b, c[0], c[1], c[2], c[u], c[v]);
+                }
+            for (long j = 0; j < n; ++j)
+                for (long i = 0; i < n; ++i)
+                    add_quad(b, ids[j * (n + 1) + i], ids[j * (n + 1) + i + 1], ids[(j + 1) * (n + 1) + i + 1],
+                             ids[(j + 1) * (n + 1) + i], seed, ((a * 2 + (s > 0)) * (n + 1) + j) * (n + 1) + i);
+            free(ids);
+        }
+}
+
+/* Point i of nu on the unit circle (at height z): computed from the index alone, so that the wall's rim and the
+ * caps' rims are bit-identical and weld. */
+static uint32_t add_rim_point(builder *b, long i, long nu, double z, double u, double v)
+{
+    double phi = 2 * M_PI * (double)(i % nu) / (double)nu;
+    return add_vertex(b, cos(phi), sin(phi), z, u, v);
+}
+
+/* A cap: the square grid [−1,1]² (n even, jittered inside) mapped onto the unit disk by Shirley and Chiu's
+ * concentric map, which takes the square's boundary points, evenly spaced, to evenly spaced angles: point k of the
+ * rim is at angle 2πk/(4n), as on the wall. */
+static void mesh_cap(builder *b, long n, double z, double jitter, uint64_t seed)
+{
+    uint32_t *ids = malloc((size_t)(n + 1) * (size_t)(n + 1) * sizeof(uint32_t));
+    if (!ids) {
+        b->failed = 1;
+        return;
+    }
+    long nu = 4 * n;
+    for (long j = 0; j <= n; ++j)
+        for (long i = 0; i <= n; ++i) {
+            double x = grid_coord(i, n, jitter, lattice_jitter(seed, i, j, z > 0 ? 5 : 6, 0));
+            double y = grid_coord(j, n, jitter, lattice_jitter(seed, i, j, z > 0 ? 5 : 6, 1));
+            double r, phi;
+            if (fabs(x) >= fabs(y))
+                r = x, phi = x == 0 ? 0 : (M_PI / 4) * (y / x);
+            else
+                r = y, phi = M_PI / 2 - (M_PI / 4) * (x / y);
+            uint32_t id;
+            if (i == 0 || j == 0 || i == n || j == n) {
+                double angle = atan2(r * sin(phi), r * cos(phi));
+                long k = lround(angle / (2 * M_PI / (double)nu));
+                id = add_rim_point(b, (k % nu + nu) % nu, nu, z, x, y);
+            } else {
+                id = add_vertex(b, r * cos(phi), r * sin(phi), z, x, y);
+            }
+            ids[j * (n + 1) + i] = id;
+        }
+    size_t first = b->triangle_count;
+    for (long j = 0; j < n; ++j)
+        for (long i = 0; i < n; ++i)
+            add_quad(b, ids[j * (n + 1) + i], ids[j * (n + 1) + i + 1], ids[(j + 1) * (n + 1) + i + 1],
+                     ids[(j + 1) * (n + 1) + i], seed, (z > 0 ? 0 : n * n) + j * n + i);
+    for (size_t t = first; z < 0 && !b->failed && t < b->triangle_count; ++t) { /* seen from below */
+        uint32_t *tri = b->indices + 3 * t, x = tri[1];
+        tri[1] = tri[2], tri[2] = x;
+    }
+    free(ids);
+}
+
+static void mesh_capped_cylinder(builder *b, size_t triangles, double jitter, uint64_t seed)
+{
+    /* caps 2 × 2n², wall 2 × 4n × nz with nz ≈ 4n/π (square cells): about 14.2 n² triangles; n even */
+    long n = 2 * (long)fmax(1, round(sqrt((double)triangles / 14.2) / 2));
+    long nu = 4 * n, nz = (long)fmax(2, round(4.0 * (double)n / M_PI));
+    b->period = 0; /* the wall's quads are oriented here, not by parameters */
+    uint32_t *ids = malloc((size_t)(nz + 1) * (size_t)nu * sizeof(uint32_t));
+    if (!ids) {
+        b->failed = 1;
+        return;
+    }
+    for (long j = 0; j <= nz; ++j)
+        for (long i = 0; i < nu; ++i) {
+            double z = grid_coord(j, nz, jitter, lattice_jitter(seed, i, j, 4, 1));
+            if (j == 0 || j == nz) {
+                ids[j * nu + i] = add_rim_point(b, i, nu, z, 0, 0);
+                continue;
+            }
+            double su = 2 * M_PI * ((double)i + jitter * lattice_jitter(seed, i, j, 4, 0)) / (double)nu;
+            ids[j * nu + i] = add_vertex(b, cos(su), sin(su), z, 0, 0);
+        }
+    for (long j = 0; j < nz; ++j)
+        for (long i = 0; i < nu; ++i) {
+            uint32_t a = ids[j * nu + i], c = ids[j * nu + (i + 1) % nu], d = ids[(j + 1) * nu + (i + 1) % nu],
+                     e = ids[(j + 1) * nu + i];
+            if (lattice_jitter(seed, i, j, 4, 3) < 0) { /* jitter is under half a cell: both diagonals are fine */
+                add_triangle(b, a, c, d);
+                add_triangle(b, a, d, e);
+            } else {
+                add_triangle(b, a, c, e);
+                add_triangle(b, c, d, e);
+            }
+        }
+    free(ids);
+    mesh_cap(b, n, 1, jitter, seed);
+    mesh_cap(b, n, -1, jitter, seed);
+}
+
 static void mesh_cylinder(builder *b, size_t triangles, double jitter, uint64_t seed)
 {
     /* Circumference 2π, height 2: cells roughly square. */
@@ -449,6 +624,12 @@ resurf_mesh *shape_mesh(shape_kind kind, size_t triangles, double jitter, uint64
         b.period = 2 * M_PI;
         mesh_cylinder(&b, triangles, jitter, seed);
         break;
+    case SHAPE_CUBE:
+        mesh_cube(&b, triangles, jitter, seed);
+        break;
+    case SHAPE_CAPPED_CYLINDER:
+        mesh_capped_cylinder(&b, triangles, jitter, seed);
+        break;
     default:
         if (!is_graph(kind))
             return NULL;
@@ -459,7 +640,7 @@ resurf_mesh *shape_mesh(shape_kind kind, size_t triangles, double jitter, uint64
     uint32_t *remap = NULL;
     if (b.failed)
         goto done;
-    /* Weld duplicated lattice points (only the sphere has them; elsewhere this is the identity). */
+    /* Weld duplicated lattice points (the sphere's, the cube's and the capped cylinder's rims). */
     remap = malloc((b.vertex_count ? b.vertex_count : 1) * sizeof(uint32_t));
     size_t unique = 0;
     if (!remap || weld_sorted(b.positions, b.vertex_count, remap, &unique) != 0)

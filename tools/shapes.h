@@ -7,6 +7,10 @@
  *   cylinder  x² + y² = 1, z in [−1,1]  (open at both ends)
  *   saddle    z = x² − y² on [−1,1]²  (open)
  *   plane     z = 0 on [−1,1]²  (open)
+ *   cube      the surface of the box [−1,1]³: flat faces, 12 sharp edges (90°), 8 corners (closed)
+ *   capped-cylinder  x² + y² = 1, z in [−1,1], closed by the disks z = ±1: two circular creases (90°)
+ * The last two have sharp features: their normal is that of the face (wall, cap) closest to p, the first in the
+ * order above on a tie (a point on an edge).
  */
 #ifndef RESURF_SHAPES_H
 #define RESURF_SHAPES_H
@@ -22,6 +26,8 @@ typedef enum shape_kind {
     SHAPE_CYLINDER,
     SHAPE_SADDLE,
     SHAPE_PLANE,
+    SHAPE_CUBE,
+    SHAPE_CAPPED_CYLINDER,
     SHAPE_COUNT
 } shape_kind;
 

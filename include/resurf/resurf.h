@@ -802,8 +802,10 @@ typedef struct resurf_simplify_options {
                                      S bends by κ). Each output vertex is moved along S's normal by sag_offset × its
                                      estimated local sag beyond the input's own (the input's edges, of length h_M,
                                      sag by h_M²κ/8: the offset is (h² − h_M²)κ/8) so that the facets straddle the
-                                     input's surface, which the report measures against. 0 = vertices exactly on
-                                     S; range [0, 4]; default 1 */
+                                     input's surface, which the report measures against. Not at a vertex touching
+                                     a crease or corner, nor at one whose triangles are not one smooth fan (a face
+                                     more than feature_angle_deg from S's normal there): the chord-sag model holds
+                                     on smooth surfaces only. 0 = vertices exactly on S; range [0, 4]; default 1 */
 
     /* Guards. A candidate collapse that breaks one is skipped and counted in the report. The link condition (no
      * non-manifold result) and attribute seams (a seam vertex collapses only along its seam) always apply; vertices
@@ -820,6 +822,18 @@ typedef struct resurf_simplify_options {
                                      (unless that angle did not decrease); in [0, 60); 0 = off (default) */
     double max_normal_change_deg; /* skip collapses that turn a triangle's normal by more than this (flips and
                                      folds); in (0, 180]; default 60 */
+    double feature_angle_deg;     /* an edge whose triangles' normals differ by more than this is a crease, and so
+                                     is one along which the input's normals are split (a normal seam), where the
+                                     surface around is smooth (every other edge at the vertex turning by less than
+                                     a quarter of this: on a noisy scan sharp edges are noise). A vertex with three
+                                     crease edges or more, or where a crease meets a border, is a corner: it never
+                                     moves. A vertex touching a crease, and every vertex that absorbs one, is
+                                     neither restored onto S nor moved by the sag offset: the facets keep the
+                                     quadric's place, on the flat faces and their sharp edges. In (0, 180]; 180 =
+                                     no crease by angle; default 80 (measured in docs/restoring.md §8) */
+    double corner_angle_deg;      /* a border that turns by more than this at a vertex makes it a corner that never
+                                     moves (the corners of a flat panel; a crease's sharp turn is none: on scans
+                                     such turns are noise); in (0, 180]; 180 = none; default 80 */
     double border_weight;         /* weight of the planes through border and seam edges, perpendicular to their
                                      triangles, relative to the triangles' own planes; >= 0; default 1 */
     bool drop_fins;               /* true (default): triangles over the same three positions as another are left out
@@ -867,8 +881,9 @@ typedef struct resurf_simplify_options {
 } resurf_simplify_options;
 
 /* The defaults: no target (set one), quadric placement, inline restoration with the restorer's defaults (Max's
- * normals), sag_offset 1, max_normal_change_deg 60, min_angle_deg 0, border_weight 1, normal_weight 0,
- * texcoord_weight 0.25, color_weight 0.25, measure_samples 100000, all cores. Measured with tools/bench_simplify.c on the irregular analytic sphere, torus and cubic surface (20k triangles,
+ * normals), sag_offset 1, feature_angle_deg 80, corner_angle_deg 80, max_normal_change_deg 60, min_angle_deg 0,
+ * border_weight 1, normal_weight 0, texcoord_weight 0.25, color_weight 0.25, measure_samples 100000, all cores.
+ * Measured with tools/bench_simplify.c on the irregular analytic sphere, torus and cubic surface (20k triangles,
  * 10% and 2%): the mean distance of the LOD's surface to the true surface is lowest at sag_offset 1 (about 0.24–0.26,
  * 0.35–0.38 and 0.74–0.80 of meshoptimizer's; 0.86–0.89 with the offset at 0), as the chord-sag model predicts (the
  * mean depth of an equilateral facet under a sphere equals its edges' sag h²κ/8). Normal-change bounds from 40° to 90°
@@ -930,6 +945,7 @@ typedef struct resurf_simplify_report {
                                         long would lie that far from the original (an edge bridging a notch) */
     size_t blocked_border;           /* a border vertex would leave its border, or lock_border */
     size_t blocked_seam;             /* a seam vertex would leave its seam */
+    size_t blocked_feature;          /* a crease vertex would leave its crease, or a corner would move */
     size_t blocked_nonmanifold;      /* an end is a non-manifold vertex of the input, or the edge has > 2 triangles */
     size_t skipped_error;            /* candidates over max_error / max_error_rel */
 
@@ -1126,9 +1142,20 @@ RESURF_API resurf_status resurf_scene_set_screen_coverage(resurf_scene *scene, s
 typedef struct resurf_scene_lod_options {
     size_t struct_size;
     bool set_screen_coverage; /* true (default): set each mesh's MSFT_screencoverage from the measured errors (see
-                                 below); false: leave the coverage as it is */
+                                 below); false: leave the coverage as it is (values whose count no longer matches
+                                 the mesh's levels are removed: the defaults are written) */
     double pixels;            /* a level is shown once its error covers at most this many pixels; > 0, default 1 */
     double screen_height;     /* ... on a screen this many pixels high; > 0, default 1080 */
+    const double *level_max_error_rel; /* NULL (default), or `count` values >= 0: level k + 1 also stops where a
+                                 collapse's estimated error (resurf_simplify_options.max_error) would exceed
+                                 level_max_error_rel[k] × the whole scene's world bounding-box diagonal, in world
+                                 units (converted to each mesh's units by the largest scale of its nodes'
+                                 matrices); 0 = no error bound for that level */
+    const double *level_max_error; /* the same in world units; NULL (default) or `count` values >= 0. With both,
+                                 the smaller bound of a level counts */
+    bool keep_shared_borders; /* true (default): a position that several primitives of one mesh use (bit for bit)
+                                 is locked in each of them (resurf_simplify_options.vertex_lock), so no level opens
+                                 a crack between them; false: each primitive is simplified alone */
     resurf_progress progress; /* the stages of resurf_simplify (RESURF_STAGE_PREPARE, _SIMPLIFY, _FINISH) with a
                                  fraction of the whole scene's work that never decreases (primitives weighted by
                                  their triangles) and ends at 1; a cancel returns RESURF_ERR_CANCELLED and leaves
@@ -1139,38 +1166,66 @@ RESURF_API resurf_scene_lod_options resurf_scene_lod_options_default(void);
 
 /* What resurf_scene_build_lods() made. Levels count from 0 (full detail) to `levels` - 1. */
 typedef struct resurf_scene_lod_report {
-    size_t levels;                                    /* 1 + count */
-    size_t primitives;                                /* triangle primitives that received levels of detail */
+    size_t levels;                                    /* 1 + the most levels any primitive kept (at most 1 + count:
+                                                         levels that do not help are not kept, see below) */
+    size_t primitives;                                /* triangle primitives that were simplified */
     size_t morphed;                                   /* primitives with morph targets, kept at full detail */
     size_t other;                                     /* point and line primitives, kept as they are */
     size_t level_triangles[RESURF_SCENE_MAX_LEVELS];  /* triangles of each level over every primitive with a mesh
-                                                         (morphed ones at full detail in every level; each mesh
-                                                         once, whatever its instances): what resurf_scene_save()
-                                                         reports as level_triangles */
-    double level_error_rel[RESURF_SCENE_MAX_LEVELS];  /* the largest measured error (max_distance_rel of
-                                                         resurf_simplify_report) of the level over the primitives;
-                                                         0 for level 0 and when nothing was measured
-                                                         (measure_samples 0) */
+                                                         (morphed ones at full detail in every level, a primitive
+                                                         with fewer levels at its last; each mesh once, whatever
+                                                         its instances): what resurf_scene_save() reports */
+    /* Measured in world space (resurf_scene_world_mesh(): every instance, node transforms applied) between the
+     * level and level 0 with resurf_compare() (measure_samples samples on each surface, its default seed): 0 for
+     * level 0 and when nothing was measured (measure_samples 0). */
+    double level_error_rel[RESURF_SCENE_MAX_LEVELS];  /* two-sided Hausdorff distance over `diagonal` */
+    double level_error[RESURF_SCENE_MAX_LEVELS];      /* the same in world units */
+    double level_mean_rel[RESURF_SCENE_MAX_LEVELS];   /* two-sided mean distance over `diagonal` */
+    double level_to_full_rel[RESURF_SCENE_MAX_LEVELS];   /* one-sided max: the level's surface to level 0's */
+    double level_from_full_rel[RESURF_SCENE_MAX_LEVELS]; /* one-sided max: level 0's surface to the level's (what
+                                                         the level lost) */
+    double diagonal;                                  /* of the whole scene's world bounding box at level 0 */
+    size_t level_unreduced[RESURF_SCENE_MAX_LEVELS];  /* primitives whose chain ended at this level because it
+                                                         had no fewer triangles than the one before */
+    size_t level_missed[RESURF_SCENE_MAX_LEVELS];     /* primitives whose chain ended at this level because it
+                                                         missed its ratio (see resurf_scene_build_lods) */
 } resurf_scene_lod_report;
 
 /* Builds levels of detail for every triangle primitive of the scene in one call: each primitive's chain comes from
  * resurf_simplify_lods() (ratios, count and simplify as documented there: level k has at most ratios[k-1] × the
  * primitive's triangles and lies on the smooth surface of the ORIGINAL primitive) and is set as with
- * resurf_scene_set_lods(), replacing levels set before. Primitives with morph targets and point or line
- * primitives keep full detail (counted in the report). With options->set_screen_coverage, each mesh that
- * received levels gets its MSFT_screencoverage from the measured errors: a level of relative error e on an object
- * whose bounding-box diagonal spans d pixels is off by e·d pixels; with d ≈ √c·H for a screen share c on a screen H
- * pixels high, level k is good enough below c_k = (pixels / (e_k·H))², clamped to 1 and made non-increasing;
- * coverage[k-1] = c_k is where level k-1 hands over to level k, and the coarsest level is never culled (0). e_k
- * is the largest error of the mesh's primitives at level k (an unmeasured error counts as 0, so c_k = 1).
+ * resurf_scene_set_lods(), replacing levels set before. With per-level error bounds (options->level_max_error_rel,
+ * level_max_error) that differ between levels, or without ratios, each level is simplified from the ORIGINAL by
+ * its own resurf_simplify() call instead. Primitives with morph targets and point or line primitives keep full
+ * detail (counted in the report).
+ * Levels that help: a primitive's chain ends before the first level that has no fewer triangles than the level
+ * before it (a level where nothing could be collapsed is never kept as a moved copy; level_unreduced), or that
+ * missed its ratio by more than the slack, with more than 1.5 × ratio × the primitive's triangles + 2 (level_missed;
+ * a level stopped by its error bound, RESURF_STOP_ERROR, has reached its target). A primitive with fewer levels
+ * shows its last one in the levels above; a mesh has 1 + the most levels of its primitives, so MSFT_lod's ids are
+ * shorter where levels did not help, and a mesh none of whose primitives could be reduced gets none.
+ * Errors: the report's are measured in world space over the whole scene (see resurf_scene_lod_report); each
+ * primitive's own, in its own units against its own diagonal, are in out_primitive_reports.
+ * With options->set_screen_coverage, each mesh that has levels gets its MSFT_screencoverage from its own measured
+ * errors in world space: e_k is the two-sided Hausdorff distance between the mesh's level k and its level 0 as its
+ * first node shows them (world transform applied), over that mesh's own world bounding-box diagonal. A level of
+ * relative error e on an object whose bounding-box diagonal spans d pixels is off by e·d pixels; with d ≈ √c·H for
+ * a screen share c on a screen H pixels high, level k is good enough below c_k = (pixels / (e_k·H))², clamped to 1
+ * and made non-increasing; coverage[k-1] = c_k is where level k-1 hands over to level k, and the coarsest level is
+ * never culled (0). An unmeasured error counts as 0, so c_k = 1. (Before 0.3.0 e_k was the largest error of the
+ * mesh's primitives each against its own diagonal: a mesh of many small primitives reported several times its
+ * true error, 14% against 3.1% measured on 2CylinderEngine.)
  * - scene: modified only when the call succeeds; on error or cancel it is exactly as it was.
  * - simplify: NULL = resurf_simplify_options_default(); target_triangles and target_ratio are ignored, its
- *   progress is not used (options->progress is).
- * - ratios: count values in (0, 1], non-increasing; 1 <= count <= RESURF_SCENE_MAX_LEVELS - 1.
+ *   progress and vertex_lock are not used (options->progress and keep_shared_borders are); its max_error / max_error_rel, in each primitive's own units,
+ *   apply to every level beside options' bounds; measure_samples is also the world measurement's sample count.
+ * - ratios: count values in (0, 1], non-increasing; or NULL when every level has an error bound (a chain by
+ *   errors alone: each level as far as its bound allows); 1 <= count <= RESURF_SCENE_MAX_LEVELS - 1.
  * - options: NULL = resurf_scene_lod_options_default().
  * - out_report: may be NULL.
  * - out_primitive_reports: NULL, or room for resurf_scene_primitive_count(scene) × count reports:
- *   [p × count + k] is level k + 1 of primitive p (zeroed for primitives that got no levels).
+ *   [p × count + k] is level k + 1 of primitive p as it was made (zeroed for primitives that got no levels and
+ *   after the level that ended its chain; that level's report is kept: its stop and blocked_* say why it missed).
  * Errors name the primitive ("meshes[1].primitives[0]: ..."). The primitives are simplified one after the other,
  * each with simplify->threads worker threads. */
 RESURF_API resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios, size_t count,
@@ -1185,7 +1240,8 @@ typedef enum resurf_lod_layout {
                                  `ids` name new level nodes that are in no scene's node list, and
                                  extras.MSFT_screencoverage (one more value than ids). A node that has children or
                                  an animated transform gets a new child node that carries its mesh instead */
-    RESURF_LOD_FILES,         /* one complete file per level, named by resurf_scene_level_path() */
+    RESURF_LOD_FILES,         /* one complete file per level, named by resurf_scene_level_path() (NAME_lod0 also
+                                 when the scene has no levels) */
     RESURF_LOD_SIDE_BY_SIDE,  /* one file: every level as visible copies of each scene's nodes, level k moved by
                                  k × (scene width × (1 + spacing_rel)) along +x; for looking at in any viewer */
     RESURF_LOD_LAYOUT_COUNT

@@ -15,6 +15,8 @@ static void count_blocks(resurf_simplify_report *r, int reason, size_t n)
         r->blocked_seam += n;
     else if (reason == BLOCK_BORDER)
         r->blocked_border += n;
+    else if (reason == BLOCK_FEATURE)
+        r->blocked_feature += n;
     else if (reason == BLOCK_NONMANIFOLD)
         r->blocked_nonmanifold += n;
 }
@@ -29,7 +31,8 @@ static float scaled_cost(const simplifier *s, double cost)
 }
 
 /* Where the free vertex of edge (a, b) goes. A seam edge keeps it on the segment (the minimiser of Q there): the
- * seam is a curve the restorer does not know, and off it the two sides' attributes would no longer meet. */
+ * seam is a curve the restorer does not know, and off it the two sides' attributes would no longer meet. So does a
+ * crease edge: off the segment the vertex would leave the crease's plane on one side (a flat face stays flat). */
 static vec3 free_placement(const simplifier *s, const resurfi_quadric *q, vec3 pa, vec3 pb, int on_segment)
 {
     vec3 mid = v3_scale(v3_add(pa, pb), 0.5);
@@ -61,8 +64,11 @@ static vec3 free_placement(const simplifier *s, const resurfi_quadric *q, vec3 p
  * y's wedges, so x may go only where that map is defined and keeps the attribute sides apart. Its kind (from its
  * flags) and how the edge meets x decide whether x is held in place:
  *   x LOCKED / LOCKED_BORDER / COMPLEX        never
+ *   x a CORNER (of creases or of a border)    never
  *   x on a border                             only along a border edge (so y is on the same border)
  *   x a seam vertex (two wedges)              only along one of its seam edges
+ *   x on a CREASE                             anywhere: the quadric keeps it on its crease (holding it to the
+ *                                             crease's edges was measured worse, docs/restoring.md §8)
  * and the wedge map decides the rest (map_ok): a seam vertex's two wedges need two distinct images (the edge's
  * triangles differ at y too), a single-wedge vertex a single one (the edge's triangles share y's wedge).
  * If both ends may go, the position is free (quadric or midpoint); if only x may go and y is held (y cannot leave
@@ -73,33 +79,55 @@ static vec3 free_placement(const simplifier *s, const resurfi_quadric *q, vec3 p
  * because here the edge decides: a border vertex may go along its border but not across, a seam vertex along its
  * seam but not off it; the other end enters through the wedge map and the placement only. */
 enum {
-    KIND_MANIFOLD, KIND_SEAM, KIND_COMPLEX, KIND_BORDER, KIND_BORDER_WEDGES, KIND_LOCKED_BORDER, KIND_LOCKED, KINDS
+    KIND_MANIFOLD, KIND_CREASE, KIND_SEAM, KIND_COMPLEX, KIND_BORDER, KIND_BORDER_WEDGES, KIND_LOCKED_BORDER,
+    KIND_CORNER, KIND_LOCKED, KINDS
 };
-enum { EDGE_INTERIOR, EDGE_SEAM, EDGE_BORDER, EDGE_KINDS }; /* as seen from x: EDGE_SEAM when its wedges differ at x */
+/* The edge as seen from x: EDGE_SEAM when its wedges differ at x, EDGE_FEATURE a crease (feature_edge, only asked
+ * for a crease vertex), else interior. */
+enum { EDGE_INTERIOR, EDGE_SEAM, EDGE_BORDER, EDGE_FEATURE, EDGE_KINDS };
 
 static const uint8_t kHeld[KINDS][EDGE_KINDS] = {
-    /*                       interior           seam at x          border edge */
-    [KIND_MANIFOLD]      = {BLOCK_NONE,        BLOCK_NONE,        BLOCK_NONE},
-    [KIND_SEAM]          = {BLOCK_SEAM,        BLOCK_NONE,        BLOCK_SEAM},
-    [KIND_COMPLEX]       = {BLOCK_SEAM,        BLOCK_SEAM,        BLOCK_SEAM},
-    [KIND_BORDER]        = {BLOCK_BORDER,      BLOCK_BORDER,      BLOCK_NONE},
-    [KIND_BORDER_WEDGES] = {BLOCK_BORDER,      BLOCK_BORDER,      BLOCK_SEAM}, /* a border with seams ending on it */
-    [KIND_LOCKED_BORDER] = {BLOCK_BORDER,      BLOCK_BORDER,      BLOCK_BORDER},
-    [KIND_LOCKED]        = {BLOCK_NONMANIFOLD, BLOCK_NONMANIFOLD, BLOCK_NONMANIFOLD},
+    /*                       interior           seam at x          border edge        feature edge */
+    [KIND_MANIFOLD]      = {BLOCK_NONE,        BLOCK_NONE,        BLOCK_NONE,        BLOCK_NONE},
+    [KIND_CREASE]        = {BLOCK_NONE,        BLOCK_NONE,        BLOCK_NONE,        BLOCK_NONE},
+    [KIND_SEAM]          = {BLOCK_SEAM,        BLOCK_NONE,        BLOCK_SEAM,        BLOCK_SEAM},
+    [KIND_COMPLEX]       = {BLOCK_SEAM,        BLOCK_SEAM,        BLOCK_SEAM,        BLOCK_SEAM},
+    [KIND_BORDER]        = {BLOCK_BORDER,      BLOCK_BORDER,      BLOCK_NONE,        BLOCK_BORDER},
+    [KIND_BORDER_WEDGES] = {BLOCK_BORDER,      BLOCK_BORDER,      BLOCK_SEAM,        BLOCK_BORDER},
+    [KIND_LOCKED_BORDER] = {BLOCK_BORDER,      BLOCK_BORDER,      BLOCK_BORDER,      BLOCK_BORDER},
+    [KIND_CORNER]        = {BLOCK_FEATURE,     BLOCK_FEATURE,     BLOCK_FEATURE,     BLOCK_FEATURE},
+    [KIND_LOCKED]        = {BLOCK_NONMANIFOLD, BLOCK_NONMANIFOLD, BLOCK_NONMANIFOLD, BLOCK_NONMANIFOLD},
 };
 
-/* A position's kind: the first of its flags that applies. */
+/* A position's kind: the first of its flags that applies. A seam vertex on a crease (a normal seam, or a crease
+ * a texture seam follows) is a seam vertex: it goes along its seam. */
 static int end_kind(pos_flags f)
 {
     if (f & POS_LOCKED)
         return KIND_LOCKED;
+    if (f & POS_CORNER)
+        return KIND_CORNER;
     if (f & POS_LOCKED_BORDER)
         return KIND_LOCKED_BORDER;
     if (f & POS_BORDER)
         return f & (POS_COMPLEX | POS_SEAM) ? KIND_BORDER_WEDGES : KIND_BORDER;
     if (f & POS_COMPLEX)
         return KIND_COMPLEX;
-    return f & POS_SEAM ? KIND_SEAM : KIND_MANIFOLD;
+    if (f & POS_SEAM)
+        return KIND_SEAM;
+    return f & POS_CREASE ? KIND_CREASE : KIND_MANIFOLD;
+}
+
+/* How the edge meets x, of kind `kind`, seam_x: its wedges differ at x. */
+static int edge_kind(const simplifier *s, const plan *pl, int kind, int seam_x, uint32_t x, uint32_t y)
+{
+    if (pl->shared_count == 1)
+        return EDGE_BORDER;
+    if (seam_x)
+        return EDGE_SEAM;
+    if (kind == KIND_CREASE && feature_edge(s, pl->shared[0], pl->shared[1], x, y))
+        return EDGE_FEATURE;
+    return EDGE_INTERIOR;
 }
 
 /* Is x's wedge map defined? seam_y: the edge's triangles differ at the other end. */
@@ -135,8 +163,10 @@ void plan_collapse(const simplifier *s, uint32_t a, uint32_t b, const u32vec *fa
         seam_b = TW(corner_at(s, pl->shared[0], b)) != TW(corner_at(s, pl->shared[1], b));
     }
     pos_flags fa = s->P[a].flags, fb = s->P[b].flags;
-    int reason_a = kHeld[end_kind(fa)][n == 1 ? EDGE_BORDER : seam_a ? EDGE_SEAM : EDGE_INTERIOR];
-    int reason_b = kHeld[end_kind(fb)][n == 1 ? EDGE_BORDER : seam_b ? EDGE_SEAM : EDGE_INTERIOR];
+    int kind_a = end_kind(fa), kind_b = end_kind(fb);
+    int edge_a = edge_kind(s, pl, kind_a, seam_a, a, b), edge_b = edge_kind(s, pl, kind_b, seam_b, b, a);
+    int reason_a = kHeld[kind_a][edge_a];
+    int reason_b = kHeld[kind_b][edge_b];
     pl->a_removable = reason_a == BLOCK_NONE && map_ok(fa, seam_b);
     pl->b_removable = reason_b == BLOCK_NONE && map_ok(fb, seam_a);
     if (!pl->a_removable && !pl->b_removable) {
@@ -148,7 +178,9 @@ void plan_collapse(const simplifier *s, uint32_t a, uint32_t b, const u32vec *fa
     resurfi_quadric q = s->P[a].q;
     resurfi_quadric_add(&q, &s->P[b].q);
     vec3 pa = s->P[a].p, pb = s->P[b].p;
-    int seam_edge = seam_a || seam_b;
+    int along_crease = edge_a == EDGE_FEATURE || edge_b == EDGE_FEATURE;
+    int seam_edge = seam_a || seam_b || along_crease;
+    pl->feature = along_crease || ((fa | fb) & (POS_CREASE | POS_CORNER | POS_TOUCHES_FEATURE)) != 0;
     if (pl->a_removable && pl->b_removable) {
         pl->p = free_placement(s, &q, pa, pb, seam_edge);
     } else if (pl->a_removable) {
@@ -323,8 +355,8 @@ static int apply_collapse(simplifier *s, lane *L, uint32_t keep, uint32_t gone, 
      * goes only along its border (so keep was or becomes a border vertex) and the opposite corners keep their
      * border edges. Seam positions are analysed again. */
     pos_flags fk = s->P[keep].flags, fg = s->P[gone].flags;
-    *refresh_keep = ((fk | fg) & (POS_SEAM | POS_COMPLEX)) != 0;
-    s->P[keep].flags = (pos_flags)(fk | (fg & POS_BORDER));
+    *refresh_keep = ((fk | fg) & (POS_SEAM | POS_COMPLEX)) != 0 || (fg & POS_CREASE); /* keep may join a crease */
+    s->P[keep].flags = (pos_flags)(fk | (fg & (POS_BORDER | POS_TOUCHES_FEATURE)));
     s->P[gone].flags = POS_DEAD;
     bump_gen(s, keep);
     bump_gen(s, gone);
@@ -361,7 +393,7 @@ static int refresh_flags(simplifier *s, lane *L, uint32_t v, scratch *sc, int *c
     if (!analyse_position(s, v, sc, &f, NULL, NULL))
         return 0;
     pos_flags old = s->P[v].flags;
-    pos_flags keep = old & (POS_LOCKED | POS_LOCKED_BORDER | POS_BLOCKED);
+    pos_flags keep = old & (POS_LOCKED | POS_LOCKED_BORDER | POS_CORNER | POS_TOUCHES_FEATURE | POS_BLOCKED);
     /* lock_border freezes the input's borders only: a border created later (none: collapses keep borders) would
      * otherwise be locked as well. */
     f = (pos_flags)((f & ~POS_LOCKED_BORDER) | keep);
@@ -410,7 +442,7 @@ static vec3 restored_place(const simplifier *s, const pending *q, uint32_t a, ui
 {
     *restored = *left = 0;
     *home = NONE;
-    if (s->opt.restore != RESURF_RESTORE_INLINE || !s->restorer || pl->pinned)
+    if (s->opt.restore != RESURF_RESTORE_INLINE || !s->restorer || pl->pinned || pl->feature)
         return pl->p;
     *restored = 1;
     if (q->restore && v3_dist2(q->p, pl->p) == 0) {

@@ -24,7 +24,8 @@ typedef struct output {
     double *len;          /* per u: longest incident edge */
     uint32_t *sag_count;
     uint8_t *outcome;     /* per u: POST restoration left it (1) */
-    uint8_t *held;        /* per u: a locked position (POS_LOCKED), which keeps the input's place */
+    uint8_t *held;        /* per u: HELD_PLACE (locked or a corner: keeps the input's place), HELD_OFFSET (on a
+                             crease: neither restored at the end nor offset), else 0 */
     uint32_t *side_tri;   /* per output vertex at a seam: the closest input triangle on its side, else NONE */
     double *side_bary;    /* 3 per output vertex: the barycentrics of that closest point */
 } output;
@@ -50,6 +51,8 @@ static void output_free(output *o, const resurf_allocator *alloc)
     resurfi_free(alloc, o->side_tri);
     resurfi_free(alloc, o->side_bary);
 }
+
+enum { HELD_PLACE = 1, HELD_OFFSET = 2 };
 
 typedef struct output_job {
     simplifier *s;
@@ -351,7 +354,9 @@ static resurf_status place_output(simplifier *s, output *o)
         return RESURF_ERR_OUT_OF_MEMORY;
     for (size_t u = 0; u < nu; ++u) {
         o->base[u] = s->P[o->upos[u]].p;
-        o->held[u] = (s->P[o->upos[u]].flags & POS_LOCKED) != 0;
+        pos_flags f = s->P[o->upos[u]].flags;
+        o->held[u] = f & (POS_LOCKED | POS_CORNER) ? HELD_PLACE
+                     : f & (POS_CREASE | POS_TOUCHES_FEATURE) ? HELD_OFFSET : 0;
     }
     if (s->last_level) { /* no more collapses: the working mesh goes before the output's arrays come */
         resurfi_free(s->alloc, s->P_mem);
@@ -386,8 +391,14 @@ static resurf_status place_output(simplifier *s, output *o)
         uint32_t u[3];
         for (int c = 0; c < 3; ++c)
             u[c] = o->ov_u[o->corner_ov[3 * i + c]];
+        vec3 face = v3_tri_cross(o->base[u[0]], o->base[u[1]], o->base[u[2]]);
         for (int c = 0; c < 3; ++c) {
             vec3 pv = o->base[u[c]];
+            /* Only where v's triangles are one smooth fan: one that turns from S's normal at v by more than
+             * feature_angle_deg lies across a crease, where the chord-sag model does not hold (it would push v out
+             * across the crease). */
+            if (!(v3_dot(face, o->normal[u[c]]) >= s->feature_cos * v3_len(face)))
+                o->held[u[c]] |= HELD_OFFSET;
             double hm = resurfi_restorer_edge_length(s->restorer, s->home[o->upos[u[c]]]); /* M's edges there */
             for (int d = 1; d < 3; ++d) {
                 vec3 pw = o->base[u[(c + d) % 3]];
@@ -400,7 +411,7 @@ static resurf_status place_output(simplifier *s, output *o)
     for (size_t u = 0; u < nu; ++u) {
         o->final[u] = o->base[u];
         if (!offset || !o->sag_count[u] || o->held[u])
-            continue;
+            continue; /* a corner or a crease vertex: the model of a smooth surface around it does not hold */
         double sag = s->opt.sag_offset * o->sag_sum[u] / (4.0 * o->sag_count[u]);
         double cap = 0.25 * o->len[u]; /* a fold or a spike, not a sag */
         sag = sag > cap ? cap : sag < -cap ? -cap : sag;

@@ -46,7 +46,7 @@ static int restore_chunk_block(void *ctx, size_t begin, size_t end, unsigned wor
             return 1;
         plan pl;
         plan_collapse(s, c.a, c.b, &sc->fan, &pl);
-        if (pl.block != BLOCK_NONE || pl.pinned)
+        if (pl.block != BLOCK_NONE || pl.pinned || pl.feature)
             continue;
         int left;
         q->p = pl.p;
@@ -68,6 +68,7 @@ static void merge_lane_counts(simplifier *s, lane *L)
     r->blocked_distance += l->blocked_distance;
     r->blocked_border += l->blocked_border;
     r->blocked_seam += l->blocked_seam;
+    r->blocked_feature += l->blocked_feature;
     r->blocked_nonmanifold += l->blocked_nonmanifold;
     r->skipped_error += l->skipped_error;
     r->restored += l->restored;

@@ -65,6 +65,8 @@ resurf_simplify_options resurf_simplify_options_default(void)
     o.sag_offset = 1.0;
     o.max_normal_change_deg = 60;
     o.border_weight = 1;
+    o.feature_angle_deg = 80;
+    o.corner_angle_deg = 80;
     o.drop_fins = true;
     o.normal_weight = 0;
     o.texcoord_weight = 0.25;
@@ -95,6 +97,10 @@ static resurf_status check_options(const resurf_simplify_options *o, resurf_erro
         bad = "min_angle_deg must be in [0, 60)";
     else if (!(o->max_normal_change_deg > 0 && o->max_normal_change_deg <= 180))
         bad = "max_normal_change_deg must be in (0, 180]";
+    else if (!(o->feature_angle_deg > 0 && o->feature_angle_deg <= 180))
+        bad = "feature_angle_deg must be in (0, 180]";
+    else if (!(o->corner_angle_deg > 0 && o->corner_angle_deg <= 180))
+        bad = "corner_angle_deg must be in (0, 180]";
     else if (!(o->border_weight >= 0 && isfinite(o->border_weight)))
         bad = "border_weight must be finite and >= 0";
     else if (!(o->normal_weight >= 0 && isfinite(o->normal_weight)) ||

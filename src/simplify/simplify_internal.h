@@ -33,7 +33,16 @@ enum {
     POS_COMPLEX = 32,      /* any other wedge arrangement (seam junctions, seams ending on a border): never moves */
     POS_BLOCKED = 64,      /* a collapse at it failed a geometric guard: retry once its neighbourhood changes */
     POS_RENEW = 128,       /* transient, while renewed neighbours are planned again (plan_renewed) */
+    POS_CREASE = 256,      /* on a crease curve: exactly two feature edges, no border: never restored nor offset */
+    POS_CORNER = 512,      /* three or more feature edges, a crease meeting a border, or a border turning by more
+                              than corner_angle_deg: never moves */
+    POS_TOUCHES_FEATURE = 1024, /* has a feature edge, or absorbed a position that had: neither restored nor
+                              offset (the smooth-surface model does not hold there) */
 };
+
+/* The normals of two triangles on an edge differ by more than this (cosine of 150°, see reliable_normal in
+ * setup.c): a triangle with an angle over 150° has no normal to judge by. */
+#define SLIVER_COS2 0.75
 
 /* Why a candidate collapse cannot be done. */
 enum {
@@ -41,6 +50,7 @@ enum {
     BLOCK_STALE,       /* not an edge any more */
     BLOCK_SEAM,
     BLOCK_BORDER,
+    BLOCK_FEATURE,     /* a crease vertex would leave its crease, a corner would move */
     BLOCK_NONMANIFOLD, /* most severe last: when both directions fail, the larger reason is reported */
     BLOCK_REASONS
 };
@@ -79,6 +89,7 @@ typedef struct plan {
     int block;               /* BLOCK_*; the rest is valid for BLOCK_NONE only */
     int a_removable, b_removable;
     int pinned;              /* 1: the position is that of the surviving end, already where it should be */
+    int feature;             /* 1: along a crease, on the segment: not restored (it would leave the crease) */
     uint32_t shared[2];      /* the triangles on the edge */
     int shared_count;
     vec3 p;
@@ -207,6 +218,8 @@ typedef struct simplifier {
     unsigned threads;
     resurfi_pool *pool;  /* threads - 1 workers waiting for the call's parallel loops (NULL with one thread) */
     double diagonal, max_error;
+    double feature_cos, corner_cos; /* cos of feature_angle_deg and corner_angle_deg */
+    double smooth_cos;   /* cos of feature_angle_deg / 4: edges turning by less are smooth (setup.c) */
     double area_floor;   /* AREA_FLOOR × the mean triangle area */
     vec3 origin;         /* the bounding box's centre: quadrics are built around it, where their expanded form
                             xᵀAx + 2bᵀx + c loses the fewest digits to cancellation */
@@ -383,6 +396,7 @@ int has_attributes(const resurf_mesh *m);
 size_t fan_pairs(const simplifier *s, const u32vec *fan, scratch *sc);
 int analyse_position(simplifier *s, uint32_t a, scratch *sc, pos_flags *out_flags, resurfi_quadric *out_q,
                      uint32_t *out_up);
+int feature_edge(const simplifier *s, uint32_t ti, uint32_t tj, uint32_t ci, uint32_t cj);
 resurf_status simplify_start(simplifier *s, scratch *scratch, resurf_error *error);
 
 /* attributes.c: the attribute quadrics of the wedges */

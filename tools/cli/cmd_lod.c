@@ -9,17 +9,26 @@
 #include "cli.h"
 
 static const char usage[] =
-    "usage: resurf lod IN -o OUT [--levels 0.5,0.25,0.1] [--draco|--no-draco]\n"
-    "                 [--layout msft_lod|files|side-by-side] [--json] [options]\n\n"
+    "usage: resurf lod IN -o OUT [--levels 0.5,0.25,0.1] [--errors E1,E2,...] [--error E | --error-rel E]\n"
+    "                 [--lock-border] [--draco|--no-draco] [--layout msft_lod|files|side-by-side] [--json] [options]\n\n"
     "Builds levels of detail of every triangle primitive of IN (.gltf, .glb, .drc, or a mesh file as a one-mesh\n"
     "scene): each level keeps at most R x the triangles, is simplified from the previous level and restored onto\n"
     "the smooth surface of the ORIGINAL mesh. A mesh shown by several nodes is simplified once. Primitives with\n"
     "morph targets stay at full detail (with a warning); points and lines are copied. Everything else of the\n"
-    "scene (nodes, materials, textures, skins, animations, extensions) is kept. Prints per level the triangles,\n"
-    "the measured error (largest distance to the original surface, relative to the bounding-box diagonal) and\n"
-    "the bytes of geometry.\n\n"
+    "scene (nodes, materials, textures, skins, animations, extensions) is kept. A level that has no fewer\n"
+    "triangles than the one before, or misses its ratio (more than 1.5 x its target + 2 triangles), ends the\n"
+    "primitive's chain (a warning says which guard blocked how many collapses); a primitive with fewer levels\n"
+    "shows its last one. Prints per level the triangles, the measured error in world space over the whole scene\n"
+    "(two-sided Hausdorff distance to level 0, relative to the scene's bounding-box diagonal, and in scene\n"
+    "units) and the bytes of geometry.\n\n"
     "  -o, --output OUT       .glb, .gltf or .drc (a .drc holds one mesh: use --layout files)\n"
     "  --levels R1,R2,...     ratios of the levels, non-increasing in (0, 1] (default 0.5,0.25,0.1)\n"
+    "  --errors E1,E2,...     relative errors of the levels (of the scene's world diagonal), non-decreasing:\n"
+    "                         level K also stops where a collapse's estimated error exceeds EK; alone, a chain by\n"
+    "                         errors (each level as far as its error allows); with --levels, as many values\n"
+    "  --error E              every level also stops at this estimated error, in world units\n"
+    "  --error-rel E          ... relative to the scene's world bounding-box diagonal\n"
+    "  --lock-border          border vertices never move or disappear\n"
     "  --draco, --no-draco    KHR_draco_mesh_compression on (default) or off\n"
     "  --layout L             msft_lod (default: MSFT_lod, one file), files (OUT's name + _lodK per level, level 0\n"
     "                         the full detail) or side-by-side (all levels visible next to each other)\n"
@@ -41,6 +50,57 @@ static const char usage[] =
 
 enum { MAX_LEVELS = RESURF_SCENE_MAX_LEVELS - 1 };
 
+static const char *const stop_names[RESURF_STOP_COUNT] = {"target", "error", "blocked"};
+
+/* A list of positive numbers, non-decreasing, separated by commas. */
+static int parse_errors(const char *text, double *out, size_t max, size_t *count)
+{
+    size_t n = 0;
+    const char *s = text;
+    for (;;) {
+        char *end;
+        double r = strtod(s, &end);
+        if (end == s || !(r > 0) || !isfinite(r) || (n && r < out[n - 1]) || n == max)
+            return cli_usage("lod", "--errors wants up to %zu positive relative errors, non-decreasing, separated "
+                             "by commas: '%s'", max, text);
+        out[n++] = r;
+        if (*end == 0)
+            break;
+        if (*end != ',')
+            return cli_usage("lod", "--errors: unexpected '%c' in '%s'", *end, text);
+        s = end + 1;
+    }
+    *count = n;
+    return 0;
+}
+
+/* The guards that blocked collapses in a report, as "link 12, border 40" ("none" when none did). */
+static void blocked_text(const resurf_simplify_report *r, char *dst, size_t size)
+{
+    const struct {
+        const char *name;
+        size_t n;
+    } g[] = {{"link", r->blocked_link},         {"flip", r->blocked_flip},         {"min-angle", r->blocked_min_angle},
+             {"distance", r->blocked_distance}, {"border", r->blocked_border},     {"seam", r->blocked_seam},
+             {"feature", r->blocked_feature},   {"non-manifold", r->blocked_nonmanifold},
+             {"over-error", r->skipped_error}};
+    size_t o = 0;
+    dst[0] = 0;
+    for (size_t i = 0; i < sizeof g / sizeof *g && o < size; ++i)
+        if (g[i].n)
+            o += (size_t)snprintf(dst + o, size - o, "%s%s %zu", o ? ", " : "", g[i].name, g[i].n);
+    if (!o)
+        snprintf(dst, size, "none");
+}
+
+static void json_blocked(const resurf_simplify_report *r)
+{
+    printf("{\"link\": %zu, \"flip\": %zu, \"min_angle\": %zu, \"distance\": %zu, \"border\": %zu, \"seam\": %zu, "
+           "\"feature\": %zu, \"nonmanifold\": %zu, \"over_error\": %zu}",
+           r->blocked_link, r->blocked_flip, r->blocked_min_angle, r->blocked_distance, r->blocked_border,
+           r->blocked_seam, r->blocked_feature, r->blocked_nonmanifold, r->skipped_error);
+}
+
 static int parse_bits(const char *option, const char *text, int *out)
 {
     unsigned long n;
@@ -57,6 +117,10 @@ int cmd_lod(int argc, char **argv)
     static const struct option options[] = {
         {"output", required_argument, NULL, 'o'},
         {"levels", required_argument, NULL, 'L'},
+        {"errors", required_argument, NULL, 'X'},
+        {"error", required_argument, NULL, 'E'},
+        {"error-rel", required_argument, NULL, 'R'},
+        {"lock-border", no_argument, NULL, 'b'},
         {"draco", no_argument, NULL, 'd'},
         {"no-draco", no_argument, NULL, 'D'},
         {"layout", required_argument, NULL, 'l'},
@@ -82,7 +146,9 @@ int cmd_lod(int argc, char **argv)
     };
     const char *out = NULL, *preview = NULL;
     double ratios[MAX_LEVELS] = {0.5, 0.25, 0.1}, pixels = 1, height = 1080;
-    size_t ratio_count = 3;
+    size_t ratio_count = 3, error_count = 0;
+    double errors[MAX_LEVELS], error_all = 0, error_rel_all = 0;
+    int levels_given = 0;
     int json = 0, allow_missing_images = 0;
     resurf_preview_options po = resurf_preview_options_default();
     unsigned long n;
@@ -96,7 +162,22 @@ int cmd_lod(int argc, char **argv)
         case 'L':
             if (cli_parse_levels("lod", optarg, ratios, MAX_LEVELS, &ratio_count))
                 return CLI_USAGE;
+            levels_given = 1;
             break;
+        case 'X':
+            if (parse_errors(optarg, errors, MAX_LEVELS, &error_count))
+                return CLI_USAGE;
+            break;
+        case 'E':
+        case 'R': {
+            double *dst = c == 'E' ? &error_all : &error_rel_all;
+            if (cli_parse_double("lod", c == 'E' ? "error" : "error-rel", optarg, dst))
+                return CLI_USAGE;
+            if (!(*dst > 0))
+                return cli_usage("lod", "--%s must be positive, not %s", c == 'E' ? "error" : "error-rel", optarg);
+            break;
+        }
+        case 'b': sim.lock_border = true; break;
         case 'd': so.draco = true; break;
         case 'D': so.draco = false; break;
         case 'l':
@@ -158,6 +239,19 @@ int cmd_lod(int argc, char **argv)
     }
     if (argc - optind != 1)
         return cli_usage("lod", "expected one input IN");
+    if (error_count && error_rel_all > 0)
+        return cli_usage("lod", "--errors and --error-rel both give relative errors: use one");
+    if (error_count && levels_given && error_count != ratio_count)
+        return cli_usage("lod", "--levels gives %zu levels and --errors %zu: give as many", ratio_count,
+                         error_count);
+    if (error_count && !levels_given)
+        ratio_count = error_count;
+    double rel_bounds[MAX_LEVELS], abs_bounds[MAX_LEVELS];
+    for (size_t k = 0; k < ratio_count; ++k) {
+        rel_bounds[k] = error_count ? errors[k] : error_rel_all;
+        abs_bounds[k] = error_all;
+    }
+    const double *level_ratios = error_count && !levels_given ? NULL : ratios;
     if (!out)
         return cli_usage("lod", "missing -o OUT");
     size_t name_len = strlen(out);
@@ -208,12 +302,41 @@ int cmd_lod(int argc, char **argv)
     lod.pixels = pixels;
     lod.screen_height = height;
     lod.progress = cli_progress();
+    lod.level_max_error_rel = rel_bounds;
+    lod.level_max_error = abs_bounds;
     resurf_scene_lod_report lod_report;
     int rc = CLI_OK;
-    s = resurf_scene_build_lods(scene, ratios, ratio_count, &sim, &lod, &lod_report, NULL, &error);
+    size_t prim_count = resurf_scene_primitive_count(scene);
+    resurf_simplify_report *prim_reports = calloc(prim_count * ratio_count + 1, sizeof *prim_reports);
+    if (!prim_reports) {
+        resurf_scene_free(scene);
+        return cli_fail("out of memory");
+    }
+    s = resurf_scene_build_lods(scene, level_ratios, ratio_count, &sim, &lod, &lod_report, prim_reports, &error);
     cli_progress_done();
     if (s != RESURF_OK)
         rc = cli_fail_error(&error);
+    /* Each chain that ended early: where, and why (the stop and the guards that blocked collapses). */
+    for (size_t p = 0; p < prim_count && rc == CLI_OK; ++p) {
+        resurf_scene_primitive info;
+        resurf_scene_primitive_info(scene, p, &info, NULL);
+        size_t k = info.lod_count;
+        if (info.kind != RESURF_PRIMITIVE_TRIANGLES || k >= ratio_count)
+            continue;
+        const resurf_simplify_report *r = &prim_reports[p * ratio_count + k];
+        const resurf_mesh *m = resurf_scene_primitive_mesh(scene, p);
+        size_t before = k ? prim_reports[p * ratio_count + k - 1].triangles : m->triangle_count;
+        char blocked[256], target[64] = "";
+        blocked_text(r, blocked, sizeof blocked);
+        if (level_ratios)
+            snprintf(target, sizeof target, " (ratio %g, target %zu triangles)", level_ratios[k],
+                     (size_t)floor(level_ratios[k] * (double)m->triangle_count));
+        fprintf(stderr,
+                "resurf: warning: %s: level %zu%s %s %zu of %zu triangles (stopped: %s; blocked: %s); its chain "
+                "ends at level %zu\n",
+                info.name, k + 1, target, r->triangles >= before ? "could not reduce, keeping" : "missed its ratio at",
+                r->triangles, m->triangle_count, stop_names[r->stop < RESURF_STOP_COUNT ? r->stop : 0], blocked, k);
+    }
     resurf_scene_save_report report;
     if (rc == CLI_OK && !cli_interrupted()) {
         so.progress = cli_progress();
@@ -235,17 +358,68 @@ int cmd_lod(int argc, char **argv)
                    so.draco ? "true" : "false", report.files, report.total_bytes);
             for (size_t k = 0; k < report.levels; ++k) {
                 printf("%s{\"level\": %zu, \"ratio\": ", k ? ", " : "", k);
-                cli_json_number(stdout, k ? ratios[k - 1] : 1.0);
+                cli_json_number(stdout, k && level_ratios ? level_ratios[k - 1] : 1.0);
+                printf(", \"reached\": ");
+                cli_json_number(stdout, report.level_triangles[0]
+                                            ? (double)report.level_triangles[k] / (double)report.level_triangles[0]
+                                            : 1.0);
                 printf(", \"triangles\": %zu, \"error_rel\": ", report.level_triangles[k]);
                 cli_json_number(stdout, lod_report.level_error_rel[k]);
-                printf(", \"bytes\": %zu}", report.level_bytes[k]);
+                printf(", \"error\": ");
+                cli_json_number(stdout, lod_report.level_error[k]);
+                printf(", \"mean_rel\": ");
+                cli_json_number(stdout, lod_report.level_mean_rel[k]);
+                printf(", \"to_full_rel\": ");
+                cli_json_number(stdout, lod_report.level_to_full_rel[k]);
+                printf(", \"from_full_rel\": ");
+                cli_json_number(stdout, lod_report.level_from_full_rel[k]);
+                printf(", \"unreduced\": %zu, \"missed\": %zu, \"bytes\": %zu}", lod_report.level_unreduced[k],
+                       lod_report.level_missed[k], report.level_bytes[k]);
+            }
+            printf("], \"diagonal\": ");
+            cli_json_number(stdout, lod_report.diagonal);
+            /* Each primitive's own levels: its errors in its own units against its own diagonal, and for the level
+             * that ended its chain, why. */
+            printf(", \"primitives\": [");
+            int first = 1;
+            for (size_t p = 0; p < prim_count; ++p) {
+                resurf_scene_primitive info;
+                resurf_scene_primitive_info(scene, p, &info, NULL);
+                if (info.kind != RESURF_PRIMITIVE_TRIANGLES)
+                    continue;
+                printf("%s{\"name\": ", first ? "" : ", ");
+                first = 0;
+                cli_json_string(stdout, info.name);
+                printf(", \"triangles\": %zu, \"kept_levels\": %zu, \"levels\": [",
+                       resurf_scene_primitive_mesh(scene, p)->triangle_count, info.lod_count);
+                for (size_t k = 0; k < ratio_count && k <= info.lod_count; ++k) {
+                    const resurf_simplify_report *r = &prim_reports[p * ratio_count + k];
+                    printf("%s{\"level\": %zu, \"kept\": %s, \"triangles\": %zu, \"stop\": \"%s\", \"error_rel\": ",
+                           k ? ", " : "", k + 1, k < info.lod_count ? "true" : "false", r->triangles,
+                           stop_names[r->stop < RESURF_STOP_COUNT ? r->stop : 0]);
+                    cli_json_number(stdout, r->max_distance_rel);
+                    printf(", \"mean_rel\": ");
+                    cli_json_number(stdout, r->mean_distance_rel);
+                    printf(", \"blocked\": ");
+                    json_blocked(r);
+                    printf("}");
+                }
+                printf("]}");
             }
             printf("], \"dropped_extensions\": %zu}\n", report.dropped_extensions);
         } else {
-            printf("%-6s %-6s %12s %14s %12s\n", "level", "ratio", "triangles", "error (rel)", "bytes");
-            for (size_t k = 0; k < report.levels; ++k)
-                printf("%-6zu %-6g %12zu %14.3e %12zu\n", k, k ? ratios[k - 1] : 1.0, report.level_triangles[k],
-                       lod_report.level_error_rel[k], report.level_bytes[k]);
+            printf("%-6s %-6s %12s %8s %14s %14s %12s\n", "level", "ratio", "triangles", "reached", "error (rel)",
+                   "error", "bytes");
+            for (size_t k = 0; k < report.levels; ++k) {
+                char asked[32] = "-";
+                if (k == 0 || level_ratios)
+                    snprintf(asked, sizeof asked, "%g", k ? level_ratios[k - 1] : 1.0);
+                double reached = report.level_triangles[0]
+                                     ? (double)report.level_triangles[k] / (double)report.level_triangles[0]
+                                     : 1.0;
+                printf("%-6zu %-6s %12zu %7.1f%% %14.3e %14.3e %12zu\n", k, asked, report.level_triangles[k],
+                       100 * reached, lod_report.level_error_rel[k], lod_report.level_error[k], report.level_bytes[k]);
+            }
             printf("wrote %s (%s%s, %zu file%s, %zu bytes)\n", out, layouts[so.layout], so.draco ? ", Draco" : "",
                    report.files, report.files == 1 ? "" : "s", report.total_bytes);
         }
@@ -254,6 +428,7 @@ int cmd_lod(int argc, char **argv)
         po.threads = sim.threads;
         rc = cli_write_preview(scene, preview, &po, json ? 0 : 1);
     }
+    free(prim_reports);
     resurf_scene_free(scene);
     return rc;
 }

@@ -32,6 +32,10 @@ static const char usage[] =
     "  --max-normal-change DEG   refuse collapses that turn a triangle by more than DEG (default: the library's)\n"
     "  --attribute-weights N,UV,C  weights of normals, texture coordinates and colours in the collapse cost\n"
     "                            (0 = that attribute off; default 0,0.25,0.25)\n"
+    "  --feature-angle DEG       an edge whose triangles turn by more than DEG is a crease: kept, never\n"
+    "                            restored across (default: the library's; 180 = none)\n"
+    "  --corner-angle DEG        a border turning by more than DEG makes a corner that never moves\n"
+    "                            (default: the library's; 180 = none)\n"
     "  --samples N               samples of the result measured against IN, and of IN against the result, for\n"
     "                            the report (0 = none)\n"
     "  --threads N               worker threads, 0 = all cores (default); the result is the same for any N\n"
@@ -82,6 +86,7 @@ static void print_text(const char *out, const resurf_simplify_report *r)
     printf("blocked: distance    %zu\n", r->blocked_distance);
     printf("blocked: border      %zu\n", r->blocked_border);
     printf("blocked: seam        %zu\n", r->blocked_seam);
+    printf("blocked: feature     %zu\n", r->blocked_feature);
     printf("blocked: non-manif.  %zu\n", r->blocked_nonmanifold);
     printf("skipped: over error  %zu\n", r->skipped_error);
 }
@@ -118,9 +123,11 @@ static void print_json_report(const char *out, const resurf_simplify_report *r)
     printf(", \"max_error_estimate\": ");
     cli_json_number(stdout, r->max_error_estimate);
     printf(", \"restored\": %zu, \"restore_left\": %zu, \"blocked\": {\"link\": %zu, \"flip\": %zu, \"min_angle\": %zu, "
-           "\"distance\": %zu, \"border\": %zu, \"seam\": %zu, \"nonmanifold\": %zu}, \"skipped_error\": %zu}",
+           "\"distance\": %zu, \"border\": %zu, \"seam\": %zu, \"feature\": %zu, \"nonmanifold\": %zu}, "
+           "\"skipped_error\": %zu}",
            r->restored, r->restore_left, r->blocked_link, r->blocked_flip, r->blocked_min_angle,
-           r->blocked_distance, r->blocked_border, r->blocked_seam, r->blocked_nonmanifold, r->skipped_error);
+           r->blocked_distance, r->blocked_border, r->blocked_seam, r->blocked_feature, r->blocked_nonmanifold,
+           r->skipped_error);
 }
 
 static int parse_choice(const char *option, const char *text, const char *const *names, int count, int *out)
@@ -151,6 +158,8 @@ int cmd_simplify(int argc, char **argv)
         {"min-angle", required_argument, NULL, 'a'},
         {"max-normal-change", required_argument, NULL, 'N'},
         {"attribute-weights", required_argument, NULL, 'W'},
+        {"feature-angle", required_argument, NULL, 'F'},
+        {"corner-angle", required_argument, NULL, 'C'},
         {"samples", required_argument, NULL, 's'},
         {"threads", required_argument, NULL, 't'},
         {"json", no_argument, NULL, 'j'},
@@ -237,6 +246,18 @@ int cmd_simplify(int argc, char **argv)
         case 'W':
             if (cli_parse_attribute_weights("simplify", optarg, &o))
                 return CLI_USAGE;
+            break;
+        case 'F':
+            if (cli_parse_double("simplify", "feature-angle", optarg, &o.feature_angle_deg))
+                return CLI_USAGE;
+            if (!(o.feature_angle_deg > 0 && o.feature_angle_deg <= 180))
+                return cli_usage("simplify", "--feature-angle must be in (0, 180], not %s", optarg);
+            break;
+        case 'C':
+            if (cli_parse_double("simplify", "corner-angle", optarg, &o.corner_angle_deg))
+                return CLI_USAGE;
+            if (!(o.corner_angle_deg > 0 && o.corner_angle_deg <= 180))
+                return cli_usage("simplify", "--corner-angle must be in (0, 180], not %s", optarg);
             break;
         case 's':
             if (cli_parse_unsigned("simplify", "samples", optarg, &n))

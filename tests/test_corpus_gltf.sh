@@ -1,0 +1,114 @@
+#!/usr/bin/env bash
+# The real-asset corpus (issue 20, item 11): every .gltf/.glb of Debian's assimp-testmodels glTF2 folder (Khronos
+# sample and test assets, a morphing cube and a skin among them, and files broken on purpose) and the project's
+# analytic meshes go through `resurf lod` into a folder other than their own, once as .glb (Draco, the default) and
+# once as .gltf (plain accessors, images copied beside it). The Khronos validator judges inputs and outputs.
+#   - An input the validator passes must give an output with 0 errors and no more warnings than the input had (or,
+#     when it requires extensions, may be refused as below).
+#   - An input that breaks the schema (wrong JSON types, a required property missing, a value out of its list) must
+#     fail with one line on stderr naming the input file.
+#   - Any other input fails the same way or gives an output with no more validator errors than it has itself (an
+#     error of the content that resurf carries over, such as a material that needs tangents the file lacks).
+#   - Every output: no byte of a buffer that nothing refers to (tests/gltf_dead_bytes.js), and each level has fewer
+#     triangles than the one before (from `resurf lod --json`).
+# usage: test_corpus_gltf.sh RESURF SOURCE_ROOT      (RESURF_CORPUS_DIR overrides the assets' folder)
+set -uo pipefail
+resurf=$1
+root=$2
+models=${RESURF_CORPUS_DIR:-/usr/share/assimp/models/glTF2}
+if [ ! -d "$models" ]; then
+    echo "corpus: $models is missing (tools/setup.sh installs Debian's assimp-testmodels)"
+    exit 1
+fi
+validate() { node "$root/tools/validate-gltf.js" "$@"; }
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+failures=0
+fail() {
+    echo "FAIL $*"
+    failures=$((failures + 1))
+}
+
+mapfile -t inputs < <(find "$models" \( -name '*.gltf' -o -name '*.glb' \) | sort)
+validate "${inputs[@]}" > "$work/inputs.txt" 2>&1
+status=$?
+if [ $status -ge 2 ]; then
+    echo "corpus: the validator cannot run:"
+    cat "$work/inputs.txt"
+    exit 1
+fi
+for shape in sphere torus cubic; do
+    inputs+=("$root/data/$shape.ply")
+done
+
+# "FILE: numErrors N numWarnings M" of FILE in a validator listing, and the codes of its errors.
+counts() { grep -F "$1: numErrors " "$2" | sed 's/.*numErrors \([0-9]*\) numWarnings \([0-9]*\).*/\1 \2/'; }
+codes() { awk -v f="$1: numErrors" 'index($0, f) == 1 { on = 1; next } /^[^ ]/ { on = 0 } on { print $1 }' "$2"; }
+schema_codes='^(INVALID_INDEX|TYPE_MISMATCH|ARRAY_TYPE_MISMATCH|UNDEFINED_PROPERTY|VALUE_NOT_IN_LIST|INVALID_JSON|INVALID_JSON_ROOT_OBJECT)$'
+
+# Under sanitizers and valgrind (RESURF_TEST_LIGHT=1) the .glb outputs alone: the same readers, half the time.
+formats="glb gltf"
+[ "${RESURF_TEST_LIGHT:-0}" = 1 ] && formats=glb
+
+n=0 valid=0 refused=0 written=0
+for input in "${inputs[@]}"; do
+    n=$((n + 1))
+    name=$(basename "${input%.*}")
+    read -r in_errors in_warnings < <(counts "$input" "$work/inputs.txt")
+    case "$input" in *.ply) in_errors=0 in_warnings=0 ;; esac
+    must_fail=0
+    if codes "$input" "$work/inputs.txt" | grep -Eq "$schema_codes"; then
+        must_fail=1
+    fi
+    [ "${in_errors:-1}" = 0 ] && valid=$((valid + 1))
+    for ext in $formats; do
+        out="$work/$n-$ext/$name.$ext"
+        mkdir -p "$work/$n-$ext"
+        if "$resurf" lod "$input" -o "$out" --levels 0.5,0.25 --json > "$work/$n-$ext/report.json" \
+            2> "$work/$n-$ext/stderr"; then
+            if [ $must_fail = 1 ]; then
+                fail "$input ($ext): breaks the glTF schema, yet resurf lod accepted it"
+            fi
+            written=$((written + 1))
+            validate "$out" > "$work/$n-$ext/validator.txt" 2>&1
+            read -r out_errors out_warnings < <(counts "$out" "$work/$n-$ext/validator.txt")
+            if [ "${out_errors:-1}" -gt 0 ] && [ "${out_errors:-1}" -gt "${in_errors:-1}" -o "${in_errors:-1}" = 0 ]; then
+                fail "$input ($ext): the output has ${out_errors:-?} validator errors, the input ${in_errors:-?}:"
+                sed -n '1,6p' "$work/$n-$ext/validator.txt"
+            else
+                if [ "${in_errors:-1}" = 0 ] && [ "${out_warnings:-0}" -gt "${in_warnings:-0}" ]; then
+                    fail "$input ($ext): $out_warnings validator warnings on the output, $in_warnings on the input"
+                    sed -n '2,6p' "$work/$n-$ext/validator.txt"
+                fi
+            fi
+            if ! node "$root/tests/gltf_dead_bytes.js" "$out" > "$work/$n-$ext/dead.txt" 2>&1; then
+                fail "$input ($ext): dead bytes in the output:"
+                sed -n '1,4p' "$work/$n-$ext/dead.txt"
+            fi
+            triangles=$(grep -o '"triangles": [0-9]*' "$work/$n-$ext/report.json" | awk '{print $2}' | tr '\n' ' ')
+            previous=
+            for t in $triangles; do
+                if [ -n "$previous" ] && [ "$t" -ge "$previous" ]; then
+                    fail "$input ($ext): a level of $t triangles after one of $previous (levels: $triangles)"
+                    break
+                fi
+                previous=$t
+            done
+        else
+            refused=$((refused + 1))
+            if [ "${in_errors:-1}" = 0 ] && ! grep -q '"extensionsRequired"' "$input"; then
+                fail "$input ($ext): valid input, yet resurf lod failed: $(head -c 300 "$work/$n-$ext/stderr")"
+            fi
+            lines=$(wc -l < "$work/$n-$ext/stderr")
+            if [ "$lines" != 1 ] || ! grep -qF "$input" "$work/$n-$ext/stderr"; then
+                fail "$input ($ext): a failure must be one line naming the input; stderr was:"
+                head -n 5 "$work/$n-$ext/stderr"
+            fi
+            if [ -n "$(ls -A "$work/$n-$ext" | grep -v -e '^report.json$' -e '^stderr$')" ]; then
+                fail "$input ($ext): a failed run left files: $(ls "$work/$n-$ext" | tr '\n' ' ')"
+            fi
+        fi
+    done
+done
+echo "corpus: $n inputs ($valid valid), $written outputs written and checked, $refused runs refused; $failures failures"
+[ $failures = 0 ]
