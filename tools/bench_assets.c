@@ -395,13 +395,16 @@ static bool bench_asset(const config *cfg, const asset *a, const char *dir, row 
             continue;
         }
         int level = (int)k + 1;
-        rw->printed = lr.level_error_rel[level];
+        /* A chain that could not reduce the scene this far stops early (resurf lod writes no copy): the level is
+         * then the last one made, and gltfpack gets that level's ratio. */
+        int made = level < (int)lr.levels ? level : (int)lr.levels - 1;
+        rw->printed = lr.level_error_rel[made];
         char what[64];
         snprintf(what, sizeof what, ".resurf.lod%d.glb", level);
         const char *out = new_path(&w, dir, stem, what);
         resurf_scene_save_options so = resurf_scene_save_options_default();
         so.draco = true;
-        so.level = level;
+        so.level = made;
         resurf_scene_save_report sr;
         t0 = bench_now();
         if (resurf_scene_save(scene, out, &so, &sr, &error) != RESURF_OK)
@@ -415,9 +418,10 @@ static bool bench_asset(const config *cfg, const asset *a, const char *dir, row 
         else
             judge(cfg, original, mesh, &rw->r);
         resurf_mesh_free(mesh);
+        mesh = NULL;
 
         /* gltfpack at the ratio resurf reached. */
-        double reached = (double)lr.level_triangles[level] / (double)lr.level_triangles[0];
+        double reached = (double)lr.level_triangles[made] / (double)lr.level_triangles[0];
         snprintf(what, sizeof what, ".gltfpack.lod%d.glb", level);
         const char *pack_out = new_path(&w, dir, stem, what);
         snprintf(what, sizeof what, ".gltfpack.lod%d.log", level);
@@ -496,7 +500,7 @@ static void print_row(double ratio, const row *rw)
     print_ratio(ratio_of(rw->r.uv_mean, rw->g.uv_mean), 6);
     print_ratio(ratio_of(rw->r.uv_p95, rw->g.uv_p95), 6);
     printf(" |");
-    print_ratio(rw->r.haus > 0 ? rw->printed / rw->r.haus : NAN, 8);
+    print_ratio(rw->r.haus > floor_rel ? rw->printed / rw->r.haus : NAN, 8);
     printf(" |");
     print_value(rw->r.bytes, " %*.0f", 9);
     print_value(rw->g.bytes, " %*.0f", 9);
@@ -575,7 +579,7 @@ static void level_means(const row *rows, size_t stride, size_t assets, size_t k,
         geo_add(&t[1], ratio_of(rw->r.haus, rw->g.haus));
         geo_add(&t[2], ratio_of(rw->r.mean, rw->g.mean));
         geo_add(&t[3], ratio_of(rw->r.uv_mean, rw->g.uv_mean));
-        geo_add(&t[4], rw->r.haus > 0 ? rw->printed / rw->r.haus : NAN);
+        geo_add(&t[4], rw->r.haus > floor_rel ? rw->printed / rw->r.haus : NAN);
         geo_add(&t[5], rw->r.bytes / rw->g.bytes);
         geo_add(&t[6], rw->r.bytes / rw->g.bytes_c);
         geo_add(&t[7], ratio_of(rw->r.uv_p95, rw->g.uv_p95));
@@ -628,7 +632,7 @@ static void print_summary(const config *cfg, const row *rows, size_t assets)
         const char *worst_asset = "";
         for (size_t i = 0; i < assets; ++i) {
             const row *rw = &rows[i * stride + k];
-            if (!(rw->r.haus > 0) || isnan(rw->printed))
+            if (!(rw->r.haus > floor_rel) || isnan(rw->printed))
                 continue;
             double q = rw->printed / rw->r.haus;
             ++n;
