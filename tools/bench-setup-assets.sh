@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# What build/tools/bench-assets needs besides the build (kept out of tools/setup.sh so that the test suite's set-up
+# stays fast), idempotent and quiet when nothing is missing: Debian's assimp-testmodels (the glTF2 assets, in
+# /usr/share/assimp/models/glTF2) and npm gltfpack 1.3 (meshoptimizer's glTF tool, compiled to wasm, run under
+# node) in tools/node/. Run as root on Debian 12, after tools/setup.sh.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+missing=()
+dpkg-query -W -f='${Status}' assimp-testmodels 2>/dev/null | grep -q 'install ok installed' ||
+  missing+=(assimp-testmodels)
+command -v node >/dev/null || missing+=(nodejs)
+command -v npm >/dev/null || missing+=(npm)
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "bench-setup-assets: installing ${missing[*]}" >&2
+  export DEBIAN_FRONTEND=noninteractive
+  apt-get update -qq >/dev/null
+  apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+# The version the benchmark was measured with (issue 19 compares against gltfpack 1.3).
+version=1.3
+installed=$(node -p "try { require('./tools/node/node_modules/gltfpack/package.json').version } catch { '' }")
+if [ "${installed%.*}" != "$version" ]; then
+  echo "bench-setup-assets: installing gltfpack@$version (npm)" >&2
+  npm install --prefix tools/node --no-audit --no-fund "gltfpack@$version" >/dev/null
+fi
