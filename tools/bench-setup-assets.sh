@@ -6,17 +6,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-missing=()
-dpkg-query -W -f='${Status}' assimp-testmodels 2>/dev/null | grep -q 'install ok installed' ||
-  missing+=(assimp-testmodels)
-command -v node >/dev/null || missing+=(nodejs)
-command -v npm >/dev/null || missing+=(npm)
-if [ ${#missing[@]} -gt 0 ]; then
-  echo "bench-setup-assets: installing ${missing[*]}" >&2
-  export DEBIAN_FRONTEND=noninteractive
-  apt-get update -qq >/dev/null
-  apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
-fi
+. tools/packages.sh
+install_missing bench-setup-assets assimp-testmodels
 
 # The version the benchmark was measured with (issue 19 compares against gltfpack 1.3).
 version=1.3

@@ -10,18 +10,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 packages=(libcgal-dev libeigen3-dev)
-missing=()
-for p in "${packages[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")
-done
-command -v node >/dev/null || missing+=(nodejs)
-command -v npm >/dev/null || missing+=(npm)
-if [ ${#missing[@]} -gt 0 ]; then
-  echo "bench-setup-peers: installing ${missing[*]}" >&2
-  export DEBIAN_FRONTEND=noninteractive
-  apt-get update -qq >/dev/null
-  apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
-fi
+. tools/packages.sh
+install_missing bench-setup-peers "${packages[@]}"
 
 version=$(node -p "try { require('./tools/node/node_modules/meshoptimizer/package.json').version } catch { '' }")
 if [ "${version%%.*}" != 1 ]; then

@@ -7,19 +7,8 @@ cd "$(dirname "$0")/.."
 packages=(gcc g++ meson ninja-build pkg-config check libtinygltf-dev nlohmann-json3-dev libdraco-dev draco
           libmeshoptimizer-dev valgrind clang libclang-rt-14-dev xz-utils libpng-dev libjpeg-dev zlib1g-dev
           assimp-testmodels)
-missing=()
-for p in "${packages[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")
-done
-# A machine may carry Node.js from elsewhere (nodesource bundles npm; Debian's npm would conflict with it).
-command -v node >/dev/null || missing+=(nodejs)
-command -v npm >/dev/null || missing+=(npm)
-if [ ${#missing[@]} -gt 0 ]; then
-  echo "setup: installing ${missing[*]}" >&2
-  export DEBIAN_FRONTEND=noninteractive
-  apt-get update -qq >/dev/null
-  apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
-fi
+. tools/packages.sh
+install_missing setup "${packages[@]}"
 
 # The Khronos glTF validator for the tests (tools/validate-gltf.js runs it).
 if [ ! -f tools/node/node_modules/gltf-validator/package.json ]; then
