@@ -176,7 +176,6 @@ START_TEST(scene_lods_equal_per_primitive_chains)
         for (int k = 0; k < 2; ++k) {
             ck_assert(same_mesh(s->prims[p].lods[k], alone[k]));
             ck_assert_uint_eq(pr[p * 2 + k].triangles, alone[k]->triangle_count);
-            ck_assert(pr[p * 2 + k].max_distance_rel == ar[k].max_distance_rel);
             ck_assert_uint_le(alone[k]->triangle_count, (size_t)(ratios[k] * (double)in->triangle_count));
             level_tris[k + 1] += alone[k]->triangle_count;
             /* Independent bound: the reported error covers every vertex's exact distance to the input surface. */
@@ -186,10 +185,16 @@ START_TEST(scene_lods_equal_per_primitive_chains)
             ck_assert_int_eq(resurf_compare(in, alone[k], &co, &mt, NULL, NULL), RESURF_OK);
             ck_assert(ar[k].max_distance_rel >= mt.vertex_max / mt.diagonal - 1e-12);
             ck_assert(ar[k].max_distance_rel > 0);
+            /* The scene's report of the primitive is measured with its share of the samples (by area), so it is
+             * not ar's figure, but it covers the vertices just as well. */
+            ck_assert(pr[p * 2 + k].max_distance_rel >= mt.vertex_max / mt.diagonal - 1e-12);
             /* The mesh's own two-sided error (node k shows mesh k untransformed), densely measured. */
             co.samples = 40000;
             ck_assert_int_eq(resurf_compare(in, alone[k], &co, &mt, NULL, NULL), RESURF_OK);
             mesh_err[i][k + 1] = mt.hausdorff / mt.diagonal;
+            ck_assert_msg(fabs(pr[p * 2 + k].max_distance_rel - mesh_err[i][k + 1]) <= 0.2 * mesh_err[i][k + 1],
+                          "primitive %zu level %d: %g, dense %g", p, k + 1, pr[p * 2 + k].max_distance_rel,
+                          mesh_err[i][k + 1]);
             resurf_mesh_free(alone[k]);
         }
     }
