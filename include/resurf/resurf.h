@@ -1228,8 +1228,12 @@ typedef struct resurf_scene_lod_report {
  * - out_primitive_reports: NULL, or room for resurf_scene_primitive_count(scene) × count reports:
  *   [p × count + k] is level k + 1 of primitive p as it was made (zeroed for primitives that got no levels and
  *   after the level that ended its chain; that level's report is kept: its stop and blocked_* say why it missed).
- * Errors name the primitive ("meshes[1].primitives[0]: ..."). The primitives are simplified one after the other,
- * each with simplify->threads worker threads. */
+ * Errors name the primitive ("meshes[1].primitives[0]: ..."; with several failures, the first in primitive
+ * order). With at least 2 × simplify->threads triangle primitives (0 = all cores, at least 2), none of which holds
+ * more than half the triangles, and no thread_pool, the primitives are simplified side by side, each on one
+ * thread, and options->progress is then called from those threads (one call at a time) after each primitive;
+ * else one after the other, each with simplify->threads worker threads. The result is the same either way, for
+ * every thread count. */
 RESURF_API resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios, size_t count,
                                                  const resurf_simplify_options *simplify,
                                                  const resurf_scene_lod_options *options,
