@@ -12,6 +12,7 @@
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "hash.h"
 #include "scene_internal.h"
@@ -188,6 +189,13 @@ static size_t levels_that_help(const resurf_mesh *in, resurf_mesh *const *chain,
         before = t;
     }
     return count;
+}
+
+/* A monotonic clock in seconds, for the report's phase times. */
+static double seconds_now(void)
+{
+    struct timespec t;
+    return clock_gettime(CLOCK_MONOTONIC, &t) == 0 ? (double)t.tv_sec + 1e-9 * (double)t.tv_nsec : 0;
 }
 
 /* The area of a mesh's triangles, in its own units. */
@@ -542,6 +550,7 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
      * side, each on one thread (a small primitive's call is mostly fixed costs that its own threads cannot share);
      * else one after the other with simplify->threads each. The chains do not depend on the thread count, and the
      * results are taken in primitive order: the outcome is the same either way. */
+    double chains_start = seconds_now();
     chain_job job = {.scene = scene, .ratios = ratios, .count = count, .sim = &sim, .o = &o, .w = &w,
                      .diagonal = report.diagonal, .sample_budget = sample_budget, .scene_area = scene_area,
                      .total = total};
@@ -656,6 +665,8 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
         }
     }
 
+    report.chains_seconds = seconds_now() - chains_start;
+    double errors_start = seconds_now();
     /* Phase 2: the errors in world space, of the whole scene and of each mesh with levels as its first node shows
      * it, with the chains as they will be set. */
     resurfi_scene_levels stand_in = {(resurf_mesh *const *const *)w.chains, w.kept};
@@ -712,6 +723,7 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
     if (st == RESURF_OK && resurfi_progress(&o.progress, RESURF_STAGE_FINISH, 1.0))
         st = resurfi_error(error, RESURF_ERR_CANCELLED, "cancelled");
 
+    report.errors_seconds = seconds_now() - errors_start;
     /* Phase 3: the coverage of every mesh that has levels. */
     for (size_t m = 0; m < mesh_count && st == RESURF_OK && o.set_screen_coverage; ++m) {
         if (w.mesh_levels[m] < 2)

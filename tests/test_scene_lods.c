@@ -552,6 +552,16 @@ START_TEST(scene_lods_cli_max_triangles_and_errors)
     double printed = strtod(at + 13, NULL);
     ck_assert_msg(fabs(printed - r.level_error_rel[1]) <= 1e-9 * r.level_error_rel[1], "CLI %.17g, library %.17g",
                   printed, r.level_error_rel[1]);
+    /* Each phase's time is printed, none negative; the library's phases took time of their own too. */
+    static const char *const phases[] = {"\"load\": ", "\"chains\": ", "\"errors\": ", "\"save\": "};
+    at = strstr(text, "\"seconds\": {");
+    ck_assert_ptr_nonnull(at);
+    for (int i = 0; i < 4; ++i) {
+        const char *f = strstr(at, phases[i]);
+        ck_assert_msg(f != NULL, "no %s in %s", phases[i], at);
+        ck_assert(strtod(f + strlen(phases[i]), NULL) >= 0);
+    }
+    ck_assert(r.chains_seconds > 0 && r.errors_seconds > 0);
     free(text);
     resurf_scene_free(s);
 
