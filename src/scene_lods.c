@@ -449,7 +449,9 @@ static int chain_block(void *ctx, size_t begin, size_t end, unsigned worker)
         pthread_mutex_lock(&job->lock);
         job->done += (double)job->scene->prims[p].mesh->triangle_count + 1;
         double f = job->total > 0 ? job->done / job->total : 1;
-        int stop = resurfi_progress(&job->o->progress, RESURF_STAGE_SIMPLIFY, f > 1 ? 1 : f) != 0;
+        /* Not asked again once a cancel was asked for. */
+        int stop = atomic_load(&job->cancelled) ||
+                   resurfi_progress(&job->o->progress, RESURF_STAGE_SIMPLIFY, f > 1 ? 1 : f) != 0;
         pthread_mutex_unlock(&job->lock);
         if (stop) {
             atomic_store(&job->cancelled, 1);
