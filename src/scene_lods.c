@@ -8,8 +8,11 @@
  * all of them exist (no error, no cancel, no allocation left to fail) are they moved into the scene, which
  * therefore never holds levels of only some primitives. */
 #include <math.h>
+#include <pthread.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "hash.h"
 #include "scene_internal.h"
@@ -188,6 +191,40 @@ static size_t levels_that_help(const resurf_mesh *in, resurf_mesh *const *chain,
     return count;
 }
 
+/* A monotonic clock in seconds, for the report's phase times. */
+static double seconds_now(void)
+{
+    struct timespec t;
+    return clock_gettime(CLOCK_MONOTONIC, &t) == 0 ? (double)t.tv_sec + 1e-9 * (double)t.tv_nsec : 0;
+}
+
+/* The area of a mesh's triangles, in its own units. */
+static double mesh_area(const resurf_mesh *m)
+{
+    double a = 0;
+    for (size_t t = 0; t < m->triangle_count; ++t) {
+        const uint32_t *f = m->indices + 3 * t;
+        a += 0.5 * v3_len(v3_tri_cross(resurfi_position(m, f[0]), resurfi_position(m, f[1]),
+                                       resurfi_position(m, f[2])));
+    }
+    return a;
+}
+
+/* A primitive's share of the scene's measure_samples: the scene's budget spread by world area (the primitive's
+ * area times its mesh's largest scale squared, over the sum of those), at least MIN_PRIMITIVE_SAMPLES and at most
+ * the budget. A fixed count per primitive made a 200-triangle part cost as much to measure as a 20,000-triangle one:
+ * on 2CylinderEngine (29 primitives) 29 x 100k samples per side and level, about 85% of the call's time. */
+#define MIN_PRIMITIVE_SAMPLES 1000
+
+static size_t primitive_samples(size_t budget, double world_area, double scene_area)
+{
+    if (budget == 0)
+        return 0;
+    double share = scene_area > 0 && isfinite(scene_area) ? world_area / scene_area : 1;
+    double n = fmax((double)MIN_PRIMITIVE_SAMPLES, share * (double)budget);
+    return n < (double)budget ? (size_t)n : budget;
+}
+
 /* ---- shared borders ---- */
 
 /* A position as a key: its three coordinates' bits (-0 as +0, so that equal coordinates are equal keys). */
@@ -330,6 +367,100 @@ static void lod_work_free(lod_work *w, size_t prim_count, size_t mesh_count, siz
     resurfi_free(w->alloc, w->list.items);
 }
 
+/* ---- the chains of all primitives ---- */
+
+/* What every primitive's chain needs, and where it goes (indexed by primitive). */
+typedef struct chain_job {
+    const resurf_scene *scene;
+    const double *ratios;
+    size_t count;
+    const resurf_simplify_options *sim;
+    const resurf_scene_lod_options *o;
+    lod_work *w;
+    double diagonal;
+    size_t sample_budget;
+    double scene_area;
+    resurf_simplify_report *reports; /* count per primitive */
+    resurf_status *status;
+    resurf_error *errors;
+    pthread_mutex_t lock;            /* over done and the caller's progress, side by side */
+    double done, total;
+    atomic_int cancelled;
+    const size_t *order;             /* side by side: the triangle primitives in the order they are taken */
+} chain_job;
+
+/* Primitive p's chain with options sim (threads and progress as the caller chose): w->chains[p] and its reports, or
+ * status[p] and errors[p]. */
+static resurf_status make_primitive_chain(chain_job *job, size_t p, const resurf_simplify_options *base)
+{
+    const resurfi_scene_prim *prim = &job->scene->prims[p];
+    lod_work *w = job->w;
+    size_t count = job->count;
+    resurf_simplify_options sim = *base;
+    double bounds[RESURF_SCENE_MAX_LEVELS - 1];
+    double scale = w->mesh_scale[prim->info.mesh] > 0 ? w->mesh_scale[prim->info.mesh] : 1;
+    for (size_t k = 0; k < count; ++k)
+        bounds[k] = world_bound(job->o, k, job->diagonal) / scale;
+    resurf_error *e = &job->errors[p];
+    sim.vertex_lock = w->locks[p];
+    sim.measure_samples = primitive_samples(job->sample_budget, mesh_area(prim->mesh) * scale * scale,
+                                            job->scene_area);
+    resurf_mesh **chain = resurfi_calloc(w->alloc, count, sizeof *chain);
+    resurf_status st = chain ? RESURF_OK : resurfi_error(e, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
+    if (st == RESURF_OK)
+        st = make_chain(prim->mesh, job->ratios, count, bounds, &sim, chain, job->reports + p * count, e);
+    for (size_t k = 0; k < count && st == RESURF_OK; ++k)
+        if (!same_layout(prim->mesh, chain[k]))
+            st = resurfi_error(e, RESURF_ERR_INTERNAL, "level %zu lost an attribute of the input", k + 1);
+    if (st != RESURF_OK && chain) {
+        for (size_t k = 0; k < count; ++k)
+            resurf_mesh_free(chain[k]);
+        resurfi_free(w->alloc, chain);
+        chain = NULL;
+    }
+    w->chains[p] = chain;
+    job->status[p] = st;
+    return st;
+}
+
+typedef struct by_size {
+    size_t triangles, prim;
+} by_size;
+
+static int larger_first(const void *a, const void *b)
+{
+    const by_size *x = a, *y = b;
+    if (x->triangles != y->triangles)
+        return x->triangles > y->triangles ? -1 : 1;
+    return x->prim < y->prim ? -1 : x->prim > y->prim;
+}
+
+/* One primitive of the side-by-side run, on one thread; then the caller's progress, one call at a time. Only a
+ * cancel stops the run (a failure is reported in primitive order afterwards). */
+static int chain_block(void *ctx, size_t begin, size_t end, unsigned worker)
+{
+    (void)worker;
+    chain_job *job = ctx;
+    for (size_t i = begin; i < end; ++i) {
+        if (atomic_load(&job->cancelled))
+            return 1;
+        size_t p = job->order[i];
+        make_primitive_chain(job, p, job->sim);
+        pthread_mutex_lock(&job->lock);
+        job->done += (double)job->scene->prims[p].mesh->triangle_count + 1;
+        double f = job->total > 0 ? job->done / job->total : 1;
+        /* Not asked again once a cancel was asked for. */
+        int stop = atomic_load(&job->cancelled) ||
+                   resurfi_progress(&job->o->progress, RESURF_STAGE_SIMPLIFY, f > 1 ? 1 : f) != 0;
+        pthread_mutex_unlock(&job->lock);
+        if (stop) {
+            atomic_store(&job->cancelled, 1);
+            return 1;
+        }
+    }
+    return 0;
+}
+
 static resurf_status check_arguments(const double *ratios, size_t count, const resurf_simplify_options *sim,
                                      const resurf_scene_lod_options *o, resurf_error *error)
 {
@@ -407,52 +538,100 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
     }
 
     /* The work of each primitive is taken as proportional to its triangles, for the progress fraction. */
-    double total = 0;
+    double total = 0, scene_area = 0;
     for (size_t p = 0; p < prim_count; ++p)
-        if (scene->prims[p].info.kind == RESURF_PRIMITIVE_TRIANGLES)
-            total += (double)scene->prims[p].mesh->triangle_count + 1;
+        if (scene->prims[p].info.kind == RESURF_PRIMITIVE_TRIANGLES) {
+            const resurfi_scene_prim *prim = &scene->prims[p];
+            double scale = w.mesh_scale[prim->info.mesh] > 0 ? w.mesh_scale[prim->info.mesh] : 1;
+            total += (double)prim->mesh->triangle_count + 1;
+            scene_area += mesh_area(prim->mesh) * scale * scale;
+        }
+    const size_t sample_budget = sim.measure_samples;
 
-    /* Phase 1: the chains, one primitive after the other, and the levels of each that help; the scene is only
-     * read. */
-    scene_progress sp = {&o.progress, 0, 0, 0};
-    sim.progress.fn = o.progress.fn ? forward_progress : NULL;
-    sim.progress.user = &sp;
-    double done = 0;
-    for (size_t p = 0; p < prim_count && st == RESURF_OK; ++p) {
+    /* Phase 1: the chains and the levels of each that help; the scene is only read. Many primitives run side by
+     * side, each on one thread (a small primitive's call is mostly fixed costs that its own threads cannot share);
+     * else one after the other with simplify->threads each. The chains do not depend on the thread count, and the
+     * results are taken in primitive order: the outcome is the same either way. */
+    double chains_start = seconds_now();
+    chain_job job = {.scene = scene, .ratios = ratios, .count = count, .sim = &sim, .o = &o, .w = &w,
+                     .diagonal = report.diagonal, .sample_budget = sample_budget, .scene_area = scene_area,
+                     .total = total};
+    pthread_mutex_init(&job.lock, NULL);
+    atomic_init(&job.cancelled, 0);
+    job.reports = resurfi_calloc(alloc, prim_count * count + 1, sizeof *job.reports);
+    job.status = resurfi_calloc(alloc, prim_count + 1, sizeof *job.status);
+    job.errors = resurfi_calloc(alloc, prim_count + 1, sizeof *job.errors);
+    size_t *order = resurfi_calloc(alloc, prim_count + 1, sizeof *order), tri_prims = 0;
+    if (st == RESURF_OK && (!job.reports || !job.status || !job.errors || !order))
+        st = resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory building levels of detail");
+    size_t largest = 0;
+    for (size_t p = 0; st == RESURF_OK && p < prim_count; ++p) {
         const resurfi_scene_prim *prim = &scene->prims[p];
-        if (prim->info.kind == RESURF_PRIMITIVE_MORPHED) {
+        if (prim->info.kind == RESURF_PRIMITIVE_MORPHED)
             report.morphed++;
-            continue;
-        }
-        if (prim->info.kind != RESURF_PRIMITIVE_TRIANGLES) {
+        else if (prim->info.kind != RESURF_PRIMITIVE_TRIANGLES)
             report.other++;
+        else {
+            order[tri_prims++] = p;
+            largest = prim->mesh->triangle_count > largest ? prim->mesh->triangle_count : largest;
+        }
+    }
+    unsigned threads = resurfi_thread_count(sim.threads);
+    /* Side by side when there are primitives enough for every thread and none holds most of the work. */
+    int side_by_side = threads > 1 && !sim.thread_pool && tri_prims >= 2 * (size_t)threads &&
+                       (double)largest <= 0.5 * total;
+    if (st == RESURF_OK && side_by_side) {
+        /* Largest first, so that no thread is left with a big one at the end (ties in primitive order). */
+        job.order = order;
+        by_size *sorted = resurfi_alloc(alloc, tri_prims, sizeof *sorted);
+        if (sorted) { /* else in primitive order */
+            for (size_t i = 0; i < tri_prims; ++i)
+                sorted[i] = (by_size){scene->prims[order[i]].mesh->triangle_count, order[i]};
+            qsort(sorted, tri_prims, sizeof *sorted, larger_first);
+            for (size_t i = 0; i < tri_prims; ++i)
+                order[i] = sorted[i].prim;
+            resurfi_free(alloc, sorted);
+        }
+        resurf_simplify_options one = sim;
+        one.threads = 1;
+        one.progress.fn = NULL;
+        job.sim = &one;
+        resurfi_parallel_for(tri_prims, 1, threads, chain_block, &job);
+        job.sim = &sim;
+    } else if (st == RESURF_OK) {
+        scene_progress sp = {&o.progress, 0, 0, 0};
+        sim.progress.fn = o.progress.fn ? forward_progress : NULL;
+        sim.progress.user = &sp;
+        double done = 0;
+        for (size_t i = 0; i < tri_prims; ++i) {
+            size_t p = order[i];
+            double weight = (double)scene->prims[p].mesh->triangle_count + 1;
+            sp.base = done / total;
+            sp.span = weight / total;
+            done += weight;
+            if (make_primitive_chain(&job, p, &sim) != RESURF_OK)
+                break;
+        }
+    }
+    /* The outcomes in primitive order: the first failure is the one reported, whatever thread met it first (the
+     * side-by-side run stops early only for a cancel). */
+    for (size_t p = 0; st == RESURF_OK && p < prim_count; ++p) {
+        const resurfi_scene_prim *prim = &scene->prims[p];
+        if (prim->info.kind != RESURF_PRIMITIVE_TRIANGLES || job.status[p] == RESURF_OK)
             continue;
-        }
-        double weight = (double)prim->mesh->triangle_count + 1;
-        sp.base = done / total;
-        sp.span = weight / total;
-        done += weight;
-        resurf_simplify_report reports[RESURF_SCENE_MAX_LEVELS - 1];
-        double bounds[RESURF_SCENE_MAX_LEVELS - 1];
-        double scale = w.mesh_scale[prim->info.mesh] > 0 ? w.mesh_scale[prim->info.mesh] : 1;
-        for (size_t k = 0; k < count; ++k)
-            bounds[k] = world_bound(&o, k, report.diagonal) / scale;
-        resurf_error e;
-        sim.vertex_lock = w.locks[p];
-        if (!(w.chains[p] = resurfi_calloc(alloc, count, sizeof **w.chains))) {
-            st = resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory building levels of detail");
-            break;
-        }
-        st = make_chain(prim->mesh, ratios, count, bounds, &sim, w.chains[p], reports, &e);
-        for (size_t k = 0; k < count && st == RESURF_OK; ++k)
-            if (!same_layout(prim->mesh, w.chains[p][k]))
-                st = resurfi_error(&e, RESURF_ERR_INTERNAL, "level %zu lost an attribute of the input", k + 1);
-        if (st != RESURF_OK) {
-            /* The primitive's name first, so that a scene of many primitives says which one failed. */
-            resurfi_fail(error, st, e.path[0] ? e.path : NULL, e.line, e.offset, "%s: %s", prim->info.name,
-                         e.message);
-            break;
-        }
+        /* The primitive's name first, so that a scene of many primitives says which one failed. */
+        const resurf_error *e = &job.errors[p];
+        st = job.status[p];
+        resurfi_fail(error, st, e->path[0] ? e->path : NULL, e->line, e->offset, "%s: %s", prim->info.name,
+                     e->message);
+    }
+    if (st == RESURF_OK && atomic_load(&job.cancelled))
+        st = resurfi_error(error, RESURF_ERR_CANCELLED, "cancelled");
+    for (size_t p = 0; st == RESURF_OK && p < prim_count; ++p) {
+        const resurfi_scene_prim *prim = &scene->prims[p];
+        if (prim->info.kind != RESURF_PRIMITIVE_TRIANGLES)
+            continue;
+        const resurf_simplify_report *reports = job.reports + p * count;
         report.primitives++;
         int why;
         size_t kept = levels_that_help(prim->mesh, w.chains[p], reports, ratios, count, &why);
@@ -466,6 +645,11 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
         for (size_t k = 0; out_primitive_reports && k < count && k <= kept; ++k)
             out_primitive_reports[p * count + k] = reports[k];
     }
+    resurfi_free(alloc, order);
+    resurfi_free(alloc, job.reports);
+    resurfi_free(alloc, job.status);
+    resurfi_free(alloc, job.errors);
+    pthread_mutex_destroy(&job.lock);
     /* A cancel after the last progress call of the last primitive still cancels. */
     if (st == RESURF_OK && resurfi_progress(&o.progress, RESURF_STAGE_FINISH, 1.0))
         st = resurfi_error(error, RESURF_ERR_CANCELLED, "cancelled");
@@ -483,10 +667,13 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
         }
     }
 
+    report.chains_seconds = seconds_now() - chains_start;
+    double errors_start = seconds_now();
     /* Phase 2: the errors in world space, of the whole scene and of each mesh with levels as its first node shows
      * it, with the chains as they will be set. */
     resurfi_scene_levels stand_in = {(resurf_mesh *const *const *)w.chains, w.kept};
     resurf_compare_options co = resurf_compare_options_default();
+    sim.measure_samples = sample_budget;
     co.samples = sim.measure_samples;
     co.threads = sim.threads;
     co.allocator = alloc;
@@ -538,6 +725,7 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
     if (st == RESURF_OK && resurfi_progress(&o.progress, RESURF_STAGE_FINISH, 1.0))
         st = resurfi_error(error, RESURF_ERR_CANCELLED, "cancelled");
 
+    report.errors_seconds = seconds_now() - errors_start;
     /* Phase 3: the coverage of every mesh that has levels. */
     for (size_t m = 0; m < mesh_count && st == RESURF_OK && o.set_screen_coverage; ++m) {
         if (w.mesh_levels[m] < 2)

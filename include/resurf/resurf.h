@@ -1189,6 +1189,8 @@ typedef struct resurf_scene_lod_report {
                                                          had no fewer triangles than the one before */
     size_t level_missed[RESURF_SCENE_MAX_LEVELS];     /* primitives whose chain ended at this level because it
                                                          missed its ratio (see resurf_scene_build_lods) */
+    double chains_seconds;                            /* wall-clock time spent making the primitives' chains */
+    double errors_seconds;                            /* ... measuring the world errors (scene and each mesh) */
 } resurf_scene_lod_report;
 
 /* Builds levels of detail for every triangle primitive of the scene in one call: each primitive's chain comes from
@@ -1218,7 +1220,9 @@ typedef struct resurf_scene_lod_report {
  * - scene: modified only when the call succeeds; on error or cancel it is exactly as it was.
  * - simplify: NULL = resurf_simplify_options_default(); target_triangles and target_ratio are ignored, its
  *   progress and vertex_lock are not used (options->progress and keep_shared_borders are); its max_error / max_error_rel, in each primitive's own units,
- *   apply to every level beside options' bounds; measure_samples is also the world measurement's sample count.
+ *   apply to every level beside options' bounds; measure_samples is the budget of the whole scene: each
+ *   primitive's own report measures its share of it, by world area (at least 1,000 samples, at most the budget),
+ *   and it is also the world measurement's sample count.
  * - ratios: count values in (0, 1], non-increasing; or NULL when every level has an error bound (a chain by
  *   errors alone: each level as far as its bound allows); 1 <= count <= RESURF_SCENE_MAX_LEVELS - 1.
  * - options: NULL = resurf_scene_lod_options_default().
@@ -1226,8 +1230,12 @@ typedef struct resurf_scene_lod_report {
  * - out_primitive_reports: NULL, or room for resurf_scene_primitive_count(scene) × count reports:
  *   [p × count + k] is level k + 1 of primitive p as it was made (zeroed for primitives that got no levels and
  *   after the level that ended its chain; that level's report is kept: its stop and blocked_* say why it missed).
- * Errors name the primitive ("meshes[1].primitives[0]: ..."). The primitives are simplified one after the other,
- * each with simplify->threads worker threads. */
+ * Errors name the primitive ("meshes[1].primitives[0]: ..."; with several failures, the first in primitive
+ * order). With at least 2 × simplify->threads triangle primitives (0 = all cores, at least 2), none of which holds
+ * more than half the triangles, and no thread_pool, the primitives are simplified side by side, each on one
+ * thread, and options->progress is then called from those threads (one call at a time) after each primitive;
+ * else one after the other, each with simplify->threads worker threads. The result is the same either way, for
+ * every thread count. */
 RESURF_API resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios, size_t count,
                                                  const resurf_simplify_options *simplify,
                                                  const resurf_scene_lod_options *options,

@@ -117,5 +117,7 @@ int cli_save(const resurf_mesh *mesh, const char *path, const resurf_save_option
 /* JSON helpers: a string with escapes, and a number that stays valid JSON for non-finite values (null). */
 void cli_json_string(FILE *f, const char *s);
 void cli_json_number(FILE *f, double v);
+/* A monotonic clock in seconds (for the phase times that --json reports). */
+double cli_seconds(void);
 
 #endif

@@ -5,6 +5,7 @@
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -331,4 +332,10 @@ int cli_parse_attribute_weights(const char *command, const char *text, resurf_si
     o->texcoord_weight = w[1];
     o->color_weight = w[2];
     return 0;
+}
+
+double cli_seconds(void)
+{
+    struct timespec t;
+    return clock_gettime(CLOCK_MONOTONIC, &t) == 0 ? (double)t.tv_sec + 1e-9 * (double)t.tv_nsec : 0;
 }
