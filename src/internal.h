@@ -347,6 +347,27 @@ vec3 resurfi_restorer_limit_height(const resurfi_restorer *r, uint32_t t, vec3 q
 /* The local edge length of M at triangle t (the largest mean edge length of its corners); 0 for t out of range. */
 double resurfi_restorer_edge_length(const resurfi_restorer *r, uint32_t t);
 
+/* ---- skin influences (skin.c), for the simplifier's output and the glTF writer --------------------------------- */
+
+/* The JOINTS_n / WEIGHTS_n pairs of a mesh's extras (both VEC4, matched by n), by extra index; at most
+ * RESURFI_SKIN_MAX_SETS pairs (further ones stay plain extras). */
+#define RESURFI_SKIN_MAX_SETS 8
+typedef struct resurfi_skin_sets {
+    unsigned count;
+    size_t joints[RESURFI_SKIN_MAX_SETS], weights[RESURFI_SKIN_MAX_SETS];
+} resurfi_skin_sets;
+void resurfi_skin_find_sets(const resurf_mesh *m, resurfi_skin_sets *sets);
+/* Is extra `extra` one of the pairs'? */
+int resurfi_skin_owns(const resurfi_skin_sets *sets, size_t extra);
+/* Output vertex ov of `out` (extras laid out like in's) gets the influences at the point with barycentrics bary of
+ * the input triangle with corners `corner`: merged by joint, the strongest 4 per set, summing to 1, joints exact. */
+void resurfi_skin_combine(const resurf_mesh *in, const resurfi_skin_sets *sets, const uint32_t corner[3],
+                          const double bary[3], resurf_mesh *out, size_t ov);
+/* The pairs of m as a file stores them, into arrays of 4 floats per vertex per set: weights summing to exactly one
+ * whole of `units` (255 or 65535 for normalized integers, 0 for float), joints of zero weight 0. */
+void resurfi_skin_snap(const resurf_mesh *m, const resurfi_skin_sets *sets, double units, float *const *joints_out,
+                       float *const *weights_out);
+
 /* ---- error quadrics (quadric.c), for the simplifier (simplify/) ---------------------------------------------- */
 
 /* Garland–Heckbert quadric: Q(x) = xᵀ A x + 2 bᵀ x + c, a weighted sum of squared distances to planes, with the

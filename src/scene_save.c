@@ -256,6 +256,46 @@ static size_t list_attributes(const save_ctx *c, const resurfi_scene_prim *p, co
     return n;
 }
 
+/* The JOINTS_n / WEIGHTS_n pairs of m as they will be stored (skin.c): weights whose sum is exactly one whole in
+ * the stored type, joints of zero weight 0. Draco would quantize float weights, and quantized floats no longer sum
+ * to 1, so under Draco with quantization they are written as normalized unsigned shorts, which it keeps exactly. */
+static resurf_status snap_skin(save_ctx *c, const resurf_mesh *m, out_attr *attrs, size_t n)
+{
+    resurfi_skin_sets sets;
+    resurfi_skin_find_sets(m, &sets);
+    out_attr *joints[RESURFI_SKIN_MAX_SETS], *weights[RESURFI_SKIN_MAX_SETS];
+    float *jv[RESURFI_SKIN_MAX_SETS], *wv[RESURFI_SKIN_MAX_SETS];
+    double units = 0; /* the coarsest: 65535 = 255 × 257, so whole bytes are whole shorts too */
+    for (unsigned s = 0; s < sets.count; ++s) {
+        joints[s] = weights[s] = NULL;
+        for (size_t i = 0; i < n; ++i) {
+            if (!strcmp(attrs[i].name, m->extras[sets.joints[s]].name))
+                joints[s] = &attrs[i];
+            if (!strcmp(attrs[i].name, m->extras[sets.weights[s]].name))
+                weights[s] = &attrs[i];
+        }
+        if (!joints[s] || !weights[s])
+            return resurfi_fail(c->error, RESURF_ERR_INTERNAL, c->path, 0, -1, "skin attributes not listed");
+        out_attr *w = weights[s];
+        if (c->o->draco && w->component_type == RESURFI_GLTF_FLOAT && w->bits > 0)
+            w->component_type = RESURFI_GLTF_UNSIGNED_SHORT, w->normalized = 1;
+        double u = !w->normalized                                   ? 0
+                   : w->component_type == RESURFI_GLTF_UNSIGNED_BYTE ? 255
+                                                                     : 65535;
+        units = u == 255 || units == 255 ? 255 : u > 0 ? u : units;
+        jv[s] = own(c, resurfi_alloc(c->alloc, m->vertex_count, 4 * sizeof(float)));
+        wv[s] = own(c, resurfi_alloc(c->alloc, m->vertex_count, 4 * sizeof(float)));
+        if (!jv[s] || !wv[s])
+            return oom(c);
+    }
+    if (!sets.count)
+        return RESURF_OK;
+    resurfi_skin_snap(m, &sets, units, jv, wv);
+    for (unsigned s = 0; s < sets.count; ++s)
+        joints[s]->f = jv[s], weights[s]->f = wv[s];
+    return RESURF_OK;
+}
+
 static void put_value(unsigned char *p, int type, int normalized, double x)
 {
     double lo = 0, hi = 0;
@@ -460,6 +500,9 @@ static resurf_status pack(save_ctx *c, size_t prim, size_t level, packed **out)
         return resurfi_fail(c->error, RESURF_ERR_UNSUPPORTED, c->path, 0, -1, "%s: more than 64 extra attributes",
                             p->info.name);
     size_t n = list_attributes(c, p, m, attrs);
+    resurf_status status = snap_skin(c, m, attrs, n);
+    if (status != RESURF_OK)
+        return status;
     unsigned char *values[sizeof attrs / sizeof *attrs];
     double min[4], max[4];
     for (size_t i = 0; i < n; ++i)

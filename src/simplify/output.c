@@ -1,7 +1,7 @@
 /* The simplifier's output: one snapshot of the working mesh turned into a resurf_mesh. Used positions are numbered
  * (number_output), placed (place_output: POST restoration, then the sag offset), given attributes from the input
- * (attribute_block: the closest input triangle on the vertex's side of any seam, find_sides); measure.c then
- * measures it. */
+ * (attribute_block: the closest input triangle on the vertex's side of any seam, find_sides; joints and weights
+ * as influences, src/skin.c); measure.c then measures it. */
 #include <math.h>
 
 #include "simplify_internal.h"
@@ -209,6 +209,8 @@ static int attribute_block(void *ctx, size_t begin, size_t end, unsigned worker)
     const simplifier *s = j->s;
     const resurf_mesh *in = s->in;
     resurf_mesh *m = j->m;
+    resurfi_skin_sets skin; /* joints and weights: combined as influences (skin.c), never as numbers */
+    resurfi_skin_find_sets(in, &skin);
     for (size_t ov = begin; ov < end; ++ov) {
         double b[3];
         uint32_t t = attribute_source(s, j->o, (uint32_t)ov, b);
@@ -250,9 +252,16 @@ static int attribute_block(void *ctx, size_t begin, size_t end, unsigned worker)
                     v = in->colors[4 * (size_t)w + c];
                 m->colors[4 * ov + c] = v;
             }
+        if (skin.count) {
+            const uint32_t own[3] = {w, w, w};
+            const double whole[3] = {1, 0, 0};
+            resurfi_skin_combine(in, &skin, idx ? idx : own, idx ? b : whole, m, ov);
+        }
         for (size_t e = 0; e < m->extra_count; ++e) {
             const resurf_attribute *a = &in->extras[e];
             unsigned nc = a->components;
+            if (resurfi_skin_owns(&skin, e))
+                continue;
             for (unsigned c = 0; c < nc; ++c) {
                 double v = 0;
                 if (!a->data)
