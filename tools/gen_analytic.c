@@ -2,12 +2,14 @@
  *
  *   resurf-gen-analytic SHAPE TRIANGLES OUT [--jitter J] [--seed S] [--normals]
  *   resurf-gen-analytic --data DIR        the bundled set in data/ (what tools/make-data.sh runs)
+ *   resurf-gen-analytic --skinned-cylinder OUT.glb [--ubyte-weights]   the two-bone cylinder of skinned_cylinder.h
  */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "shapes.h"
+#include "skinned_cylinder.h"
 
 /* The bundled meshes: small, irregular, reproducible. */
 static const struct {
@@ -49,6 +51,7 @@ static int usage(void)
 {
     fprintf(stderr, "usage: resurf-gen-analytic SHAPE TRIANGLES OUT [--jitter J] [--seed S] [--normals]\n"
                     "       resurf-gen-analytic --data DIR\n"
+                    "       resurf-gen-analytic --skinned-cylinder OUT.glb [--ubyte-weights]\n"
                     "shapes: sphere torus cubic cylinder saddle plane\n");
     return 2;
 }
@@ -63,6 +66,16 @@ int main(int argc, char **argv)
             rc |= write_shape(bundled[i].kind, bundled[i].triangles, bundled[i].jitter, 1, 0, path);
         }
         return rc;
+    }
+    if ((argc == 3 || argc == 4) && !strcmp(argv[1], "--skinned-cylinder")) {
+        int ubyte = argc == 4 && !strcmp(argv[3], "--ubyte-weights");
+        if (argc == 4 && !ubyte)
+            return usage();
+        if (skinned_cylinder_write(argv[2], 24, 40, ubyte)) {
+            fprintf(stderr, "resurf-gen-analytic: cannot write %s\n", argv[2]);
+            return 1;
+        }
+        return 0;
     }
     if (argc < 4)
         return usage();

@@ -1,4 +1,4 @@
-/* Attribute quadrics: normals, texture coordinates and colours in the collapse cost (Hoppe, "New quadric metric
+/* Attribute quadrics: normals, texture coordinates, colours and skin influences in the collapse cost (Hoppe, "New quadric metric
  * for simplifying meshes with appearance attributes", 1999, in the sparse form his attribute block allows).
  *
  * On each input triangle every weighed attribute component s is a linear function of the position,
@@ -17,12 +17,52 @@
  * input has an attribute whose weight is above 0. A component enters scaled by its weight × the bounding-box
  * diagonal, so that a weight of 1 prices an attribute difference of 1 like a distance of one diagonal. The place
  * of a collapse stays the geometric quadric's (the restoration moves it onto S in any case); only the ranking
- * changes. */
+ * changes.
+ *
+ * Skin influences (JOINTS_n / WEIGHTS_n) are a weight per joint, too many components for a record per wedge. They
+ * enter as SKIN_FIELDS random projections of that vector (skin_fields): each is linear in the weights, so it is a
+ * linear field wherever the skinning is, and the fields' misfit estimates the weight vectors' own. Without them a
+ * straight limb's rings where the weights blend cost no geometry and go first. */
 #include <math.h>
 
 #include "simplify_internal.h"
 
 enum { ATTR_HEAD = 11 }; /* A (6), b (3), c, W; then G (3) and D per component */
+
+/* A joint's pseudo-random value in skin field f: uniform with unit variance (in ±√3), over √SKIN_FIELDS, so the
+ * fields' squared difference between two weight vectors is, in expectation, their squared distance. */
+static double joint_value(double joint, unsigned f)
+{
+    uint64_t x = (uint64_t)joint * SKIN_FIELDS + f + 0x9e3779b97f4a7c15ull; /* splitmix64 */
+    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+    x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+    x ^= x >> 31;
+    double u = (double)(x >> 11) / 9007199254740992.0;
+    return sqrt(3.0) * (2 * u - 1) / sqrt((double)SKIN_FIELDS);
+}
+
+/* The skin fields of every input vertex: Σ over its influences of weight × joint_value. Linear in the weights, so
+ * a triangle's fields interpolate like its skinning does. */
+static resurf_status skin_fields(simplifier *s)
+{
+    const resurf_mesh *in = s->in;
+    resurfi_skin_sets sets;
+    resurfi_skin_find_sets(in, &sets);
+    if (!sets.count || !(s->opt.skin_weight > 0))
+        return RESURF_OK;
+    double *f = s->attr.skin = resurfi_calloc(s->alloc, in->vertex_count, SKIN_FIELDS * sizeof(double));
+    if (!f)
+        return RESURF_ERR_OUT_OF_MEMORY;
+    for (size_t v = 0; v < in->vertex_count; ++v)
+        for (unsigned k = 0; k < 4 * sets.count; ++k) {
+            double joint = in->extras[sets.joints[k / 4]].data[4 * v + k % 4];
+            double weight = in->extras[sets.weights[k / 4]].data[4 * v + k % 4];
+            if (weight > 0 && isfinite(weight) && joint >= 0 && joint < 4294967296.0)
+                for (unsigned c = 0; c < SKIN_FIELDS; ++c)
+                    f[SKIN_FIELDS * v + c] += weight * joint_value(floor(joint), c);
+        }
+    return RESURF_OK;
+}
 
 /* The components the options weigh, from the input's arrays. */
 static void choose_components(simplifier *s)
@@ -44,6 +84,9 @@ static void choose_components(simplifier *s)
         for (unsigned k = 0; k < (in->color_components == 3 ? 3u : 4u); ++k)
             q->src[q->count] = in->colors, q->step[q->count] = 4, q->offset[q->count] = k,
             q->scale[q->count++] = s->opt.color_weight * d;
+    for (unsigned k = 0; q->skin && k < SKIN_FIELDS; ++k)
+        q->src[q->count] = q->skin, q->step[q->count] = SKIN_FIELDS, q->offset[q->count] = k,
+        q->scale[q->count++] = s->opt.skin_weight * d;
     q->stride = ATTR_HEAD + 4 * (size_t)q->count;
 }
 
@@ -113,6 +156,8 @@ static int attr_block(void *ctx, size_t begin, size_t end, unsigned worker)
 /* Builds the records, or none when no attribute is weighed. */
 resurf_status attributes_start(simplifier *s, scratch *scratch)
 {
+    if (skin_fields(s) != RESURF_OK)
+        return RESURF_ERR_OUT_OF_MEMORY;
     choose_components(s);
     if (s->attr.count == 0 || s->tri_count == 0)
         return RESURF_OK;

@@ -193,9 +193,11 @@ typedef struct charts {
 
 /* Attribute quadrics (attributes.c), one record of `stride` doubles per wedge (indexed by its input vertex id), or
  * none (data NULL) when the input has no attribute the options weigh. */
-enum { ATTR_MAX = 3 + 2 * RESURF_MAX_TEXCOORD_SETS + 4 }; /* components weighed at most: normal, texcoords, colour */
+enum { SKIN_FIELDS = 4 }; /* a skin's influences in the cost: a random projection to this many fields */
+enum { ATTR_MAX = 3 + 2 * RESURF_MAX_TEXCOORD_SETS + 4 + SKIN_FIELDS }; /* normal, texcoords, colour, skin */
 typedef struct attr_quadrics {
     double *data;
+    double *skin;                 /* SKIN_FIELDS per input vertex (skin_weight > 0 and a skin), else NULL */
     size_t stride;                /* ATTR_HEAD + 4 × count */
     unsigned count;               /* components weighed */
     const double *src[ATTR_MAX];  /* per component: the input's array, */
