@@ -12,10 +12,13 @@
 #     file lacks, may repeat).
 #   - Every output: no byte of a buffer that nothing refers to (tests/gltf_dead_bytes.js), and each level has fewer
 #     triangles than the one before (from `resurf lod --json`).
-# usage: test_corpus_gltf.sh RESURF SOURCE_ROOT      (RESURF_CORPUS_DIR overrides the assets' folder)
+# The project's skinned test asset (the two-bone cylinder of tools/skinned_cylinder.h, float and normalized-byte
+# weights, bent by its pose) joins them when GEN_ANALYTIC is given.
+# usage: test_corpus_gltf.sh RESURF SOURCE_ROOT [GEN_ANALYTIC]      (RESURF_CORPUS_DIR overrides the assets' folder)
 set -uo pipefail
 resurf=$1
 root=$2
+gen=${3:-}
 models=${RESURF_CORPUS_DIR:-/usr/share/assimp/models/glTF2}
 if [ ! -d "$models" ]; then
     echo "corpus: $models is missing (tools/setup.sh installs Debian's assimp-testmodels)"
@@ -31,6 +34,12 @@ fail() {
 }
 
 mapfile -t inputs < <(find "$models" \( -name '*.gltf' -o -name '*.glb' \) | sort)
+if [ -n "$gen" ]; then
+    "$gen" --skinned-cylinder "$work/skinned-cylinder.glb" &&
+        "$gen" --skinned-cylinder "$work/skinned-cylinder-ubyte.glb" --ubyte-weights ||
+        { echo "corpus: $gen cannot write the skinned cylinder"; exit 1; }
+    inputs+=("$work/skinned-cylinder.glb" "$work/skinned-cylinder-ubyte.glb")
+fi
 validate "${inputs[@]}" > "$work/inputs.txt" 2>&1
 status=$?
 if [ $status -ge 2 ]; then
