@@ -137,8 +137,9 @@ static double two_sided(const resurf_mesh *ref, const resurf_mesh *test)
     return r.hausdorff / r.diagonal;
 }
 
-/* The output's structure (node script): the validator's issue codes, the skinned node a root of the scene with
- * MSFT_lod, each level node skinned with the same skin and no node's child; prints the chain's mesh indices. */
+/* The output's structure (node script): no validator error or warning (but the input's own one of a skinned node
+ * with a transform), the skinned node a root of the scene with MSFT_lod and its transform, each level node skinned
+ * with the same skin, no node's child and without a transform; prints the chain's mesh indices. */
 static const char *structure_js =
     TU_JS_LOAD
     "const v=require(process.env.RESURF_VALIDATOR);"
@@ -147,7 +148,9 @@ static const char *structure_js =
     "v.validateBytes(new Uint8Array(b),{uri:path.basename(process.argv[2]),maxIssues:0,writeTimestamp:false,"
     "externalResourceFunction:(u)=>Promise.resolve(new Uint8Array(fs.readFileSync(path.join(path.dirname("
     "process.argv[2]),u))))}).then((r)=>{"
-    "if(r.issues.numErrors||r.issues.numWarnings)fail(r.issues.messages.map((m)=>m.code).join(','));"
+    "const warned=r.issues.messages.filter((m)=>m.severity<=1).map((m)=>m.code);"
+    "const moved=process.env.RESURF_MOVED==='1';"
+    "if(warned.join(',')!==(moved?'NODE_SKINNED_MESH_LOCAL_TRANSFORMS':''))fail(warned.join(','));"
     "const roots=doc.scenes[doc.scene||0].nodes;"
     "const n=doc.nodes.findIndex((x)=>x.name==='cylinder');"
     "if(n<0||!roots.includes(n))fail('the skinned node is not a root');"
@@ -155,25 +158,29 @@ static const char *structure_js =
     "if(!ids||ids.length!==2)fail('no MSFT_lod chain of 2 on the skinned node');"
     "const kids=new Set();doc.nodes.forEach((x)=>(x.children||[]).forEach((c)=>kids.add(c)));"
     "for(const i of ids){const l=doc.nodes[i];if(l.skin!==node.skin)fail('level node '+i+' not skinned alike');"
-    "if(kids.has(i))fail('level node '+i+' is a child');}"
+    "if(kids.has(i))fail('level node '+i+' is a child');"
+    "if(l.translation||l.rotation||l.scale||l.matrix)fail('level node '+i+' has a transform');}"
+    "if(moved!==!!node.translation)fail('the skinned node lost or gained its transform');"
     "console.log([node.mesh].concat(ids.map((i)=>doc.nodes[i].mesh)).join(' '));});";
 
 typedef struct config {
     const char *name;
-    int ubyte_weights, draco;
+    unsigned flags;
+    int draco;
 } config;
 
 START_TEST(skin_two_bone_cylinder_bent)
 {
     static const config configs[] = {
-        {"float.gltf", 0, 0}, /* plain float weights */
-        {"float.glb", 0, 1},  /* float weights under Draco: written as normalized shorts */
-        {"ubyte.glb", 1, 1},  /* normalized byte weights */
+        {"float.gltf", 0, 0},                                           /* plain float weights */
+        {"float.glb", 0, 1},                                            /* under Draco: normalized shorts */
+        {"ubyte.glb", SKINNED_CYLINDER_UBYTE, 1},                       /* normalized byte weights */
+        {"moved.gltf", SKINNED_CYLINDER_UBYTE | SKINNED_CYLINDER_NODE_MOVED, 0}, /* a transform skinning ignores */
     };
     const config *cf = &configs[_i];
     char *dir = tu_tempdir();
     char *in_path = tu_path(dir, "cylinder.glb"), *out_path = tu_path(dir, cf->name);
-    ck_assert_int_eq(skinned_cylinder_write(in_path, 24, 40, cf->ubyte_weights), 0);
+    ck_assert_int_eq(skinned_cylinder_write(in_path, 24, 40, cf->flags), 0);
     ck_assert_int_eq(tu_validator_errors(in_path), 0);
 
     resurf_scene *s = tu_load_scene_ok(in_path);
@@ -195,6 +202,7 @@ START_TEST(skin_two_bone_cylinder_bent)
 
     char *validator = tu_strf("%s/tools/node/node_modules/gltf-validator", RESURF_SOURCE_DIR);
     setenv("RESURF_VALIDATOR", validator, 1);
+    setenv("RESURF_MOVED", cf->flags & SKINNED_CYLINDER_NODE_MOVED ? "1" : "0", 1);
     char *chain = tu_node_eval(dir, structure_js, out_path);
     size_t mesh_of[3];
     ck_assert_msg(sscanf(chain, "%zu %zu %zu", &mesh_of[0], &mesh_of[1], &mesh_of[2]) == 3, "%s: %s", cf->name,
@@ -254,7 +262,7 @@ Suite *make_suite(void)
     Suite *s = suite_create("skin");
     TCase *tc = tcase_create("skin");
     tcase_add_test(tc, skin_combine_hand_computed);
-    tcase_add_loop_test(tc, skin_two_bone_cylinder_bent, 0, 3);
+    tcase_add_loop_test(tc, skin_two_bone_cylinder_bent, 0, 4);
     suite_add_tcase(s, tc);
     return s;
 }

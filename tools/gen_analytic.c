@@ -71,7 +71,7 @@ int main(int argc, char **argv)
         int ubyte = argc == 4 && !strcmp(argv[3], "--ubyte-weights");
         if (argc == 4 && !ubyte)
             return usage();
-        if (skinned_cylinder_write(argv[2], 24, 40, ubyte)) {
+        if (skinned_cylinder_write(argv[2], 24, 40, ubyte ? SKINNED_CYLINDER_UBYTE : 0)) {
             fprintf(stderr, "resurf-gen-analytic: cannot write %s\n", argv[2]);
             return 1;
         }

@@ -73,8 +73,9 @@ static void influences(double y, int ubyte, unsigned char joint[4], double weigh
     joint[2] = joint[3] = 0;
 }
 
-int skinned_cylinder_write(const char *path, unsigned segments, unsigned rings, int ubyte_weights)
+int skinned_cylinder_write(const char *path, unsigned segments, unsigned rings, unsigned flags)
 {
+    int ubyte_weights = (flags & SKINNED_CYLINDER_UBYTE) != 0;
     const double radius = 0.2, height = 2.0, pi = 3.14159265358979323846;
     size_t nv = (size_t)segments * (rings + 1) + 2, nt = 2 * (size_t)segments * rings + 2 * (size_t)segments;
     if (segments < 3 || rings < 1 || nv > 65535)
@@ -149,7 +150,7 @@ int skinned_cylinder_write(const char *path, unsigned segments, unsigned rings, 
         "\"scenes\":[{\"nodes\":[0,2]}],"
         "\"nodes\":[{\"name\":\"bone0\",\"children\":[1]},"
         "{\"name\":\"bone1\",\"translation\":[0,1,0],\"rotation\":[0,0,%.9f,%.9f]},"
-        "{\"name\":\"cylinder\",\"mesh\":0,\"skin\":0}],"
+        "{\"name\":\"cylinder\",%s\"mesh\":0,\"skin\":0}],"
         "\"skins\":[{\"joints\":[0,1],\"inverseBindMatrices\":4,\"skeleton\":0}],"
         "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0,\"JOINTS_0\":1,\"WEIGHTS_0\":2},\"indices\":3}]}],"
         "\"accessors\":["
@@ -166,7 +167,7 @@ int skinned_cylinder_write(const char *path, unsigned segments, unsigned rings, 
         "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu,\"target\":34963},"
         "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":128}],"
         "\"buffers\":[{\"byteLength\":%zu}]}",
-        h, c, nv, (double)lo[0], (double)lo[1], (double)lo[2], (double)hi[0], (double)hi[1], (double)hi[2], nv,
+        h, c, flags & SKINNED_CYLINDER_NODE_MOVED ? "\"translation\":[3,0,0]," : "", nv, (double)lo[0], (double)lo[1], (double)lo[2], (double)hi[0], (double)hi[1], (double)hi[2], nv,
         ubyte_weights ? 5121 : 5126, ubyte_weights ? "\"normalized\":true," : "", nv, 3 * nt, joints_at, joints_at, weights_at - joints_at,
         weights_at, weights_size, indices_at, index_size, matrices_at, bin.size);
     if (n < 0 || (size_t)n >= sizeof json || bin.failed) {

@@ -14,9 +14,11 @@
 #define SKINNED_CYLINDER_BLEND_LO 0.7
 #define SKINNED_CYLINDER_BLEND_HI 1.3
 
-/* segments around, rings along (rings + 1 circles of vertices, plus one centre per cap); ubyte_weights: WEIGHTS_0
- * as normalized unsigned bytes (summing to exactly 255), else float. Returns 0, or -1 when the file cannot be
- * written. */
-int skinned_cylinder_write(const char *path, unsigned segments, unsigned rings, int ubyte_weights);
+/* segments around, rings along (rings + 1 circles of vertices, plus one centre per cap); flags: SKINNED_CYLINDER_UBYTE
+ * for WEIGHTS_0 as normalized unsigned bytes (summing to exactly 255), else float; SKINNED_CYLINDER_NODE_MOVED to
+ * give the skinned node a translation (which skinning ignores; the validator warns of it). Returns 0, or -1 when
+ * the file cannot be written. */
+enum { SKINNED_CYLINDER_UBYTE = 1, SKINNED_CYLINDER_NODE_MOVED = 2 };
+int skinned_cylinder_write(const char *path, unsigned segments, unsigned rings, unsigned flags);
 
 #endif

@@ -330,7 +330,9 @@ struct Writer {
                 lod.mesh = (int)level_mesh(k, mesh);
                 lod.skin = t.skin;
                 lod.weights = t.weights;
-                if (!moved)
+                // A skinned mesh ignores its node's transform (the joints place it): a copy would only repeat the
+                // validator's NODE_SKINNED_MESH_LOCAL_TRANSFORMS warning on every level node.
+                if (!moved && t.skin < 0)
                     copy_transform(t, lod);
                 out.nodes.push_back(lod);
                 ids.push_back(tinygltf::Value((int)out.nodes.size() - 1));
