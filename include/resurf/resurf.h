@@ -1017,9 +1017,13 @@ RESURF_API resurf_status resurf_simplify_lods(const resurf_mesh *in, const doubl
  * Attributes: POSITION → positions, NORMAL → normals, TEXCOORD_0..3 → texcoords, COLOR_0 → colors; every other
  * attribute (TANGENT, JOINTS_n, WEIGHTS_n, COLOR_n with n > 0, TEXCOORD_n with n > 3, _CUSTOM) becomes an extra
  * named exactly like the glTF attribute, carried untouched and written back in its original component type, so
- * joints stay integers. Integer and normalized component types are decoded as glTF defines them (a normalized
- * ubyte 255 is 1.0), sparse accessors are applied, triangle strips and fans become lists (the joining triangles
- * that repeat an index are dropped), KHR_draco_mesh_compression and KHR_mesh_quantization inputs are decoded.
+ * joints stay integers. A JOINTS_n / WEIGHTS_n pair (VEC4 both, the same n) is a skin's influences: a simplified
+ * level combines them as influences, never as numbers (the corners' (joint, barycentric × weight) over all sets,
+ * equal joints merged, the strongest 4 per set, renormalized), and the writer stores weights that sum to exactly 1
+ * in their component type, with joint 0 in unused slots (see resurf_scene_save_options.generic_bits for Draco).
+ * Integer and normalized component types are decoded as glTF defines them (a normalized ubyte 255 is 1.0), sparse
+ * accessors are applied, triangle strips and fans become lists (the joining triangles that repeat an index are
+ * dropped), KHR_draco_mesh_compression and KHR_mesh_quantization inputs are decoded.
  * The JSON is checked against the glTF 2.0 schema first (github.com/KhronosGroup/glTF, specification/2.0/schema):
  * the JSON type of every property of the core objects, required properties, array lengths and unique items, enum
  * values (componentType, accessor type, primitive mode, bufferView target, sampler filters and wraps, camera type,
@@ -1269,8 +1273,10 @@ typedef struct resurf_scene_save_options {
                                   which stay untouched); default false. A .drc file is always Draco */
     int position_bits, normal_bits, texcoord_bits, color_bits; /* Draco quantization bits, 1..30; defaults 14, 10,
                                                                    12, 8 */
-    int generic_bits;          /* other float attributes (TANGENT, WEIGHTS_n, custom): default 12; integer attributes
-                                  (JOINTS_n) are stored exactly */
+    int generic_bits;          /* other float attributes (TANGENT, custom): default 12; integer attributes
+                                  (JOINTS_n) are stored exactly. Float WEIGHTS_n are written as normalized unsigned
+                                  shorts when this is > 0 (Draco keeps integers exactly; quantized floats would not
+                                  sum to 1), as floats when it is 0 */
     int compression_level;     /* Draco: 0 fastest .. 10 smallest; default 7 */
     bool embed_buffers;        /* .gltf: true puts the binary data in a data: URI; default false writes NAME.bin
                                   beside it */
