@@ -318,19 +318,24 @@ int cli_parse_levels(const char *command, const char *text, double *out, size_t 
 
 int cli_parse_attribute_weights(const char *command, const char *text, resurf_simplify_options *o)
 {
-    double w[3];
+    double w[4] = {0, 0, 0, o->skin_weight};
     const char *s = text;
-    for (int k = 0; k < 3; ++k) {
+    int k = 0;
+    for (;; ++k) {
         char *end;
         w[k] = strtod(s, &end);
-        if (end == s || !(w[k] >= 0 && w[k] < HUGE_VAL) || *end != (k < 2 ? ',' : 0))
-            return cli_usage(command, "--attribute-weights wants three weights >= 0 (normals, texcoords, colours) "
-                             "separated by commas: '%s'", text);
+        int last = *end == 0 && k >= 2;
+        if (end == s || !(w[k] >= 0 && w[k] < HUGE_VAL) || (!last && (*end != ',' || k == 3)))
+            return cli_usage(command, "--attribute-weights wants three or four weights >= 0 (normals, texcoords, "
+                             "colours[, skin influences]) separated by commas: '%s'", text);
+        if (last)
+            break;
         s = end + 1;
     }
     o->normal_weight = w[0];
     o->texcoord_weight = w[1];
     o->color_weight = w[2];
+    o->skin_weight = w[3];
     return 0;
 }
 
