@@ -870,13 +870,15 @@ typedef struct resurf_simplify_options {
     double texcoord_weight;       /* every texcoord set (2 components each); default 0.25 */
     double color_weight;          /* COLOR_0 (3 or 4 components); default 0.25 */
     double skin_weight;           /* JOINTS_n / WEIGHTS_n pairs (extras named so): the vertex's influences as one
-                                     vector of weights over the joints, seen through SKIN_FIELDS = 4 fixed random
-                                     projections (each joint a pseudo-random value per field, unit variance, so a
-                                     field difference estimates the weight vectors' distance without one field per
-                                     joint); default 0.5. Without it a collapse along a straight limb takes the
-                                     rings where the weights blend (they cost no geometry): the two-bone cylinder
-                                     of tests/test_skin.c bent 90 degrees was 23% of its diagonal off the posed
-                                     original at 10% (see docs/reference.md, Changes in 0.3.0) */
+                                     vector of weights over the joints, each weight times its joint's reach (half
+                                     the diagonal of the box of the vertices the joint moves), seen through 4 fixed
+                                     random projections (a pseudo-random unit-variance value per joint and field,
+                                     so a field difference estimates the vectors' distance without one field per
+                                     joint). A weight of 1 prices a vertex's whole weight moved from one joint to
+                                     another like a displacement of the joints' reach; a 90-degree bend moves it by
+                                     about √2 that, hence the default 1.4 (0 = off). Without it a collapse along a
+                                     straight limb takes the rings where the weights blend (they cost no geometry).
+                                     Measured in docs/reference.md (Changes in 0.3.0) */
 
     size_t measure_samples;       /* area-uniform samples of the result and of the input (plus the vertices of
                                      each) whose distances to the other surface are measured for the report (see

@@ -71,7 +71,7 @@ resurf_simplify_options resurf_simplify_options_default(void)
     o.normal_weight = 0;
     o.texcoord_weight = 0.25;
     o.color_weight = 0.25;
-    o.skin_weight = 0.5;
+    o.skin_weight = 1.4;
     o.measure_samples = 100000;
     return o;
 }

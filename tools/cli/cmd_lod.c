@@ -42,7 +42,7 @@ static const char usage[] =
     "  --pixels P             MSFT_lod switching: a level shows once its error covers at most P pixels (default 1)\n"
     "  --screen-height H      ... on a screen H pixels high (default 1080)\n"
     "  --attribute-weights N,UV,C[,S]  weights of normals, texture coordinates, colours and skin influences\n"
-    "                         in the collapse cost (0 = that attribute off; default 0,0.25,0.25,0.5)\n"
+    "                         in the collapse cost (0 = that attribute off; default 0,0.25,0.25,1.4)\n"
     "  --threads N            worker threads, 0 = all cores (default)\n"
     "  --preview SHEET.png    also draw every level with its error, as 'resurf preview' does\n"
     "  --preview-size WxH     the sheet's size (default 1600x900)\n"

@@ -31,7 +31,7 @@ static const char usage[] =
     "  --min-angle DEG           refuse collapses that make a triangle angle smaller than DEG (default off)\n"
     "  --max-normal-change DEG   refuse collapses that turn a triangle by more than DEG (default: the library's)\n"
     "  --attribute-weights N,UV,C[,S]  weights of normals, texture coordinates, colours and skin influences\n"
-    "                            in the collapse cost (0 = that attribute off; default 0,0.25,0.25,0.5)\n"
+    "                            in the collapse cost (0 = that attribute off; default 0,0.25,0.25,1.4)\n"
     "  --feature-angle DEG       an edge whose triangles turn by more than DEG is a crease: kept, never\n"
     "                            restored across (default: the library's; 180 = none)\n"
     "  --corner-angle DEG        a border turning by more than DEG makes a corner that never moves\n"
