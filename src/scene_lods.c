@@ -29,7 +29,7 @@ resurf_scene_lod_options resurf_scene_lod_options_default(void)
     return o;
 }
 
-/* MSFT_screencoverage from the measured errors (the derivation is in resurf.h at resurf_scene_build_lods):
+/* MSFT_screencoverage from the measured errors (the derivation is in scene.h at resurf_scene_build_lods):
  * errors[k] is level k's error relative to the mesh's own world diagonal (errors[0], full detail, is not used), out
  * receives `levels` values. */
 static void coverage_from_errors(const double *errors, size_t levels, double pixels, double height, double *out)
@@ -168,7 +168,7 @@ static resurf_status make_chain(const resurf_mesh *in, const double *ratios, siz
     return RESURF_OK;
 }
 
-/* How many levels of a chain help (see resurf.h at resurf_scene_build_lods); *why: 0 all of them, 1 the next one
+/* How many levels of a chain help (see scene.h at resurf_scene_build_lods); *why: 0 all of them, 1 the next one
  * has no fewer triangles than the one before, 2 it missed its ratio. */
 static size_t levels_that_help(const resurf_mesh *in, resurf_mesh *const *chain, const resurf_simplify_report *rep,
                                const double *ratios, size_t count, int *why)
