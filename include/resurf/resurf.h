@@ -830,7 +830,9 @@ typedef struct resurf_simplify_options {
                                      moves. A vertex touching a crease, and every vertex that absorbs one, is
                                      neither restored onto S nor moved by the sag offset: the facets keep the
                                      quadric's place, on the flat faces and their sharp edges. In (0, 180]; 180 =
-                                     no crease by angle; default 80 (measured in docs/restoring.md §8) */
+                                     no crease by angle; default 80 (measured in docs/restoring.md §8). An edge
+                                     between two triangle_groups (materials) is a crease at any angle and in any
+                                     surface: the border between materials stays where it is */
     double corner_angle_deg;      /* a border that turns by more than this at a vertex makes it a corner that never
                                      moves (the corners of a flat panel; a crease's sharp turn is none: on scans
                                      such turns are noise); in (0, 180]; 180 = none; default 80 */
