@@ -832,7 +832,8 @@ typedef struct resurf_simplify_options {
                                      quadric's place, on the flat faces and their sharp edges. In (0, 180]; 180 =
                                      no crease by angle; default 80 (measured in docs/restoring.md §8). An edge
                                      between two triangle_groups (materials) is a crease at any angle and in any
-                                     surface: the border between materials stays where it is */
+                                     surface: the border between materials stays where it is, and where it turns by
+                                     more than corner_angle_deg it has a corner */
     double corner_angle_deg;      /* a border that turns by more than this at a vertex makes it a corner that never
                                      moves (the corners of a flat panel; a crease's sharp turn is none: on scans
                                      such turns are noise); in (0, 180]; 180 = none; default 80 */
@@ -844,7 +845,8 @@ typedef struct resurf_simplify_options {
                                      a repeat with the same orientation goes alone. Scans hold them: the Stanford
                                      dragon's 48k reconstruction has 1,052 pairs, whose 2,094 non-manifold edges
                                      stopped its 10% level at 8,056 triangles (17%, error 1.8% of the diagonal);
-                                     without them it reaches 4,778 (error 0.45%). false keeps every triangle. */
+                                     without them it reaches 4,778 (error 0.45%). false keeps every triangle.
+                                     Only triangles of one group pair up: two sides in two materials stay */
 
     /* Attributes in the cost (attribute quadrics, Hoppe 1999): each collapse also pays for how far the attributes of
      * the triangles merged into each of its wedges are from one linear field over them, so that collapses keep
