@@ -15,6 +15,7 @@
 #include <time.h>
 
 #include "hash.h"
+#include "union_find.h"
 #include "scene_internal.h"
 
 resurf_scene_lod_options resurf_scene_lod_options_default(void)
@@ -256,9 +257,10 @@ typedef struct pos_slot {
 
 /* For every triangle primitive of mesh m, locks[p] (one byte per vertex, or NULL when none is locked): the
  * vertices whose position another primitive of the mesh also uses (a morphed primitive included, which keeps its
- * full detail), so that no level opens a crack between them. Only vertices that triangles use count. */
+ * full detail), so that no level opens a crack between them. Only vertices that triangles use count. With locks
+ * NULL, only *connected: whether the primitives with a mesh are one set linked by shared positions. */
 static resurf_status shared_positions(const resurf_scene *scene, size_t m, const resurf_allocator *alloc,
-                                      uint8_t **locks)
+                                      uint8_t **locks, bool *connected)
 {
     size_t first = scene->mesh_first[m], last = scene->mesh_first[m + 1], total = 0, with_mesh = 0;
     for (size_t p = first; p < last; ++p)
@@ -266,19 +268,27 @@ static resurf_status shared_positions(const resurf_scene *scene, size_t m, const
             total += scene->prims[p].mesh->vertex_count;
             with_mesh++;
         }
+    if (connected)
+        *connected = false;
     if (with_mesh < 2 || total == 0)
         return RESURF_OK;
     size_t cap = 16;
     while (cap < 2 * total)
         cap *= 2;
     pos_slot *table = resurfi_alloc(alloc, cap, sizeof *table);
-    if (!table)
+    uint32_t *set = resurfi_alloc(alloc, last - first, sizeof *set); /* union-find over the mesh's primitives */
+    if (!table || !set) {
+        resurfi_free(alloc, table);
+        resurfi_free(alloc, set);
         return RESURF_ERR_OUT_OF_MEMORY;
+    }
+    for (size_t p = first; p < last; ++p)
+        set[p - first] = (uint32_t)(p - first);
     for (size_t i = 0; i < cap; ++i)
         table[i].prim = SIZE_MAX;
     /* Pass 1: which positions more than one primitive uses; pass 2: the locks of each triangle primitive. */
     resurf_status st = RESURF_OK;
-    for (int pass = 0; pass < 2 && st == RESURF_OK; ++pass) {
+    for (int pass = 0; pass < (locks ? 2 : 1) && st == RESURF_OK; ++pass) {
         for (size_t p = first; p < last && st == RESURF_OK; ++p) {
             const resurf_mesh *mesh = scene->prims[p].mesh;
             if (!mesh || (pass == 1 && scene->prims[p].info.kind != RESURF_PRIMITIVE_TRIANGLES))
@@ -298,8 +308,10 @@ static resurf_status shared_positions(const resurf_scene *scene, size_t m, const
                 if (pass == 0) {
                     if (table[i].prim == SIZE_MAX)
                         table[i] = (pos_slot){k, p, 0};
-                    else if (table[i].prim != p)
+                    else if (table[i].prim != p) {
                         table[i].shared = 1;
+                        resurfi_uf_union(set, (uint32_t)(table[i].prim - first), (uint32_t)(p - first));
+                    }
                 } else if (table[i].shared && !lock[v]) {
                     lock[v] = 1;
                     locked++;
@@ -311,7 +323,14 @@ static resurf_status shared_positions(const resurf_scene *scene, size_t m, const
                 resurfi_free(alloc, lock);
         }
     }
+    if (connected) {
+        *connected = true;
+        for (size_t p = first; p < last; ++p)
+            if (scene->prims[p].mesh && resurfi_uf_find(set, (uint32_t)(p - first)) != resurfi_uf_find(set, 0))
+                *connected = false;
+    }
     resurfi_free(alloc, table);
+    resurfi_free(alloc, set);
     return st;
 }
 
@@ -395,8 +414,11 @@ typedef struct chain_job {
     const size_t *order;             /* side by side: the triangle primitives in the order they are taken */
 } chain_job;
 
-/* Are mesh m's primitives simplified as one surface, each primitive a group whose border is a crease
- * (src/mesh_parts.c)? When it has two or more, all of them triangles of one attribute layout. Measured by
+/* May mesh m's primitives be simplified as one surface, each primitive a group whose border is a crease
+ * (src/mesh_parts.c)? When it has two or more, all of them triangles of one attribute layout; they are when, also,
+ * shared positions link them all (shared_positions): primitives that share nothing cannot crack, and each keeps
+ * its own ratio (joined, the cost moves triangles between them: an assimp export of two separate parts lost 4x
+ * in Hausdorff at 25%). Measured by
  * tools/bench-borders on the dragon-48k cut into 4 parts, against locking the shared positions at the same triangle
  * count: 1.00x Hausdorff and 0.90x mean at 10%, 0.21x and 0.24x at 2% (the locked parts also stopped at twice
  * their target). Other meshes lock the positions their primitives share (shared_positions). */
@@ -513,7 +535,7 @@ static resurf_status make_joint_chain(chain_job *job, size_t m, const resurf_sim
     if (st == RESURF_OK && emptied) {
         /* Lock the shared borders instead, primitive by primitive. */
         w->together[m] = false;
-        if (shared_positions(scene, m, w->alloc, w->locks) != RESURF_OK)
+        if (shared_positions(scene, m, w->alloc, w->locks, NULL) != RESURF_OK)
             return job->status[first] = resurfi_error(e, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
         for (size_t q = 0; q < n && st == RESURF_OK; ++q)
             st = make_primitive_chain(job, first + q, base);
@@ -668,10 +690,15 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
         st = resurfi_scene_flatten(scene, &w.list, 0, NULL, alloc, &w.full, error);
     if (st == RESURF_OK)
         report.diagonal = resurf_mesh_bounds(w.full, NULL, NULL);
+    for (size_t m = 0; st == RESURF_OK && m < mesh_count; ++m) {
+        bool connected = false;
+        if (o.keep_shared_borders && simplified_together(scene, m) &&
+            shared_positions(scene, m, alloc, NULL, &connected) != RESURF_OK)
+            st = resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory finding shared borders");
+        w.together[m] = connected;
+    }
     for (size_t m = 0; st == RESURF_OK && m < mesh_count; ++m)
-        w.together[m] = o.keep_shared_borders && simplified_together(scene, m);
-    for (size_t m = 0; st == RESURF_OK && m < mesh_count; ++m)
-        if (o.keep_shared_borders && !w.together[m] && shared_positions(scene, m, alloc, w.locks) != RESURF_OK)
+        if (o.keep_shared_borders && !w.together[m] && shared_positions(scene, m, alloc, w.locks, NULL) != RESURF_OK)
             st = resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory finding shared borders");
     for (size_t i = 0; st == RESURF_OK && i < w.list.count; ++i) {
         double *sc = &w.mesh_scale[w.list.items[i].mesh];
