@@ -26,6 +26,7 @@
  * straight limb's rings where the weights blend cost no geometry and go first. */
 #include <math.h>
 
+#include "../hash.h"
 #include "simplify_internal.h"
 
 enum { ATTR_HEAD = 11 }; /* A (6), b (3), c, W; then G (3) and D per component */
@@ -34,10 +35,7 @@ enum { ATTR_HEAD = 11 }; /* A (6), b (3), c, W; then G (3) and D per component *
  * fields' squared difference between two weight vectors is, in expectation, their squared distance. */
 static double joint_value(double joint, unsigned f)
 {
-    uint64_t x = (uint64_t)joint * SKIN_FIELDS + f + 0x9e3779b97f4a7c15ull; /* splitmix64 */
-    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
-    x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
-    x ^= x >> 31;
+    uint64_t x = resurfi_mix64((uint64_t)joint * SKIN_FIELDS + f + RESURFI_GOLDEN_GAMMA);
     double u = (double)(x >> 11) / 9007199254740992.0;
     return sqrt(3.0) * (2 * u - 1) / sqrt((double)SKIN_FIELDS);
 }
