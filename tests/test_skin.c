@@ -72,6 +72,41 @@ START_TEST(skin_combine_hand_computed)
 }
 END_TEST
 
+START_TEST(skin_combine_hostile_values)
+{
+    /* Weights NaN, infinite, negative and 0 give nothing; joints NaN or huge with them too. What is left (joint 7,
+     * 0.5 from corner 1 at barycentric 0.5) becomes the whole weight. */
+    const float nan = NAN, inf = INFINITY;
+    const float joints[12] = {nan, 3, 1e9f, 2, 7, 0, 0, 0, 5, 5, 5, 5};
+    const float weights[12] = {0.5f, nan, inf, -1, 0.5f, 0, 0, 0, 0, 0, 0, 0};
+    resurf_mesh *in = with_skin(3, joints, weights), *out = with_skin(1, joints, weights);
+    resurfi_skin_sets sets;
+    resurfi_skin_find_sets(in, &sets);
+    const uint32_t corner[3] = {0, 1, 2};
+    const double bary[3] = {0.25, 0.5, 0.25};
+    resurfi_skin_combine(in, &sets, corner, bary, out, 0);
+    ck_assert_float_eq(out->extras[0].data[0], 7);
+    ck_assert_float_eq(out->extras[1].data[0], 1);
+    for (int k = 1; k < 4; ++k) {
+        ck_assert_float_eq(out->extras[0].data[k], 0);
+        ck_assert_float_eq(out->extras[1].data[k], 0);
+    }
+    /* No influence at all: the nearest corner's values as they are, and the writer stores nothing of them. */
+    const double at_two[3] = {0, 0, 1};
+    resurfi_skin_combine(in, &sets, corner, at_two, out, 0);
+    ck_assert_float_eq(out->extras[0].data[0], 5);
+    float jq[4], wq[4];
+    float *jp[1] = {jq}, *wp[1] = {wq};
+    resurfi_skin_snap(out, &sets, 65535, jp, wp);
+    for (int k = 0; k < 4; ++k) {
+        ck_assert_float_eq(wq[k], 0);
+        ck_assert_float_eq(jq[k], 0);
+    }
+    resurf_mesh_free(out);
+    resurf_mesh_free(in);
+}
+END_TEST
+
 /* Linear blend skinning with the file's pose: joint 0 stays, joint 1 turns by SKINNED_CYLINDER_BEND_DEG about +z
  * around (0, 1, 0). */
 static resurf_mesh *posed(const resurf_mesh *m, const resurf_attribute *joints, const resurf_attribute *weights)
@@ -264,6 +299,7 @@ Suite *make_suite(void)
     Suite *s = suite_create("skin");
     TCase *tc = tcase_create("skin");
     tcase_add_test(tc, skin_combine_hand_computed);
+    tcase_add_test(tc, skin_combine_hostile_values);
     tcase_add_loop_test(tc, skin_two_bone_cylinder_bent, 0, 4);
     suite_add_tcase(s, tc);
     return s;
