@@ -869,6 +869,12 @@ typedef struct resurf_simplify_options {
     double normal_weight;         /* NORMAL (3 components); default 0 (off) */
     double texcoord_weight;       /* every texcoord set (2 components each); default 0.25 */
     double color_weight;          /* COLOR_0 (3 or 4 components); default 0.25 */
+    double morph_weight;          /* morph targets' POSITION deltas (extras "targets[t].POSITION", see
+                                     RESURF_MORPH_TARGET_PREFIX; the 8 with the largest delta), in geometric units:
+                                     the weight alone, not × the diagonal, so 1 prices a delta that departs by L from
+                                     one linear field over the merged triangles like a distance L off the surface,
+                                     what the level shows at morph weight 1. Default 1 (measured in
+                                     docs/restoring.md §13); 0 = off */
 
     size_t measure_samples;       /* area-uniform samples of the result and of the input (plus the vertices of
                                      each) whose distances to the other surface are measured for the report (see
@@ -882,7 +888,8 @@ typedef struct resurf_simplify_options {
 
 /* The defaults: no target (set one), quadric placement, inline restoration with the restorer's defaults (Max's
  * normals), sag_offset 1, feature_angle_deg 80, corner_angle_deg 80, max_normal_change_deg 60, min_angle_deg 0,
- * border_weight 1, normal_weight 0, texcoord_weight 0.25, color_weight 0.25, measure_samples 100000, all cores.
+ * border_weight 1, normal_weight 0, texcoord_weight 0.25, color_weight 0.25, morph_weight 1, measure_samples 100000,
+ * all cores.
  * Measured with tools/bench_simplify.c on the irregular analytic sphere, torus and cubic surface (20k triangles,
  * 10% and 2%): the mean distance of the LOD's surface to the true surface is lowest at sag_offset 1 (about 0.24–0.26,
  * 0.35–0.38 and 0.74–0.80 of meshoptimizer's; 0.86–0.89 with the offset at 0), as the chord-sag model predicts (the
@@ -1076,10 +1083,25 @@ RESURF_API resurf_status resurf_scene_from_mesh(const resurf_mesh *mesh, resurf_
 /* Frees a scene and everything it owns (its meshes, levels and document). NULL is allowed. */
 RESURF_API void resurf_scene_free(resurf_scene *scene);
 
+/* Morph targets. A primitive's targets are extras of its mesh, one per target attribute, named
+ * "targets[t].NAME" (t from 0, NAME the glTF attribute: "targets[0].POSITION", "targets[1].NORMAL"), in float,
+ * each a delta per vertex. Being extras, they follow the vertices through every call: resurf_simplify interpolates
+ * them at each output vertex's closest point of the input like any extra (at a restored vertex: the input's delta
+ * at the closest point of its surface, so the level's morph at any weight is the input's morph sampled where the
+ * level's vertex lies; docs/restoring.md §13), and prices the position deltas in the collapse cost
+ * (resurf_simplify_options.morph_weight). resurf_scene_save writes them back as the primitive's targets (float
+ * accessors; POSITION with min/max), beside Draco-compressed base attributes when Draco is on (Draco's sequential
+ * encoding without merging points, so that the decoded vertex order is the order of the targets' accessors, as
+ * KHR_draco_mesh_compression requires; checked by decoding). A mesh saved as OBJ/PLY keeps them as extras. */
+#define RESURF_MORPH_TARGET_PREFIX "targets["
+
 typedef enum resurf_primitive_kind {
     RESURF_PRIMITIVE_TRIANGLES = 0, /* triangle list, strip or fan: has a mesh and can take levels of detail */
-    RESURF_PRIMITIVE_MORPHED,       /* triangles with morph targets: has a mesh, always written untouched at full
-                                       detail (resurf_scene_set_lods refuses it) */
+    RESURF_PRIMITIVE_MORPHED,       /* triangles with morph targets: has a mesh whose extras carry the targets (see
+                                       RESURF_MORPH_TARGET_PREFIX) and takes levels of detail like TRIANGLES; each
+                                       level is written with its own targets, the mesh's weights and animations
+                                       kept. (Before 0.3.0 it stayed at full detail.) A mesh-file scene whose mesh
+                                       has such extras is MORPHED too */
     RESURF_PRIMITIVE_OTHER,         /* points or lines: no mesh, written untouched */
 } resurf_primitive_kind;
 
