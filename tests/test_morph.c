@@ -2,7 +2,7 @@
  * unit sphere whose one target makes the ellipsoid of semi-axes A = (1.5, 1, 0.6), so that at weight w the true
  * morphed surface is the ellipsoid E_w of semi-axes 1 + w(Aᵢ − 1).
  *
- * The bound every level must keep at weight w (docs/restoring.md §13 has the reasoning). The target is linear in
+ * The bound every level must keep at weight w (docs/restoring.md §12 has the reasoning). The target is linear in
  * the position, δ(x) = (A − I)x, so on each input triangle the interpolated delta is exactly (A − I)c at any point
  * c of it; and A_w = I + w(A − I) maps the unit sphere onto E_w and flat triangles onto flat triangles. A level's
  * vertex q takes the delta of the input point c closest to its place b on S (before the sag offset moves it to

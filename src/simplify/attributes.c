@@ -25,7 +25,7 @@
 enum { ATTR_HEAD = 11 }; /* A (6), b (3), c, W; then G (3) and D per component */
 
 /* Morph targets (extras "targets[t].POSITION", RESURF_MORPH_TARGET_PREFIX): their deltas are positions, so they
- * enter in geometric units, weight × 1 (docs/restoring.md §13): a delta that departs by L from one linear field over
+ * enter in geometric units, weight × 1 (docs/restoring.md §12): a delta that departs by L from one linear field over
  * the merged triangles counts like a distance L off the surface, which is what the level shows at morph weight 1.
  * At most ATTR_MORPH_TARGETS of them, those with the largest delta (ties: the first). */
 static void choose_morph_components(simplifier *s)
