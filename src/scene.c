@@ -329,7 +329,8 @@ static resurf_status store_attribute(load_ctx *c, const char *where, resurf_mesh
 
 /* A morphed primitive's targets become extras of its mesh, one per target attribute, named "targets[t].NAME"
  * (RESURF_MORPH_TARGET_PREFIX): the deltas travel with the vertices through every later step, and the writer turns
- * them back into targets. Each must be SCALAR or VECn of finite numbers (VEC3 for POSITION, NORMAL, TANGENT). */
+ * them back into targets (in float). Each must be SCALAR or VECn of finite numbers (VEC3 for POSITION, NORMAL,
+ * TANGENT), in any component type (KHR_mesh_quantization allows integers, normalized or not). */
 static resurf_status store_targets(load_ctx *c, const char *where, const resurfi_gltf_primitive *gp, resurf_mesh *m)
 {
     size_t n = m->vertex_count;
@@ -347,8 +348,6 @@ static resurf_status store_targets(load_ctx *c, const char *where, const resurfi
                 status = FAIL(c, "%s: targets[%zu].%s is not %s", where, t, na->name, vec3 ? "VEC3" : "SCALAR or VECn");
             else if (a->buffer_view == RESURFI_GLTF_NONE && !a->sparse)
                 status = FAIL(c, "%s: targets[%zu].%s has no data", where, t, na->name);
-            else if (a->component_type != RESURFI_GLTF_FLOAT && !a->normalized)
-                status = FAIL(c, "%s: targets[%zu].%s is neither float nor normalized", where, t, na->name);
             if (status != RESURF_OK)
                 break;
             size_t comps = (size_t)a->components;

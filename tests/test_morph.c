@@ -226,6 +226,7 @@ START_TEST(morph_draco_round_trip_keeps_the_targets_aligned)
     resurf_scene_free(s);
     resurf_mesh_free(truth);
     tu_rmtree(dir);
+    free(dir);
     free(out);
 }
 END_TEST
