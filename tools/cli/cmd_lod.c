@@ -389,8 +389,9 @@ int cmd_lod(int argc, char **argv)
                 printf("%s{\"name\": ", first ? "" : ", ");
                 first = 0;
                 cli_json_string(stdout, info.name);
-                printf(", \"triangles\": %zu, \"kept_levels\": %zu, \"levels\": [",
-                       resurf_scene_primitive_mesh(scene, p)->triangle_count, info.lod_count);
+                printf(", \"triangles\": %zu, \"morphed\": %s, \"kept_levels\": %zu, \"levels\": [",
+                       resurf_scene_primitive_mesh(scene, p)->triangle_count,
+                       info.kind == RESURF_PRIMITIVE_MORPHED ? "true" : "false", info.lod_count);
                 for (size_t k = 0; k < ratio_count && k <= info.lod_count; ++k) {
                     const resurf_simplify_report *r = &prim_reports[p * ratio_count + k];
                     printf("%s{\"level\": %zu, \"kept\": %s, \"triangles\": %zu, \"stop\": \"%s\", \"error_rel\": ",
@@ -406,9 +407,9 @@ int cmd_lod(int argc, char **argv)
                 printf("]}");
             }
             /* Wall-clock seconds of each phase. */
-            printf("], \"dropped_extensions\": %zu, \"seconds\": {\"load\": %.3f, \"chains\": %.3f, "
-                   "\"errors\": %.3f, \"save\": %.3f}}\n",
-                   report.dropped_extensions, load_seconds, lod_report.chains_seconds, lod_report.errors_seconds,
+            printf("], \"morphed\": %zu, \"dropped_extensions\": %zu, \"seconds\": {\"load\": %.3f, "
+                   "\"chains\": %.3f, \"errors\": %.3f, \"save\": %.3f}}\n",
+                   lod_report.morphed, report.dropped_extensions, load_seconds, lod_report.chains_seconds, lod_report.errors_seconds,
                    save_seconds);
         } else {
             printf("%-6s %-6s %12s %8s %14s %14s %12s\n", "level", "ratio", "triangles", "reached", "error (rel)",
