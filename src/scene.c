@@ -345,7 +345,8 @@ static resurf_status store_targets(load_ctx *c, const char *where, const resurfi
             if (snprintf(name, sizeof name, RESURF_MORPH_TARGET_PREFIX "%zu].%s", t, na->name) >= (int)sizeof name)
                 status = FAIL(c, "%s: targets[%zu]: the attribute name '%.30s...' is too long", where, t, na->name);
             else if (a->matrix || a->components < 1 || a->components > 4 || (vec3 && a->components != 3))
-                status = FAIL(c, "%s: targets[%zu].%s is not %s", where, t, na->name, vec3 ? "VEC3" : "SCALAR or VECn");
+                status = FAIL(c, "%s: targets[%zu].%s is not %s", where, t, na->name,
+                              vec3 ? "VEC3" : "SCALAR or VECn");
             else if (a->buffer_view == RESURFI_GLTF_NONE && !a->sparse)
                 status = FAIL(c, "%s: targets[%zu].%s has no data", where, t, na->name);
             if (status != RESURF_OK)
@@ -360,7 +361,8 @@ static resurf_status store_targets(load_ctx *c, const char *where, const resurfi
             resurf_attribute *x = NULL;
             for (size_t k = 0; k < n * comps && status == RESURF_OK; ++k)
                 if (!isfinite(values[k]) || !isfinite((float)values[k]))
-                    status = FAIL(c, "%s: targets[%zu].%s of vertex %zu is not finite", where, t, na->name, k / comps);
+                    status = FAIL(c, "%s: targets[%zu].%s of vertex %zu is not finite", where, t, na->name,
+                                  k / comps);
             if (status == RESURF_OK && resurf_mesh_add_extra(m, name, (unsigned)comps, &x, NULL) != RESURF_OK)
                 status = oom(c);
             for (size_t k = 0; status == RESURF_OK && k < n * comps; ++k)

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The real-asset corpus (issue 20, item 11): every .gltf/.glb of Debian's assimp-testmodels glTF2 folder (Khronos
 # sample and test assets, a morphing cube and a skin among them, and files broken on purpose) and the project's
-# analytic meshes (data/*.ply, and data/morph-sphere.glb: a sphere with an animated ellipsoid target) go through `resurf lod` into a folder other than their own, once as .glb (Draco, the default) and
+# analytic meshes (data/*.ply, and data/morph-sphere.glb: a sphere with an animated ellipsoid target) go through
+# `resurf lod` into a folder other than their own, once as .glb (Draco, the default) and
 # once as .gltf (plain accessors, images copied beside it). The Khronos validator judges inputs and outputs.
 #   - An input the validator passes must give an output with 0 errors and no more warnings than the input had (or,
 #     when it requires extensions, may be refused as below).

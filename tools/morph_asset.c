@@ -100,7 +100,8 @@ static void put(bytes *b, const void *p, size_t n)
 
 static void put_u32(bytes *b, uint32_t x)
 {
-    unsigned char le[4] = {(unsigned char)x, (unsigned char)(x >> 8), (unsigned char)(x >> 16), (unsigned char)(x >> 24)};
+    unsigned char le[4] = {(unsigned char)x, (unsigned char)(x >> 8), (unsigned char)(x >> 16),
+                           (unsigned char)(x >> 24)};
     put(b, le, 4);
 }
 

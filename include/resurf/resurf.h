@@ -1016,9 +1016,11 @@ RESURF_API resurf_status resurf_simplify_lods(const resurf_mesh *in, const doubl
  * Attributes: POSITION → positions, NORMAL → normals, TEXCOORD_0..3 → texcoords, COLOR_0 → colors; every other
  * attribute (TANGENT, JOINTS_n, WEIGHTS_n, COLOR_n with n > 0, TEXCOORD_n with n > 3, _CUSTOM) becomes an extra
  * named exactly like the glTF attribute, carried untouched and written back in its original component type, so
- * joints stay integers. Integer and normalized component types are decoded as glTF defines them (a normalized
- * ubyte 255 is 1.0), sparse accessors are applied, triangle strips and fans become lists (the joining triangles
- * that repeat an index are dropped), KHR_draco_mesh_compression and KHR_mesh_quantization inputs are decoded.
+ * joints stay integers. Each morph target attribute becomes a float extra "targets[t].NAME" (see
+ * RESURF_MORPH_TARGET_PREFIX below). Integer and normalized component types are decoded as glTF defines them (a
+ * normalized ubyte 255 is 1.0), sparse accessors are applied, triangle strips and fans become lists (the joining
+ * triangles that repeat an index are dropped), KHR_draco_mesh_compression and KHR_mesh_quantization inputs are
+ * decoded.
  * The JSON is checked against the glTF 2.0 schema first (github.com/KhronosGroup/glTF, specification/2.0/schema):
  * the JSON type of every property of the core objects, required properties, array lengths and unique items, enum
  * values (componentType, accessor type, primitive mode, bufferView target, sampler filters and wraps, camera type,
@@ -1130,15 +1132,16 @@ RESURF_API resurf_status resurf_scene_primitive_info(const resurf_scene *scene, 
  * primitive or an index out of range. Borrowed: valid until the scene is freed; do not modify it. */
 RESURF_API const resurf_mesh *resurf_scene_primitive_mesh(const resurf_scene *scene, size_t index);
 
-/* The whole scene at `level` as one mesh in world space: every triangle primitive with a mesh (morphed ones in their
- * rest pose, weights 0) at that level (0 = full detail; a primitive with fewer levels uses its last), once for each node that
- * shows its mesh, with the node's world matrix applied (through the node hierarchy of the default scene, else scene
- * 0, else of every root node; a scene made from a mesh file or without nodes: each mesh once, untransformed).
- * Normals go through the matrix's inverse transpose and are renormalised. A node whose MSFT_lod extension (in a
- * loaded file) names level nodes shows their meshes at level 1, 2, ... (as resurf_preview_render() draws them).
- * The mesh has normals and TEXCOORD_0 when every included primitive has them, no other attribute; vertices are not
- * welded (each primitive instance keeps its own). level: 0 .. RESURF_SCENE_MAX_LEVELS - 1. alloc: NULL = the
- * scene's. *out is freed with resurf_mesh_free(). RESURF_ERR_LIMIT above 2^32 vertices or triangles. */
+/* The whole scene at `level` as one mesh in world space: every triangle primitive with a mesh (morphed ones in
+ * their rest pose, weights 0) at that level (0 = full detail; a primitive with fewer levels uses its last), once
+ * for each node that shows its mesh, with the node's world matrix applied (through the node hierarchy of the
+ * default scene, else scene 0, else of every root node; a scene made from a mesh file or without nodes: each mesh
+ * once, untransformed). Normals go through the matrix's inverse transpose and are renormalised. A node whose
+ * MSFT_lod extension (in a loaded file) names level nodes shows their meshes at level 1, 2, ... (as
+ * resurf_preview_render() draws them). The mesh has normals and TEXCOORD_0 when every included primitive has them,
+ * no other attribute; vertices are not welded (each primitive instance keeps its own). level: 0 ..
+ * RESURF_SCENE_MAX_LEVELS - 1. alloc: NULL = the scene's. *out is freed with resurf_mesh_free(). RESURF_ERR_LIMIT
+ * above 2^32 vertices or triangles. */
 RESURF_API resurf_status resurf_scene_world_mesh(const resurf_scene *scene, int level, const resurf_allocator *alloc,
                                                  resurf_mesh **out, resurf_error *error);
 
@@ -1197,8 +1200,9 @@ typedef struct resurf_scene_lod_report {
                                                          they were kept at full detail) */
     size_t other;                                     /* point and line primitives, kept as they are */
     size_t level_triangles[RESURF_SCENE_MAX_LEVELS];  /* triangles of each level over every primitive with a mesh
-                                                         (a primitive with fewer levels at its last; each mesh once, whatever
-                                                         its instances): what resurf_scene_save() reports */
+                                                         (a primitive with fewer levels at its last; each mesh
+                                                         once, whatever its instances): what resurf_scene_save()
+                                                         reports */
     /* Measured in world space (resurf_scene_world_mesh(): every instance, node transforms applied) between the
      * level and level 0 with resurf_compare() (measure_samples samples on each surface, its default seed): 0 for
      * level 0 and when nothing was measured (measure_samples 0). */

@@ -409,8 +409,8 @@ int cmd_lod(int argc, char **argv)
             /* Wall-clock seconds of each phase. */
             printf("], \"morphed\": %zu, \"dropped_extensions\": %zu, \"seconds\": {\"load\": %.3f, "
                    "\"chains\": %.3f, \"errors\": %.3f, \"save\": %.3f}}\n",
-                   lod_report.morphed, report.dropped_extensions, load_seconds, lod_report.chains_seconds, lod_report.errors_seconds,
-                   save_seconds);
+                   lod_report.morphed, report.dropped_extensions, load_seconds, lod_report.chains_seconds,
+                   lod_report.errors_seconds, save_seconds);
         } else {
             printf("%-6s %-6s %12s %8s %14s %14s %12s\n", "level", "ratio", "triangles", "reached", "error (rel)",
                    "error", "bytes");
