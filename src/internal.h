@@ -87,6 +87,22 @@ resurf_status resurfi_weld_map(const resurf_allocator *alloc, const resurf_mesh 
  * is referenced); 0 when there are none. The reference length for *_rel tolerances. (weld.c) */
 double resurfi_finite_diagonal(const resurf_mesh *mesh);
 
+/* ---- meshes as parts of one mesh (mesh_parts.c) --------------------------------------------------------------- */
+
+/* Whether a and b carry the same attributes: normals, texcoord sets, colours (and their components), extras by
+ * name and components. Only such meshes join. */
+bool resurfi_mesh_same_attributes(const resurf_mesh *a, const resurf_mesh *b);
+
+/* The parts (of one layout) side by side as one mesh, made with alloc; triangle_groups[t] is the part of triangle
+ * t (group_count = count, names NULL). */
+resurf_status resurfi_mesh_join_parts(const resurf_mesh *const *parts, size_t count, const resurf_allocator *alloc,
+                                      resurf_mesh **out, resurf_error *error);
+
+/* A joined mesh (or a level of one) split by group into count meshes of its layout, made with alloc; a part
+ * without triangles is an empty mesh. On failure every out_parts[p] is NULL. */
+resurf_status resurfi_mesh_split_parts(const resurf_mesh *joined, size_t count, const resurf_allocator *alloc,
+                                       resurf_mesh **out_parts, resurf_error *error);
+
 /* ---- adjacency (adjacency.c) --------------------------------------------------------------------------------- */
 
 /* Adjacency of a triangle list over vertex ids 0..vertex_count-1 (usually welded position ids).

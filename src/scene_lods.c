@@ -29,7 +29,7 @@ resurf_scene_lod_options resurf_scene_lod_options_default(void)
     return o;
 }
 
-/* MSFT_screencoverage from the measured errors (the derivation is in resurf.h at resurf_scene_build_lods):
+/* MSFT_screencoverage from the measured errors (the derivation is in scene.h at resurf_scene_build_lods):
  * errors[k] is level k's error relative to the mesh's own world diagonal (errors[0], full detail, is not used), out
  * receives `levels` values. */
 static void coverage_from_errors(const double *errors, size_t levels, double pixels, double height, double *out)
@@ -168,7 +168,7 @@ static resurf_status make_chain(const resurf_mesh *in, const double *ratios, siz
     return RESURF_OK;
 }
 
-/* How many levels of a chain help (see resurf.h at resurf_scene_build_lods); *why: 0 all of them, 1 the next one
+/* How many levels of a chain help (see scene.h at resurf_scene_build_lods); *why: 0 all of them, 1 the next one
  * has no fewer triangles than the one before, 2 it missed its ratio. */
 static size_t levels_that_help(const resurf_mesh *in, resurf_mesh *const *chain, const resurf_simplify_report *rep,
                                const double *ratios, size_t count, int *why)
@@ -348,6 +348,9 @@ typedef struct lod_work {
     double *errors;               /* per mesh and level: the mesh's own relative world error */
     double **coverage;            /* per mesh */
     uint8_t **locks;              /* per primitive: its vertices shared with other primitives of its mesh, or NULL */
+    bool *together;               /* per mesh: its primitives are simplified as one surface (simplified_together) */
+    size_t *joint_kept;           /* per primitive of such a mesh: 1 + the levels of the mesh that help, 0 = not yet */
+    int *joint_why;               /* and why the chain ended there (levels_that_help) */
 } lod_work;
 
 static void lod_work_free(lod_work *w, size_t prim_count, size_t mesh_count, size_t count)
@@ -356,6 +359,9 @@ static void lod_work_free(lod_work *w, size_t prim_count, size_t mesh_count, siz
     for (size_t p = 0; w->locks && p < prim_count; ++p)
         resurfi_free(w->alloc, w->locks[p]);
     resurfi_free(w->alloc, w->locks);
+    resurfi_free(w->alloc, w->together);
+    resurfi_free(w->alloc, w->joint_kept);
+    resurfi_free(w->alloc, w->joint_why);
     for (size_t m = 0; w->coverage && m < mesh_count; ++m)
         resurfi_free(w->alloc, w->coverage[m]);
     resurfi_free(w->alloc, w->coverage);
@@ -389,10 +395,139 @@ typedef struct chain_job {
     const size_t *order;             /* side by side: the triangle primitives in the order they are taken */
 } chain_job;
 
+/* Are mesh m's primitives simplified as one surface, each primitive a group whose border is a crease
+ * (src/mesh_parts.c)? When it has two or more, all of them triangles of one attribute layout. Measured by
+ * tools/bench-borders on the dragon-48k cut into 4 parts, against locking the shared positions at the same triangle
+ * count: 1.00x Hausdorff and 0.90x mean at 10%, 0.21x and 0.24x at 2% (the locked parts also stopped at twice
+ * their target). Other meshes lock the positions their primitives share (shared_positions). */
+static bool simplified_together(const resurf_scene *scene, size_t m)
+{
+    size_t first = scene->mesh_first[m], last = scene->mesh_first[m + 1];
+    if (last - first < 2)
+        return false;
+    for (size_t p = first; p < last; ++p) {
+        const resurfi_scene_prim *prim = &scene->prims[p];
+        if (prim->info.kind != RESURF_PRIMITIVE_TRIANGLES || !prim->mesh ||
+            !resurfi_mesh_same_attributes(scene->prims[first].mesh, prim->mesh))
+            return false;
+    }
+    return true;
+}
+
+/* The work of primitive p's chain, for progress: its triangles, or its mesh's when they go together. */
+static double chain_weight(const chain_job *job, size_t p)
+{
+    const resurf_scene *scene = job->scene;
+    size_t m = scene->prims[p].info.mesh, triangles = 0;
+    if (!job->w->together[m])
+        return (double)scene->prims[p].mesh->triangle_count + 1;
+    for (size_t q = scene->mesh_first[m]; q < scene->mesh_first[m + 1]; ++q)
+        triangles += scene->prims[q].mesh->triangle_count + 1;
+    return (double)triangles;
+}
+
+static resurf_status make_primitive_chain(chain_job *job, size_t p, const resurf_simplify_options *base);
+
+/* The chains of mesh m's primitives, simplified together: the primitives joined as groups of one mesh, its chain,
+ * and each level split back into the primitives. Every primitive of m gets the mesh's reports, and one count of
+ * levels that help, so that no level mixes one primitive's borders with another's. A level that would leave a
+ * primitive without triangles makes the mesh lock its shared borders instead (which cannot). */
+static resurf_status make_joint_chain(chain_job *job, size_t m, const resurf_simplify_options *base)
+{
+    const resurf_scene *scene = job->scene;
+    lod_work *w = job->w;
+    size_t first = scene->mesh_first[m], n = scene->mesh_first[m + 1] - first, count = job->count;
+    resurf_error *e = &job->errors[first];
+    const resurf_mesh *parts[64];
+    const resurf_mesh **in = n <= 64 ? parts : resurfi_alloc(w->alloc, n, sizeof *in);
+    resurf_mesh *joined = NULL, **chain = resurfi_calloc(w->alloc, count, sizeof *chain);
+    resurf_simplify_report *reports = resurfi_calloc(w->alloc, count, sizeof *reports);
+    resurf_status st = in && chain && reports ? RESURF_OK : resurfi_error(e, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
+    double area = 0, scale = w->mesh_scale[m] > 0 ? w->mesh_scale[m] : 1;
+    for (size_t q = 0; st == RESURF_OK && q < n; ++q) {
+        in[q] = scene->prims[first + q].mesh;
+        area += mesh_area(in[q]);
+    }
+    if (st == RESURF_OK)
+        st = resurfi_mesh_join_parts(in, n, &in[0]->allocator, &joined, e);
+    size_t kept = 0;
+    int why = 0;
+    if (st == RESURF_OK) {
+        resurf_simplify_options sim = *base;
+        double bounds[RESURF_SCENE_MAX_LEVELS - 1];
+        for (size_t k = 0; k < count; ++k)
+            bounds[k] = world_bound(job->o, k, job->diagonal) / scale;
+        sim.vertex_lock = NULL;
+        sim.measure_samples = primitive_samples(job->sample_budget, area * scale * scale, job->scene_area);
+        st = make_chain(joined, job->ratios, count, bounds, &sim, chain, reports, e);
+        if (st == RESURF_OK)
+            kept = levels_that_help(joined, chain, reports, job->ratios, count, &why);
+    }
+    /* Split every level into the primitives: w->chains[first + q][k]. */
+    for (size_t q = 0; st == RESURF_OK && q < n; ++q)
+        if (!(w->chains[first + q] = resurfi_calloc(w->alloc, count, sizeof **w->chains)))
+            st = resurfi_error(e, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
+    resurf_mesh *split[64];
+    resurf_mesh **level = n <= 64 ? split : resurfi_alloc(w->alloc, n, sizeof *level);
+    int emptied = 0;
+    for (size_t k = 0; st == RESURF_OK && k < count; ++k) {
+        if (!level) {
+            st = resurfi_error(e, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
+            break;
+        }
+        st = resurfi_mesh_split_parts(chain[k], n, &chain[k]->allocator, level, e);
+        for (size_t q = 0; st == RESURF_OK && q < n; ++q) {
+            w->chains[first + q][k] = level[q];
+            emptied |= k < kept && level[q]->triangle_count == 0 && in[q]->triangle_count > 0;
+        }
+    }
+    for (size_t k = 0; k < count && chain; ++k)
+        resurf_mesh_free(chain[k]);
+    resurfi_free(w->alloc, chain);
+    resurf_mesh_free(joined);
+    if (level != split)
+        resurfi_free(w->alloc, level);
+    for (size_t q = 0; q < n; ++q) {
+        if (st == RESURF_OK && !emptied) {
+            /* The mesh's report, with the primitive's own counts (the distances are the mesh's). */
+            resurf_simplify_report *own = job->reports + (first + q) * count;
+            memcpy(own, reports, count * sizeof *reports);
+            for (size_t k = 0; k < count; ++k) {
+                own[k].input_triangles = in[q]->triangle_count;
+                own[k].triangles = w->chains[first + q][k]->triangle_count;
+                own[k].vertices = w->chains[first + q][k]->vertex_count;
+            }
+            w->joint_kept[first + q] = kept + 1;
+            w->joint_why[first + q] = why;
+        } else if (w->chains[first + q]) {
+            for (size_t k = 0; k < count; ++k)
+                resurf_mesh_free(w->chains[first + q][k]);
+            resurfi_free(w->alloc, w->chains[first + q]);
+            w->chains[first + q] = NULL;
+        }
+        job->status[first + q] = st;
+    }
+    resurfi_free(w->alloc, reports);
+    if (in != parts)
+        resurfi_free(w->alloc, in);
+    if (st == RESURF_OK && emptied) {
+        /* Lock the shared borders instead, primitive by primitive. */
+        w->together[m] = false;
+        if (shared_positions(scene, m, w->alloc, w->locks) != RESURF_OK)
+            return job->status[first] = resurfi_error(e, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
+        for (size_t q = 0; q < n && st == RESURF_OK; ++q)
+            st = make_primitive_chain(job, first + q, base);
+    }
+    return st;
+}
+
 /* Primitive p's chain with options sim (threads and progress as the caller chose): w->chains[p] and its reports, or
- * status[p] and errors[p]. */
+ * status[p] and errors[p]. A primitive of a mesh simplified together makes the whole mesh's chains. */
 static resurf_status make_primitive_chain(chain_job *job, size_t p, const resurf_simplify_options *base)
 {
+    if (job->w->together[job->scene->prims[p].info.mesh])
+        return make_joint_chain(job, job->scene->prims[p].info.mesh, base);
+
     const resurfi_scene_prim *prim = &job->scene->prims[p];
     lod_work *w = job->w;
     size_t count = job->count;
@@ -445,9 +580,10 @@ static int chain_block(void *ctx, size_t begin, size_t end, unsigned worker)
         if (atomic_load(&job->cancelled))
             return 1;
         size_t p = job->order[i];
+        double weight = chain_weight(job, p);
         make_primitive_chain(job, p, job->sim);
         pthread_mutex_lock(&job->lock);
-        job->done += (double)job->scene->prims[p].mesh->triangle_count + 1;
+        job->done += weight;
         double f = job->total > 0 ? job->done / job->total : 1;
         /* Not asked again once a cancel was asked for. */
         int stop = atomic_load(&job->cancelled) ||
@@ -519,7 +655,10 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
     w.errors = resurfi_calloc(alloc, (mesh_count + 1) * (count + 1), sizeof *w.errors);
     w.coverage = resurfi_calloc(alloc, mesh_count + 1, sizeof *w.coverage);
     w.locks = resurfi_calloc(alloc, prim_count + 1, sizeof *w.locks);
-    if (!w.locks || !w.kept || !w.mesh_scale || !w.mesh_levels || !w.errors || !w.coverage ||
+    w.together = resurfi_calloc(alloc, mesh_count + 1, sizeof *w.together);
+    w.joint_kept = resurfi_calloc(alloc, prim_count + 1, sizeof *w.joint_kept);
+    w.joint_why = resurfi_calloc(alloc, prim_count + 1, sizeof *w.joint_why);
+    if (!w.locks || !w.together || !w.joint_kept || !w.joint_why || !w.kept || !w.mesh_scale || !w.mesh_levels || !w.errors || !w.coverage ||
         resurfi_scene_gather(scene, alloc, &w.list) != RESURF_OK)
         st = resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory building levels of detail");
     /* The levels measured are the ones made here, not those an MSFT_lod extension of the input names. */
@@ -530,7 +669,9 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
     if (st == RESURF_OK)
         report.diagonal = resurf_mesh_bounds(w.full, NULL, NULL);
     for (size_t m = 0; st == RESURF_OK && m < mesh_count; ++m)
-        if (o.keep_shared_borders && shared_positions(scene, m, alloc, w.locks) != RESURF_OK)
+        w.together[m] = o.keep_shared_borders && simplified_together(scene, m);
+    for (size_t m = 0; st == RESURF_OK && m < mesh_count; ++m)
+        if (o.keep_shared_borders && !w.together[m] && shared_positions(scene, m, alloc, w.locks) != RESURF_OK)
             st = resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory finding shared borders");
     for (size_t i = 0; st == RESURF_OK && i < w.list.count; ++i) {
         double *sc = &w.mesh_scale[w.list.items[i].mesh];
@@ -570,9 +711,10 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
         report.morphed += prim->info.kind == RESURF_PRIMITIVE_MORPHED;
         if (!resurfi_scene_rewritten(prim))
             report.other++;
-        else {
-            order[tri_prims++] = p;
-            largest = prim->mesh->triangle_count > largest ? prim->mesh->triangle_count : largest;
+        else if (!w.together[prim->info.mesh] || p == scene->mesh_first[prim->info.mesh]) {
+            order[tri_prims++] = p; /* a mesh simplified together is one entry: its first primitive */
+            double weight = chain_weight(&job, p);
+            largest = weight > (double)largest ? (size_t)weight : largest;
         }
     }
     unsigned threads = resurfi_thread_count(sim.threads);
@@ -585,7 +727,7 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
         by_size *sorted = resurfi_alloc(alloc, tri_prims, sizeof *sorted);
         if (sorted) { /* else in primitive order */
             for (size_t i = 0; i < tri_prims; ++i)
-                sorted[i] = (by_size){scene->prims[order[i]].mesh->triangle_count, order[i]};
+                sorted[i] = (by_size){(size_t)chain_weight(&job, order[i]), order[i]};
             qsort(sorted, tri_prims, sizeof *sorted, larger_first);
             for (size_t i = 0; i < tri_prims; ++i)
                 order[i] = sorted[i].prim;
@@ -604,7 +746,7 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
         double done = 0;
         for (size_t i = 0; i < tri_prims; ++i) {
             size_t p = order[i];
-            double weight = (double)scene->prims[p].mesh->triangle_count + 1;
+            double weight = chain_weight(&job, p);
             sp.base = done / total;
             sp.span = weight / total;
             done += weight;
@@ -632,8 +774,9 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
             continue;
         const resurf_simplify_report *reports = job.reports + p * count;
         report.primitives++;
-        int why;
-        size_t kept = levels_that_help(prim->mesh, w.chains[p], reports, ratios, count, &why);
+        int why = w.joint_why[p];
+        size_t kept = w.joint_kept[p] ? w.joint_kept[p] - 1
+                                      : levels_that_help(prim->mesh, w.chains[p], reports, ratios, count, &why);
         w.kept[p] = kept;
         if (why == 1)
             report.level_unreduced[kept + 1]++;

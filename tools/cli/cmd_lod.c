@@ -327,11 +327,17 @@ int cmd_lod(int argc, char **argv)
         if (level_ratios)
             snprintf(target, sizeof target, " (ratio %g, target %zu triangles)", level_ratios[k],
                      (size_t)floor(level_ratios[k] * (double)m->triangle_count));
+        /* A primitive simplified together with the others of its mesh ends where the mesh's chain ends, even when
+         * its own part made its ratio (the stop and the guards are the mesh's). */
+        const char *what = r->triangles >= before ? "could not reduce, keeping"
+                           : level_ratios && (double)r->triangles <= 1.5 * level_ratios[k] * (double)m->triangle_count + 2
+                               ? "reached its ratio, but its mesh's level (the primitives go together) did not, at"
+                               : "missed its ratio at";
         fprintf(stderr,
                 "resurf: warning: %s: level %zu%s %s %zu of %zu triangles (stopped: %s; blocked: %s); its chain "
                 "ends at level %zu\n",
-                info.name, k + 1, target, r->triangles >= before ? "could not reduce, keeping" : "missed its ratio at",
-                r->triangles, m->triangle_count, stop_names[r->stop < RESURF_STOP_COUNT ? r->stop : 0], blocked, k);
+                info.name, k + 1, target, what, r->triangles, m->triangle_count,
+                stop_names[r->stop < RESURF_STOP_COUNT ? r->stop : 0], blocked, k);
     }
     resurf_scene_save_report report;
     double save_seconds = 0;
