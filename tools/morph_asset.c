@@ -39,6 +39,23 @@ resurf_mesh *morph_sphere_mesh(size_t triangles, double jitter, uint64_t seed, c
     return m;
 }
 
+resurf_mesh *morph_bulge_mesh(size_t triangles, double jitter, uint64_t seed, double height, double width)
+{
+    resurf_mesh *m = shape_mesh(SHAPE_SPHERE, triangles, jitter, seed, 1);
+    resurf_attribute *dp = NULL;
+    if (!m || resurf_mesh_add_extra(m, "targets[0].POSITION", 3, &dp, NULL) != RESURF_OK) {
+        resurf_mesh_free(m);
+        return NULL;
+    }
+    for (size_t v = 0; v < m->vertex_count; ++v) {
+        const double *p = m->positions + 3 * v;
+        double q = p[0] * p[0] + p[1] * p[1] + (p[2] - 1) * (p[2] - 1), g = height * exp(-q / (width * width));
+        for (int i = 0; i < 3; ++i)
+            dp->data[3 * v + (size_t)i] = (float)(g * p[i]);
+    }
+    return m;
+}
+
 double ellipsoid_distance(const double a[3], const double p[3])
 {
     double y[3], lo = -INFINITY, hi = 0, amax = 0;

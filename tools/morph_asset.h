@@ -18,6 +18,11 @@ static const double morph_asset_axes[3] = {1.5, 1.0, 0.6};
  * NULL when out of memory. */
 resurf_mesh *morph_sphere_mesh(size_t triangles, double jitter, uint64_t seed, const double axes[3]);
 
+/* The sphere of shape_mesh(SHAPE_SPHERE, triangles, jitter, seed, 1) with one bulge target, "targets[0].POSITION":
+ * δ(p) = height · exp(−|p − (0, 0, 1)|² / width²) p, a bump around the north pole (not linear in p, so a coarse
+ * level cannot show it exactly: what morph_weight prices). NULL when out of memory. */
+resurf_mesh *morph_bulge_mesh(size_t triangles, double jitter, uint64_t seed, double height, double width);
+
 /* The semi-axes at morph weight w: 1 + w(aᵢ − 1). */
 void morph_axes_at(const double axes[3], double w, double out[3]);
 
