@@ -256,9 +256,9 @@ typedef struct pos_slot {
 } pos_slot;
 
 /* For every triangle primitive of mesh m, locks[p] (one byte per vertex, or NULL when none is locked): the
- * vertices whose position another primitive of the mesh also uses (a morphed primitive included, which keeps its
- * full detail), so that no level opens a crack between them. Only vertices that triangles use count. With locks
- * NULL, only *connected: whether the primitives with a mesh are one set linked by shared positions. */
+ * vertices whose position another primitive of the mesh also uses (a morphed one included), so that no level
+ * opens a crack between them. Only vertices that triangles use count. With locks NULL, only *connected: whether the
+ * primitives with a mesh are one set linked by shared positions. */
 static resurf_status shared_positions(const resurf_scene *scene, size_t m, const resurf_allocator *alloc,
                                       uint8_t **locks, bool *connected)
 {
@@ -291,7 +291,7 @@ static resurf_status shared_positions(const resurf_scene *scene, size_t m, const
     for (int pass = 0; pass < (locks ? 2 : 1) && st == RESURF_OK; ++pass) {
         for (size_t p = first; p < last && st == RESURF_OK; ++p) {
             const resurf_mesh *mesh = scene->prims[p].mesh;
-            if (!mesh || (pass == 1 && scene->prims[p].info.kind != RESURF_PRIMITIVE_TRIANGLES))
+            if (!mesh || (pass == 1 && !resurfi_scene_rewritten(&scene->prims[p])))
                 continue;
             uint8_t *lock = NULL;
             size_t locked = 0;
@@ -708,7 +708,7 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
     /* The work of each primitive is taken as proportional to its triangles, for the progress fraction. */
     double total = 0, scene_area = 0;
     for (size_t p = 0; p < prim_count; ++p)
-        if (scene->prims[p].info.kind == RESURF_PRIMITIVE_TRIANGLES) {
+        if (resurfi_scene_rewritten(&scene->prims[p])) {
             const resurfi_scene_prim *prim = &scene->prims[p];
             double scale = w.mesh_scale[prim->info.mesh] > 0 ? w.mesh_scale[prim->info.mesh] : 1;
             total += (double)prim->mesh->triangle_count + 1;
@@ -735,9 +735,8 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
     size_t largest = 0;
     for (size_t p = 0; st == RESURF_OK && p < prim_count; ++p) {
         const resurfi_scene_prim *prim = &scene->prims[p];
-        if (prim->info.kind == RESURF_PRIMITIVE_MORPHED)
-            report.morphed++;
-        else if (prim->info.kind != RESURF_PRIMITIVE_TRIANGLES)
+        report.morphed += prim->info.kind == RESURF_PRIMITIVE_MORPHED;
+        if (!resurfi_scene_rewritten(prim))
             report.other++;
         else if (!w.together[prim->info.mesh] || p == scene->mesh_first[prim->info.mesh]) {
             order[tri_prims++] = p; /* a mesh simplified together is one entry: its first primitive */
@@ -786,7 +785,7 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
      * side-by-side run stops early only for a cancel). */
     for (size_t p = 0; st == RESURF_OK && p < prim_count; ++p) {
         const resurfi_scene_prim *prim = &scene->prims[p];
-        if (prim->info.kind != RESURF_PRIMITIVE_TRIANGLES || job.status[p] == RESURF_OK)
+        if (!resurfi_scene_rewritten(prim) || job.status[p] == RESURF_OK)
             continue;
         /* The primitive's name first, so that a scene of many primitives says which one failed. */
         const resurf_error *e = &job.errors[p];
@@ -798,7 +797,7 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
         st = resurfi_error(error, RESURF_ERR_CANCELLED, "cancelled");
     for (size_t p = 0; st == RESURF_OK && p < prim_count; ++p) {
         const resurfi_scene_prim *prim = &scene->prims[p];
-        if (prim->info.kind != RESURF_PRIMITIVE_TRIANGLES)
+        if (!resurfi_scene_rewritten(prim))
             continue;
         const resurf_simplify_report *reports = job.reports + p * count;
         report.primitives++;

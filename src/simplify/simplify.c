@@ -71,6 +71,7 @@ resurf_simplify_options resurf_simplify_options_default(void)
     o.normal_weight = 0;
     o.texcoord_weight = 0.25;
     o.color_weight = 0.25;
+    o.morph_weight = 1;
     o.measure_samples = 100000;
     return o;
 }
@@ -105,8 +106,9 @@ static resurf_status check_options(const resurf_simplify_options *o, resurf_erro
         bad = "border_weight must be finite and >= 0";
     else if (!(o->normal_weight >= 0 && isfinite(o->normal_weight)) ||
              !(o->texcoord_weight >= 0 && isfinite(o->texcoord_weight)) ||
-             !(o->color_weight >= 0 && isfinite(o->color_weight)))
-        bad = "normal_weight, texcoord_weight and color_weight must be finite and >= 0";
+             !(o->color_weight >= 0 && isfinite(o->color_weight)) ||
+             !(o->morph_weight >= 0 && isfinite(o->morph_weight)))
+        bad = "normal_weight, texcoord_weight, color_weight and morph_weight must be finite and >= 0";
     else if (o->restore_options && o->restore_options->struct_size != sizeof(resurf_restore_options))
         bad = "restore_options was not initialised by resurf_restore_options_default()";
     else if (o->thread_pool && !o->thread_pool->run)
