@@ -223,6 +223,10 @@ double resurfi_uv_distance(const resurf_mesh *a, uint32_t ta, const double ba[3]
                            const double bb[3]);
 /* The mean (summed in index order) and the 95th percentile (nearest rank) of n >= 1 values; sorts them. */
 void resurfi_uv_summary(double *values, size_t n, double *out_mean, double *out_p95);
+/* The largest distance from `from` (samples area-uniform samples drawn from seed, then the vertices its triangles
+ * use, as resurf_compare draws them) to the surface under `to`; NaN for a mesh without triangles. */
+resurf_status resurfi_side_max(const resurf_allocator *alloc, const resurf_mesh *from, size_t samples, uint64_t seed,
+                               const resurfi_bvh *to, unsigned threads, double *out_max);
 
 /* ---- vertex normals (normals.c) ------------------------------------------------------------------------------ */
 
