@@ -462,26 +462,36 @@ static void busy_stop(const pid_t *pids, int count)
         waitpid(pids[i], NULL, 0);
 }
 
-/* Median wall seconds of `repeat` calls of resurf_simplify with the defaults (inline restoration and the report's
- * two-sided measurement included: the call a caller makes) on `threads` threads. */
-static double time_resurf_call(const resurf_mesh *m, double ratio, unsigned threads, int repeat)
+/* One call of resurf_simplify with the defaults (inline restoration and the report's two-sided measurement
+ * included: the call a caller makes) on `threads` threads: its wall seconds. */
+static double time_resurf_call(const resurf_mesh *m, double ratio, unsigned threads)
 {
-    double t[64];
+    resurf_simplify_options o = resurf_simplify_options_default();
+    o.target_ratio = ratio;
+    o.threads = threads;
+    resurf_mesh *out = NULL;
+    resurf_error e;
+    double t0 = bench_now();
+    if (resurf_simplify(m, &o, &out, NULL, &e) != RESURF_OK)
+        bench_fail("bench-simplify", "resurf_simplify", &e);
+    double t = bench_now() - t0;
+    resurf_mesh_free(out);
+    return t;
+}
+
+/* Medians of `repeat` calls on 1 and on 2 threads, taken in turn so that a change of load falls on both. */
+static void time_resurf_calls(const resurf_mesh *m, double ratio, int repeat, double *one, double *two)
+{
+    double t1[64], t2[64];
     int n = repeat < 64 ? repeat : 64;
     for (int k = 0; k < n; ++k) {
-        resurf_simplify_options o = resurf_simplify_options_default();
-        o.target_ratio = ratio;
-        o.threads = threads;
-        resurf_mesh *out = NULL;
-        resurf_error e;
-        double t0 = bench_now();
-        if (resurf_simplify(m, &o, &out, NULL, &e) != RESURF_OK)
-            bench_fail("bench-simplify", "resurf_simplify", &e);
-        t[k] = bench_now() - t0;
-        resurf_mesh_free(out);
+        t1[k] = time_resurf_call(m, ratio, 1);
+        t2[k] = time_resurf_call(m, ratio, 2);
     }
-    qsort(t, (size_t)n, sizeof *t, bench_compare_doubles);
-    return t[n / 2];
+    qsort(t1, (size_t)n, sizeof *t1, bench_compare_doubles);
+    qsort(t2, (size_t)n, sizeof *t2, bench_compare_doubles);
+    *one = t1[n / 2];
+    *two = t2[n / 2];
 }
 
 static double time_meshopt_call(const resurf_mesh *m, double ratio, int repeat)
@@ -525,8 +535,8 @@ static void bench_calls(const double *ratios, size_t nr, int repeat)
                 pid_t pids[64];
                 int children = busy ? busy_start(pids, 64) : 0;
                 double mo = time_meshopt_call(m, ratios[r], repeat);
-                double one = time_resurf_call(m, ratios[r], 1, repeat);
-                double two = time_resurf_call(m, ratios[r], 2, repeat);
+                double one, two;
+                time_resurf_calls(m, ratios[r], repeat, &one, &two);
                 busy_stop(pids, children);
                 printf("%-14s %5.2f %5s %9.4f %9.4f %9.4f %9.2f %9.2f %7.2f\n", name, ratios[r],
                        busy ? "busy" : "idle", mo, one, two, one / mo, two / mo, two / one);
