@@ -139,6 +139,49 @@ static resurf_simplify_options level_options(const resurf_simplify_options *sim,
     return o;
 }
 
+/* Whether level k (0-based) of t triangles, stopped for `stop`, ends a chain whose level before it had `before`
+ * (see resurf.h at resurf_scene_build_lods): 0 no, 1 it has no fewer triangles, 2 it missed its ratio. */
+static int level_ends_chain(size_t input, size_t before, size_t t, const double *ratios, size_t k,
+                            resurf_simplify_stop stop)
+{
+    if (t >= before)
+        return 1;
+    if (ratios && stop != RESURF_STOP_ERROR && (double)t > MISS_SLACK * ratios[k] * (double)input + MISS_TRIANGLES)
+        return 2;
+    return 0;
+}
+
+/* How many levels of a chain help, from their reports; *why: 0 all of them, else level_ends_chain's answer for the
+ * first that does not. */
+static size_t levels_that_help(const resurf_mesh *in, const resurf_simplify_report *rep, const double *ratios,
+                               size_t count, int *why)
+{
+    size_t before = in->triangle_count;
+    *why = 0;
+    for (size_t k = 0; k < count; ++k) {
+        if ((*why = level_ends_chain(in->triangle_count, before, rep[k].triangles, ratios, k, rep[k].stop)))
+            return k;
+        before = rep[k].triangles;
+    }
+    return count;
+}
+
+/* The same rule asked by the simplifier after each level's collapses, so that a level that ends the chain is
+ * neither built nor measured, nor any level after it (on 2CylinderEngine 14 of 34 primitives end early). */
+typedef struct chain_rule {
+    size_t input, before;
+    const double *ratios;
+} chain_rule;
+
+static int ends_chain(void *ctx, size_t k, size_t triangles, resurf_simplify_stop stop)
+{
+    chain_rule *r = ctx;
+    if (level_ends_chain(r->input, r->before, triangles, r->ratios, k, stop))
+        return 1;
+    r->before = triangles;
+    return 0;
+}
+
 /* One primitive's chain: one resurf_simplify_lods run when every level has the same bound and a ratio, else one
  * resurf_simplify run per level from the original (a bound that grows from level to level cannot be one run: a
  * candidate skipped for its error leaves the queue). */
@@ -151,7 +194,9 @@ static resurf_status make_chain(const resurf_mesh *in, const double *ratios, siz
         one_run = one_run && bounds[k] == bounds[0];
     if (one_run) {
         resurf_simplify_options o = level_options(sim, bounds[0]);
-        return resurf_simplify_lods(in, ratios, count, &o, chain, reports, e);
+        chain_rule rule = {in->triangle_count, in->triangle_count, ratios};
+        resurfi_chain_end end = {ends_chain, &rule};
+        return resurfi_simplify_lods_until(in, ratios, count, &o, &end, chain, reports, e);
     }
     for (size_t k = 0; k < count; ++k) {
         resurf_simplify_options o = level_options(sim, bounds[k]);
@@ -166,29 +211,6 @@ static resurf_status make_chain(const resurf_mesh *in, const double *ratios, siz
         }
     }
     return RESURF_OK;
-}
-
-/* How many levels of a chain help (see resurf.h at resurf_scene_build_lods); *why: 0 all of them, 1 the next one
- * has no fewer triangles than the one before, 2 it missed its ratio. */
-static size_t levels_that_help(const resurf_mesh *in, resurf_mesh *const *chain, const resurf_simplify_report *rep,
-                               const double *ratios, size_t count, int *why)
-{
-    size_t before = in->triangle_count;
-    *why = 0;
-    for (size_t k = 0; k < count; ++k) {
-        size_t t = chain[k]->triangle_count;
-        if (t >= before) {
-            *why = 1;
-            return k;
-        }
-        if (ratios && rep[k].stop != RESURF_STOP_ERROR &&
-            (double)t > MISS_SLACK * ratios[k] * (double)in->triangle_count + MISS_TRIANGLES) {
-            *why = 2;
-            return k;
-        }
-        before = t;
-    }
-    return count;
 }
 
 /* A monotonic clock in seconds, for the report's phase times. */
@@ -522,7 +544,7 @@ static resurf_status make_primitive_chain(chain_job *job, size_t p, const resurf
     if (st == RESURF_OK)
         st = make_chain(prim->mesh, job->ratios, count, bounds, &sim, chain, job->reports + p * count, e);
     for (size_t k = 0; k < count && st == RESURF_OK; ++k)
-        if (!same_layout(prim->mesh, chain[k]))
+        if (chain[k] && !same_layout(prim->mesh, chain[k]))
             st = resurfi_error(e, RESURF_ERR_INTERNAL, "level %zu lost an attribute of the input", k + 1);
     if (st != RESURF_OK && chain) {
         for (size_t k = 0; k < count; ++k)
@@ -746,7 +768,7 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
         const resurf_simplify_report *reports = job.reports + p * count;
         report.primitives++;
         int why;
-        size_t kept = levels_that_help(prim->mesh, w.chains[p], reports, ratios, count, &why);
+        size_t kept = levels_that_help(prim->mesh, reports, ratios, count, &why);
         w.kept[p] = kept;
         if (why == 1)
             report.level_unreduced[kept + 1]++;

@@ -1237,7 +1237,8 @@ typedef struct resurf_scene_lod_report {
  * - out_report: may be NULL.
  * - out_primitive_reports: NULL, or room for resurf_scene_primitive_count(scene) × count reports:
  *   [p × count + k] is level k + 1 of primitive p as it was made (zeroed for primitives that got no levels and
- *   after the level that ended its chain; that level's report is kept: its stop and blocked_* say why it missed).
+ *   after the level that ended its chain; that level's report is kept: its stop and blocked_* say why it missed,
+ *   and its distances are NaN, since a level that ends the chain is neither built nor measured).
  * Errors name the primitive ("meshes[1].primitives[0]: ..."; with several failures, the first in primitive
  * order). With at least 2 × simplify->threads triangle primitives (0 = all cores, at least 2), none of which holds
  * more than half the triangles, and no thread_pool, the primitives are simplified side by side, each on one
