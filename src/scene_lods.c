@@ -198,6 +198,7 @@ static resurf_status make_chain(const resurf_mesh *in, const double *ratios, siz
         resurfi_chain_end end = {ends_chain, &rule};
         return resurfi_simplify_lods_until(in, ratios, count, &o, &end, chain, reports, e);
     }
+    size_t before = in->triangle_count;
     for (size_t k = 0; k < count; ++k) {
         resurf_simplify_options o = level_options(sim, bounds[k]);
         o.target_ratio = ratios ? ratios[k] : 0;
@@ -209,6 +210,10 @@ static resurf_status make_chain(const resurf_mesh *in, const double *ratios, siz
             }
             return st;
         }
+        /* A level that ends the chain leaves the later ones unmade (they would not be kept). */
+        if (level_ends_chain(in->triangle_count, before, reports[k].triangles, ratios, k, reports[k].stop))
+            break;
+        before = reports[k].triangles;
     }
     return RESURF_OK;
 }
