@@ -229,8 +229,14 @@ typedef struct resurf_scene_lod_report {
                                                          once, whatever its instances): what resurf_scene_save()
                                                          reports */
     /* Measured in world space (resurf_scene_world_mesh(): every instance, node transforms applied) between the
-     * level and level 0 with resurf_compare() (measure_samples samples on each surface, its default seed): 0 for
-     * level 0 and when nothing was measured (measure_samples 0). */
+     * level and level 0, each side's points (resurf_compare()'s: area-uniform samples, measure_samples over the
+     * whole surface, and the vertices) measured to the whole other surface: 0 for level 0 and when nothing was
+     * measured (measure_samples 0). When every instance's transform is a similarity (rotation, uniform scale,
+     * translation), each instance's own bound, its primitives' reports scaled to world units, decides which
+     * instances are measured: largest first, until the next bound is no more than the largest distance found (no
+     * other instance can raise the maximum, as a point's distance to the whole scene is at most its distance to its
+     * own primitive); the mean is then the area-weighted mean of the primitives' own two-sided means (an upper
+     * bound of the scene's). Otherwise resurf_compare() between the two world meshes gives all five figures. */
     double level_error_rel[RESURF_SCENE_MAX_LEVELS];  /* two-sided Hausdorff distance over `diagonal` */
     double level_error[RESURF_SCENE_MAX_LEVELS];      /* the same in world units */
     double level_mean_rel[RESURF_SCENE_MAX_LEVELS];   /* two-sided mean distance over `diagonal` */
@@ -264,7 +270,9 @@ typedef struct resurf_scene_lod_report {
  * primitive's own, in its own units against its own diagonal, are in out_primitive_reports.
  * With options->set_screen_coverage, each mesh that has levels gets its MSFT_screencoverage from its own measured
  * errors in world space: e_k is the two-sided Hausdorff distance between the mesh's level k and its level 0 as its
- * first node shows them (world transform applied), over that mesh's own world bounding-box diagonal. A level of
+ * first node shows them (world transform applied), over that mesh's own world bounding-box diagonal (when that
+ * node's transform is a similarity, the largest of its primitives' own two-sided maxima scaled to world units, an
+ * upper bound of the mesh's; else measured with resurf_compare()). A level of
  * relative error e on an object whose bounding-box diagonal spans d pixels is off by e·d pixels; with d ≈ √c·H for
  * a screen share c on a screen H pixels high, level k is good enough below c_k = (pixels / (e_k·H))², clamped to 1
  * and made non-increasing; coverage[k-1] = c_k is where level k-1 hands over to level k, and the coarsest level is
@@ -283,7 +291,8 @@ typedef struct resurf_scene_lod_report {
  * - out_report: may be NULL.
  * - out_primitive_reports: NULL, or room for resurf_scene_primitive_count(scene) × count reports:
  *   [p × count + k] is level k + 1 of primitive p as it was made (zeroed for primitives that got no levels and
- *   after the level that ended its chain; that level's report is kept: its stop and blocked_* say why it missed).
+ *   after the level that ended its chain; that level's report is kept: its stop and blocked_* say why it missed,
+ *   and its distances are NaN, since a level that ends the chain is neither built nor measured).
  * Errors name the primitive ("meshes[1].primitives[0]: ..."; with several failures, the first in primitive
  * order). With at least 2 × simplify->threads triangle primitives (0 = all cores, at least 2), none of which holds
  * more than half the triangles, and no thread_pool, the primitives are simplified side by side, each on one
