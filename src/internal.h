@@ -240,6 +240,23 @@ double resurfi_uv_distance(const resurf_mesh *a, uint32_t ta, const double ba[3]
 /* The mean (summed in index order) and the 95th percentile (nearest rank) of n >= 1 values; sorts them. */
 void resurfi_uv_summary(double *values, size_t n, double *out_mean, double *out_p95);
 
+/* resurf_simplify_lods whose chain may end early: after level i's collapses (0-based), fn(ctx, i, its triangles,
+ * its stop reason) returns nonzero when that level ends the chain. That level then gets no mesh (out_levels[i] and
+ * later stay NULL) and a report that is not measured (distances NaN), and no later level is made: resurf_scene's
+ * levels that do not help cost neither an output nor a measurement. */
+typedef struct resurfi_chain_end {
+    int (*fn)(void *ctx, size_t level, size_t triangles, resurf_simplify_stop stop);
+    void *ctx;
+} resurfi_chain_end;
+resurf_status resurfi_simplify_lods_until(const resurf_mesh *in, const double *ratios, size_t count,
+                                          const resurf_simplify_options *options, const resurfi_chain_end *ends,
+                                          resurf_mesh **out_levels, resurf_simplify_report *out_reports,
+                                          resurf_error *error);
+/* The largest distance from `from` (samples area-uniform samples drawn from seed, then the vertices its triangles
+ * use, as resurf_compare draws them) to the surface under `to`; NaN for a mesh without triangles. */
+resurf_status resurfi_side_max(const resurf_allocator *alloc, const resurf_mesh *from, size_t samples, uint64_t seed,
+                               const resurfi_bvh *to, unsigned threads, double *out_max);
+
 /* ---- vertex normals (normals.c) ------------------------------------------------------------------------------ */
 
 /* Unit vertex normals (3 * vertex_count) with the given scheme (see normals.c), on the index array as given (pass

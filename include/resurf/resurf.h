@@ -883,6 +883,12 @@ typedef struct resurf_simplify_options {
                                      about √2 that, hence the default 1.4 (0 = off). Without it a collapse along a
                                      straight limb takes the rings where the weights blend (they cost no geometry).
                                      Measured in docs/reference.md (Changes in 0.3.0) */
+    double morph_weight;          /* morph targets' POSITION deltas (extras "targets[t].POSITION", see
+                                     RESURF_MORPH_TARGET_PREFIX; the 8 with the largest delta), in geometric units:
+                                     the weight alone, not × the diagonal, so 1 prices a delta that departs by L from
+                                     one linear field over the merged triangles like a distance L off the surface,
+                                     what the level shows at morph weight 1. Default 1 (measured in
+                                     docs/restoring.md §12); 0 = off */
 
     size_t measure_samples;       /* area-uniform samples of the result and of the input (plus the vertices of
                                      each) whose distances to the other surface are measured for the report (see
@@ -896,7 +902,8 @@ typedef struct resurf_simplify_options {
 
 /* The defaults: no target (set one), quadric placement, inline restoration with the restorer's defaults (Max's
  * normals), sag_offset 1, feature_angle_deg 80, corner_angle_deg 80, max_normal_change_deg 60, min_angle_deg 0,
- * border_weight 1, normal_weight 0, texcoord_weight 0.25, color_weight 0.25, measure_samples 100000, all cores.
+ * border_weight 1, normal_weight 0, texcoord_weight 0.25, color_weight 0.25, morph_weight 1, measure_samples 100000,
+ * all cores.
  * Measured with tools/bench_simplify.c on the irregular analytic sphere, torus and cubic surface (20k triangles,
  * 10% and 2%): the mean distance of the LOD's surface to the true surface is lowest at sag_offset 1 (about 0.24–0.26,
  * 0.35–0.38 and 0.74–0.80 of meshoptimizer's; 0.86–0.89 with the offset at 0), as the chord-sag model predicts (the

@@ -27,13 +27,14 @@ extern "C" {
  * Attributes: POSITION → positions, NORMAL → normals, TEXCOORD_0..3 → texcoords, COLOR_0 → colors; every other
  * attribute (TANGENT, JOINTS_n, WEIGHTS_n, COLOR_n with n > 0, TEXCOORD_n with n > 3, _CUSTOM) becomes an extra
  * named exactly like the glTF attribute, carried untouched and written back in its original component type, so
- * joints stay integers. A JOINTS_n / WEIGHTS_n pair (VEC4 both, the same n) is a skin's influences: a simplified
- * level combines them as influences, never as numbers (the corners' (joint, barycentric × weight) over all sets,
- * equal joints merged, the strongest 4 per set, renormalized), and the writer stores weights that sum to exactly 1
- * in their component type, with joint 0 in unused slots (see resurf_scene_save_options.generic_bits for Draco).
- * Integer and normalized component types are decoded as glTF defines them (a normalized ubyte 255 is 1.0), sparse
- * accessors are applied, triangle strips and fans become lists (the joining triangles that repeat an index are
- * dropped), KHR_draco_mesh_compression and KHR_mesh_quantization inputs are decoded.
+ * joints stay integers. Each morph target attribute becomes a float extra "targets[t].NAME" (see
+ * RESURF_MORPH_TARGET_PREFIX below). A JOINTS_n / WEIGHTS_n pair (VEC4 both, the same n) is a skin's influences: a
+ * simplified level combines them as influences, never as numbers (the corners' (joint, barycentric × weight) over
+ * all sets, equal joints merged, the strongest 4 per set, renormalized), and the writer stores weights that sum to
+ * exactly 1 in their component type, with joint 0 in unused slots (see resurf_scene_save_options.generic_bits for
+ * Draco). Integer and normalized component types are decoded as glTF defines them (a normalized ubyte 255 is 1.0),
+ * sparse accessors are applied, triangle strips and fans become lists (the joining triangles that repeat an index
+ * are dropped), KHR_draco_mesh_compression and KHR_mesh_quantization inputs are decoded.
  * The JSON is checked against the glTF 2.0 schema first (github.com/KhronosGroup/glTF, specification/2.0/schema):
  * the JSON type of every property of the core objects, required properties, array lengths and unique items, enum
  * values (componentType, accessor type, primitive mode, bufferView target, sampler filters and wraps, camera type,
@@ -98,10 +99,25 @@ RESURF_API resurf_status resurf_scene_from_mesh(const resurf_mesh *mesh, resurf_
 /* Frees a scene and everything it owns (its meshes, levels and document). NULL is allowed. */
 RESURF_API void resurf_scene_free(resurf_scene *scene);
 
+/* Morph targets. A primitive's targets are extras of its mesh, one per target attribute, named
+ * "targets[t].NAME" (t from 0, NAME the glTF attribute: "targets[0].POSITION", "targets[1].NORMAL"), in float,
+ * each a delta per vertex. Being extras, they follow the vertices through every call: resurf_simplify interpolates
+ * them at each output vertex's closest point of the input like any extra (at a restored vertex: the input's delta
+ * at the closest point of its surface, so the level's morph at any weight is the input's morph sampled where the
+ * level's vertex lies; docs/restoring.md §12), and prices the position deltas in the collapse cost
+ * (resurf_simplify_options.morph_weight). resurf_scene_save writes them back as the primitive's targets (float
+ * accessors; POSITION with min/max), beside Draco-compressed base attributes when Draco is on (Draco's sequential
+ * encoding without merging points, so that the decoded vertex order is the order of the targets' accessors, as
+ * KHR_draco_mesh_compression requires; checked by decoding). A mesh saved as OBJ/PLY keeps them as extras. */
+#define RESURF_MORPH_TARGET_PREFIX "targets["
+
 typedef enum resurf_primitive_kind {
     RESURF_PRIMITIVE_TRIANGLES = 0, /* triangle list, strip or fan: has a mesh and can take levels of detail */
-    RESURF_PRIMITIVE_MORPHED,       /* triangles with morph targets: has a mesh, always written untouched at full
-                                       detail (resurf_scene_set_lods refuses it) */
+    RESURF_PRIMITIVE_MORPHED,       /* triangles with morph targets: has a mesh whose extras carry the targets (see
+                                       RESURF_MORPH_TARGET_PREFIX) and takes levels of detail like TRIANGLES; each
+                                       level is written with its own targets, the mesh's weights and animations
+                                       kept. (Before 0.3.0 it stayed at full detail.) A mesh-file scene whose mesh
+                                       has such extras is MORPHED too */
     RESURF_PRIMITIVE_OTHER,         /* points or lines: no mesh, written untouched */
 } resurf_primitive_kind;
 
@@ -130,15 +146,16 @@ RESURF_API resurf_status resurf_scene_primitive_info(const resurf_scene *scene, 
  * primitive or an index out of range. Borrowed: valid until the scene is freed; do not modify it. */
 RESURF_API const resurf_mesh *resurf_scene_primitive_mesh(const resurf_scene *scene, size_t index);
 
-/* The whole scene at `level` as one mesh in world space: every triangle primitive with a mesh (morphed ones at full
- * detail) at that level (0 = full detail; a primitive with fewer levels uses its last), once for each node that
- * shows its mesh, with the node's world matrix applied (through the node hierarchy of the default scene, else scene
- * 0, else of every root node; a scene made from a mesh file or without nodes: each mesh once, untransformed).
- * Normals go through the matrix's inverse transpose and are renormalised. A node whose MSFT_lod extension (in a
- * loaded file) names level nodes shows their meshes at level 1, 2, ... (as resurf_preview_render() draws them).
- * The mesh has normals and TEXCOORD_0 when every included primitive has them, no other attribute; vertices are not
- * welded (each primitive instance keeps its own). level: 0 .. RESURF_SCENE_MAX_LEVELS - 1. alloc: NULL = the
- * scene's. *out is freed with resurf_mesh_free(). RESURF_ERR_LIMIT above 2^32 vertices or triangles. */
+/* The whole scene at `level` as one mesh in world space: every triangle primitive with a mesh (morphed ones in
+ * their rest pose, weights 0) at that level (0 = full detail; a primitive with fewer levels uses its last), once
+ * for each node that shows its mesh, with the node's world matrix applied (through the node hierarchy of the
+ * default scene, else scene 0, else of every root node; a scene made from a mesh file or without nodes: each mesh
+ * once, untransformed). Normals go through the matrix's inverse transpose and are renormalised. A node whose
+ * MSFT_lod extension (in a loaded file) names level nodes shows their meshes at level 1, 2, ... (as
+ * resurf_preview_render() draws them). The mesh has normals and TEXCOORD_0 when every included primitive has them,
+ * no other attribute; vertices are not welded (each primitive instance keeps its own). level: 0 ..
+ * RESURF_SCENE_MAX_LEVELS - 1. alloc: NULL = the scene's. *out is freed with resurf_mesh_free(). RESURF_ERR_LIMIT
+ * above 2^32 vertices or triangles. */
 RESURF_API resurf_status resurf_scene_world_mesh(const resurf_scene *scene, int level, const resurf_allocator *alloc,
                                                  resurf_mesh **out, resurf_error *error);
 
@@ -146,7 +163,8 @@ RESURF_API resurf_status resurf_scene_world_mesh(const resurf_scene *scene, int 
  * The meshes are copied (the caller keeps its own). Each must have finite positions and indices in range, and
  * carry the attributes the primitive's mesh has, by name (extras the source lacks are written as float custom
  * attributes "_NAME"). lod_count 0 removes the levels; at most RESURF_SCENE_MAX_LEVELS - 1.
- * Fails with RESURF_ERR_UNSUPPORTED for a morphed or point/line primitive (they stay at full detail),
+ * A morphed primitive's levels carry its target extras like any other (RESURF_MORPH_TARGET_PREFIX), numbered from
+ * 0 without a gap. Fails with RESURF_ERR_UNSUPPORTED for a point/line primitive (it stays as it is),
  * RESURF_ERR_INVALID_MESH for a bad level (the message says which). On failure the previous levels stay. */
 #define RESURF_SCENE_MAX_LEVELS 16
 RESURF_API resurf_status resurf_scene_set_lods(resurf_scene *scene, size_t index, const resurf_mesh *const *lods,
@@ -204,16 +222,24 @@ RESURF_API resurf_scene_lod_options resurf_scene_lod_options_default(void);
 typedef struct resurf_scene_lod_report {
     size_t levels;                                    /* 1 + the most levels any primitive kept (at most 1 + count:
                                                          levels that do not help are not kept, see below) */
-    size_t primitives;                                /* triangle primitives that were simplified */
-    size_t morphed;                                   /* primitives with morph targets, kept at full detail */
+    size_t primitives;                                /* triangle primitives that were simplified (morphed ones
+                                                         included) */
+    size_t morphed;                                   /* of those, primitives with morph targets (before 0.3.0
+                                                         they were kept at full detail) */
     size_t other;                                     /* point and line primitives, kept as they are */
     size_t level_triangles[RESURF_SCENE_MAX_LEVELS];  /* triangles of each level over every primitive with a mesh
-                                                         (morphed ones at full detail in every level, a primitive
-                                                         with fewer levels at its last; each mesh once, whatever
-                                                         its instances): what resurf_scene_save() reports */
+                                                         (a primitive with fewer levels at its last; each mesh
+                                                         once, whatever its instances): what resurf_scene_save()
+                                                         reports */
     /* Measured in world space (resurf_scene_world_mesh(): every instance, node transforms applied) between the
-     * level and level 0 with resurf_compare() (measure_samples samples on each surface, its default seed): 0 for
-     * level 0 and when nothing was measured (measure_samples 0). */
+     * level and level 0, each side's points (resurf_compare()'s: area-uniform samples, measure_samples over the
+     * whole surface, and the vertices) measured to the whole other surface: 0 for level 0 and when nothing was
+     * measured (measure_samples 0). When every instance's transform is a similarity (rotation, uniform scale,
+     * translation), each instance's own bound, its primitives' reports scaled to world units, decides which
+     * instances are measured: largest first, until the next bound is no more than the largest distance found (no
+     * other instance can raise the maximum, as a point's distance to the whole scene is at most its distance to its
+     * own primitive); the mean is then the area-weighted mean of the primitives' own two-sided means (an upper
+     * bound of the scene's). Otherwise resurf_compare() between the two world meshes gives all five figures. */
     double level_error_rel[RESURF_SCENE_MAX_LEVELS];  /* two-sided Hausdorff distance over `diagonal` */
     double level_error[RESURF_SCENE_MAX_LEVELS];      /* the same in world units */
     double level_mean_rel[RESURF_SCENE_MAX_LEVELS];   /* two-sided mean distance over `diagonal` */
@@ -234,8 +260,9 @@ typedef struct resurf_scene_lod_report {
  * primitive's triangles and lies on the smooth surface of the ORIGINAL primitive) and is set as with
  * resurf_scene_set_lods(), replacing levels set before. With per-level error bounds (options->level_max_error_rel,
  * level_max_error) that differ between levels, or without ratios, each level is simplified from the ORIGINAL by
- * its own resurf_simplify() call instead. Primitives with morph targets and point or line primitives keep full
- * detail (counted in the report).
+ * its own resurf_simplify() call instead. Primitives with morph targets get levels like the others, their targets
+ * carried through (RESURF_MORPH_TARGET_PREFIX); point and line primitives keep full detail (counted in the
+ * report).
  * Levels that help: a primitive's chain ends before the first level that has no fewer triangles than the level
  * before it (a level where nothing could be collapsed is never kept as a moved copy; level_unreduced), or that
  * missed its ratio by more than the slack, with more than 1.5 × ratio × the primitive's triangles + 2 (level_missed;
@@ -246,7 +273,9 @@ typedef struct resurf_scene_lod_report {
  * primitive's own, in its own units against its own diagonal, are in out_primitive_reports.
  * With options->set_screen_coverage, each mesh that has levels gets its MSFT_screencoverage from its own measured
  * errors in world space: e_k is the two-sided Hausdorff distance between the mesh's level k and its level 0 as its
- * first node shows them (world transform applied), over that mesh's own world bounding-box diagonal. A level of
+ * first node shows them (world transform applied), over that mesh's own world bounding-box diagonal (when that
+ * node's transform is a similarity, the largest of its primitives' own two-sided maxima scaled to world units, an
+ * upper bound of the mesh's; else measured with resurf_compare()). A level of
  * relative error e on an object whose bounding-box diagonal spans d pixels is off by e·d pixels; with d ≈ √c·H for
  * a screen share c on a screen H pixels high, level k is good enough below c_k = (pixels / (e_k·H))², clamped to 1
  * and made non-increasing; coverage[k-1] = c_k is where level k-1 hands over to level k, and the coarsest level is
@@ -265,7 +294,8 @@ typedef struct resurf_scene_lod_report {
  * - out_report: may be NULL.
  * - out_primitive_reports: NULL, or room for resurf_scene_primitive_count(scene) × count reports:
  *   [p × count + k] is level k + 1 of primitive p as it was made (zeroed for primitives that got no levels and
- *   after the level that ended its chain; that level's report is kept: its stop and blocked_* say why it missed).
+ *   after the level that ended its chain; that level's report is kept: its stop and blocked_* say why it missed,
+ *   and its distances are NaN, since a level that ends the chain is neither built nor measured).
  * Errors name the primitive ("meshes[1].primitives[0]: ..."; with several failures, the first in primitive
  * order). With at least 2 × simplify->threads triangle primitives (0 = all cores, at least 2), none of which holds
  * more than half the triangles, and no thread_pool, the primitives are simplified side by side, each on one
@@ -293,8 +323,9 @@ typedef enum resurf_lod_layout {
 
 typedef struct resurf_scene_save_options {
     size_t struct_size;
-    bool draco;                /* true: KHR_draco_mesh_compression on every triangle primitive (not morphed ones,
-                                  which stay untouched); default false. A .drc file is always Draco */
+    bool draco;                /* true: KHR_draco_mesh_compression on every triangle primitive (a morphed one's
+                                  payload keeps its vertex order, its targets beside it uncompressed); default
+                                  false. A .drc file is always Draco (a morphed mesh's targets are not in it) */
     int position_bits, normal_bits, texcoord_bits, color_bits; /* Draco quantization bits, 1..30; defaults 14, 10,
                                                                    12, 8 */
     int generic_bits;          /* other float attributes (TANGENT, custom): default 12; integer attributes
@@ -320,8 +351,9 @@ typedef struct resurf_scene_save_report {
     size_t levels;                                   /* 1 + the most levels of detail any primitive has */
     size_t level_triangles[RESURF_SCENE_MAX_LEVELS]; /* triangles of each level (point/line primitives excluded) */
     size_t level_bytes[RESURF_SCENE_MAX_LEVELS];     /* geometry bytes of each level: the Draco payloads, or the
-                                                        index and vertex data, of its triangle primitives (morphed,
-                                                        point and line primitives, copied untouched, not counted) */
+                                                        index and vertex data, of its triangle primitives (morph
+                                                        targets' data included; point and line primitives, copied
+                                                        untouched, not counted) */
     size_t files;                                    /* files written, .bin files and image copies included */
     size_t total_bytes;                              /* their total size */
     size_t dropped_extensions;                       /* primitive extensions left off rewritten triangle

@@ -242,6 +242,12 @@ struct Writer {
         for (size_t i = 0; i < p.attribute_count; ++i)
             o.attributes[p.attributes[i].name] = plan_base + (int)p.attributes[i].index;
         o.indices = p.indices < 0 ? -1 : plan_base + (int)p.indices;
+        for (size_t t = 0; t < p.target_count; ++t) {
+            std::map<std::string, int> target;
+            for (size_t i = p.target_begin[t]; i < p.target_begin[t + 1]; ++i)
+                target[p.target_attributes[i].name] = plan_base + (int)p.target_attributes[i].index;
+            o.targets.push_back(target);
+        }
         if (p.draco) {
             // A primitive shown at several levels shares one payload (and one bufferView).
             auto known = draco_views.find(p.draco);
@@ -287,6 +293,21 @@ struct Writer {
         to.translation = from.translation;
         to.rotation = from.rotation;
         to.scale = from.scale;
+    }
+
+    // The animations that drive node `from`'s morph weights drive node `to`'s too (a level node shows the same
+    // targets): one more channel on the same sampler.
+    void drive_weights(int from, int to)
+    {
+        for (tinygltf::Animation &a : out.animations) {
+            size_t count = a.channels.size();
+            for (size_t i = 0; i < count; ++i)
+                if (a.channels[i].target_node == from && a.channels[i].target_path == "weights") {
+                    tinygltf::AnimationChannel c = a.channels[i];
+                    c.target_node = to;
+                    a.channels.push_back(c);
+                }
+        }
     }
 
     // MSFT_lod: the level nodes of every node that shows a mesh with levels.
@@ -338,6 +359,7 @@ struct Writer {
                     copy_transform(t, lod);
                 out.nodes.push_back(lod);
                 ids.push_back(tinygltf::Value((int)out.nodes.size() - 1));
+                drive_weights((int)target, (int)out.nodes.size() - 1);
             }
             tinygltf::Value::Object ext;
             ext["ids"] = tinygltf::Value(ids);
@@ -376,9 +398,12 @@ struct Writer {
             if (s.mesh >= 0)
                 c.mesh = (int)level_mesh(level, (size_t)s.mesh);
             std::vector<int> children = s.children;
+            bool shows_mesh = s.mesh >= 0;
             out.nodes.push_back(c);
             int idx = (int)out.nodes.size() - 1;
             copies[n] = idx;
+            if (shows_mesh)
+                drive_weights(n, idx);
             if (parent >= 0)
                 out.nodes[(size_t)parent].children.push_back(idx);
             else
