@@ -87,6 +87,22 @@ resurf_status resurfi_weld_map(const resurf_allocator *alloc, const resurf_mesh 
  * is referenced); 0 when there are none. The reference length for *_rel tolerances. (weld.c) */
 double resurfi_finite_diagonal(const resurf_mesh *mesh);
 
+/* ---- meshes as parts of one mesh (mesh_parts.c) --------------------------------------------------------------- */
+
+/* Whether a and b carry the same attributes: normals, texcoord sets, colours (and their components), extras by
+ * name and components. Only such meshes join. */
+bool resurfi_mesh_same_attributes(const resurf_mesh *a, const resurf_mesh *b);
+
+/* The parts (of one layout) side by side as one mesh, made with alloc; triangle_groups[t] is the part of triangle
+ * t (group_count = count, names NULL). */
+resurf_status resurfi_mesh_join_parts(const resurf_mesh *const *parts, size_t count, const resurf_allocator *alloc,
+                                      resurf_mesh **out, resurf_error *error);
+
+/* A joined mesh (or a level of one) split by group into count meshes of its layout, made with alloc; a part
+ * without triangles is an empty mesh. On failure every out_parts[p] is NULL. */
+resurf_status resurfi_mesh_split_parts(const resurf_mesh *joined, size_t count, const resurf_allocator *alloc,
+                                       resurf_mesh **out_parts, resurf_error *error);
+
 /* ---- adjacency (adjacency.c) --------------------------------------------------------------------------------- */
 
 /* Adjacency of a triangle list over vertex ids 0..vertex_count-1 (usually welded position ids).
@@ -223,6 +239,23 @@ double resurfi_uv_distance(const resurf_mesh *a, uint32_t ta, const double ba[3]
                            const double bb[3]);
 /* The mean (summed in index order) and the 95th percentile (nearest rank) of n >= 1 values; sorts them. */
 void resurfi_uv_summary(double *values, size_t n, double *out_mean, double *out_p95);
+
+/* resurf_simplify_lods whose chain may end early: after level i's collapses (0-based), fn(ctx, i, its triangles,
+ * its stop reason) returns nonzero when that level ends the chain. That level then gets no mesh (out_levels[i] and
+ * later stay NULL) and a report that is not measured (distances NaN), and no later level is made: resurf_scene's
+ * levels that do not help cost neither an output nor a measurement. */
+typedef struct resurfi_chain_end {
+    int (*fn)(void *ctx, size_t level, size_t triangles, resurf_simplify_stop stop);
+    void *ctx;
+} resurfi_chain_end;
+resurf_status resurfi_simplify_lods_until(const resurf_mesh *in, const double *ratios, size_t count,
+                                          const resurf_simplify_options *options, const resurfi_chain_end *ends,
+                                          resurf_mesh **out_levels, resurf_simplify_report *out_reports,
+                                          resurf_error *error);
+/* The largest distance from `from` (samples area-uniform samples drawn from seed, then the vertices its triangles
+ * use, as resurf_compare draws them) to the surface under `to`; NaN for a mesh without triangles. */
+resurf_status resurfi_side_max(const resurf_allocator *alloc, const resurf_mesh *from, size_t samples, uint64_t seed,
+                               const resurfi_bvh *to, unsigned threads, double *out_max);
 
 /* ---- vertex normals (normals.c) ------------------------------------------------------------------------------ */
 

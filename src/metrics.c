@@ -357,6 +357,29 @@ static resurf_status compare_fail(compare_work *w, resurf_error *error, resurf_s
     return resurfi_error(error, st, "%s while %s", resurf_status_string(st), what);
 }
 
+/* One side alone (resurf_compare's points and figures): for scene measurements that reuse one tree many times. */
+resurf_status resurfi_side_max(const resurf_allocator *alloc, const resurf_mesh *from, size_t samples, uint64_t seed,
+                               const resurfi_bvh *to, unsigned threads, double *out_max)
+{
+    *out_max = NAN;
+    if (from->triangle_count == 0)
+        return RESURF_OK;
+    double area = 0;
+    double *cum = cumulative_areas(alloc, from, &area);
+    uint8_t *used = used_vertices(alloc, from);
+    side sd = {from, cum, area, area > 0 ? samples : 0, seed, to, NULL, NULL, NULL};
+    sd.distance = resurfi_alloc(alloc, sd.samples + from->vertex_count + 1, sizeof *sd.distance);
+    resurf_status st = cum && used && sd.distance ? RESURF_OK : RESURF_ERR_OUT_OF_MEMORY;
+    if (st == RESURF_OK) {
+        resurfi_parallel_for(sd.samples + from->vertex_count, BLOCK, threads, measure_points, &sd);
+        *out_max = summarize(&sd, used).max;
+    }
+    resurfi_free(alloc, sd.distance);
+    resurfi_free(alloc, used);
+    resurfi_free(alloc, cum);
+    return st;
+}
+
 /* ---- public -------------------------------------------------------------------------------------------------- */
 
 resurf_compare_options resurf_compare_options_default(void)

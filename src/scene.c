@@ -127,6 +127,9 @@ static resurf_status scene_of_mesh(resurf_mesh *mesh, resurf_scene **out, resurf
     snprintf(p->info.name, sizeof p->info.name, "meshes[0].primitives[0]");
     p->info.mode = 4;
     p->info.kind = RESURF_PRIMITIVE_TRIANGLES;
+    for (size_t i = 0; i < mesh->extra_count; ++i)
+        if (!strncmp(mesh->extras[i].name, RESURF_MORPH_TARGET_PREFIX, strlen(RESURF_MORPH_TARGET_PREFIX)))
+            p->info.kind = RESURF_PRIMITIVE_MORPHED; /* its deltas are written as morph targets */
     p->info.instances = 1;
     *out = s;
     return RESURF_OK;
@@ -324,6 +327,51 @@ static resurf_status store_attribute(load_ctx *c, const char *where, resurf_mesh
     return RESURF_OK;
 }
 
+/* A morphed primitive's targets become extras of its mesh, one per target attribute, named "targets[t].NAME"
+ * (RESURF_MORPH_TARGET_PREFIX): the deltas travel with the vertices through every later step, and the writer turns
+ * them back into targets (in float). Each must be SCALAR or VECn of finite numbers (VEC3 for POSITION, NORMAL,
+ * TANGENT), in any component type (KHR_mesh_quantization allows integers, normalized or not). */
+static resurf_status store_targets(load_ctx *c, const char *where, const resurfi_gltf_primitive *gp, resurf_mesh *m)
+{
+    size_t n = m->vertex_count;
+    double *values = NULL;
+    resurf_status status = RESURF_OK;
+    for (size_t t = 0; t < gp->target_count && status == RESURF_OK; ++t)
+        for (size_t i = gp->target_begin[t]; i < gp->target_begin[t + 1] && status == RESURF_OK; ++i) {
+            const resurfi_gltf_named *na = &gp->target_attributes[i];
+            const resurfi_gltf_accessor *a = &c->v->accessors[na->index];
+            char name[sizeof m->extras[0].name];
+            int vec3 = !strcmp(na->name, "POSITION") || !strcmp(na->name, "NORMAL") || !strcmp(na->name, "TANGENT");
+            if (snprintf(name, sizeof name, RESURF_MORPH_TARGET_PREFIX "%zu].%s", t, na->name) >= (int)sizeof name)
+                status = FAIL(c, "%s: targets[%zu]: the attribute name '%.30s...' is too long", where, t, na->name);
+            else if (a->matrix || a->components < 1 || a->components > 4 || (vec3 && a->components != 3))
+                status = FAIL(c, "%s: targets[%zu].%s is not %s", where, t, na->name,
+                              vec3 ? "VEC3" : "SCALAR or VECn");
+            else if (a->buffer_view == RESURFI_GLTF_NONE && !a->sparse)
+                status = FAIL(c, "%s: targets[%zu].%s has no data", where, t, na->name);
+            if (status != RESURF_OK)
+                break;
+            size_t comps = (size_t)a->components;
+            resurfi_free(c->alloc, values);
+            if (!(values = resurfi_alloc(c->alloc, n ? n : 1, comps * sizeof *values))) {
+                status = oom(c);
+                break;
+            }
+            read_accessor(c->v, a, values);
+            resurf_attribute *x = NULL;
+            for (size_t k = 0; k < n * comps && status == RESURF_OK; ++k)
+                if (!isfinite(values[k]) || !isfinite((float)values[k]))
+                    status = FAIL(c, "%s: targets[%zu].%s of vertex %zu is not finite", where, t, na->name,
+                                  k / comps);
+            if (status == RESURF_OK && resurf_mesh_add_extra(m, name, (unsigned)comps, &x, NULL) != RESURF_OK)
+                status = oom(c);
+            for (size_t k = 0; status == RESURF_OK && k < n * comps; ++k)
+                x->data[k] = (float)values[k];
+        }
+    resurfi_free(c->alloc, values);
+    return status;
+}
+
 /* Decodes primitive (mesh_index, prim_index) into out: every check first, then the mesh of a triangle primitive. */
 static resurf_status decode_primitive(load_ctx *c, size_t mesh_index, size_t prim_index, resurfi_scene_prim *out)
 {
@@ -474,6 +522,8 @@ static resurf_status decode_primitive(load_ctx *c, size_t mesh_index, size_t pri
             f->normalized = attrs[i].accessor->normalized;
             f->components = attrs[i].accessor->components;
         }
+    if (status == RESURF_OK)
+        status = store_targets(c, where, gp, mesh);
     if (status == RESURF_OK) {
         out->mesh = mesh;
         mesh = NULL;
@@ -898,9 +948,6 @@ resurf_status resurf_scene_set_lods(resurf_scene *scene, size_t index, const res
         return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "%zu levels of detail (at most %d)", lod_count,
                              RESURF_SCENE_MAX_LEVELS - 1);
     resurfi_scene_prim *p = &scene->prims[index];
-    if (p->info.kind == RESURF_PRIMITIVE_MORPHED)
-        return resurfi_error(error, RESURF_ERR_UNSUPPORTED, "%s has morph targets: it stays at full detail",
-                             p->info.name);
     if (p->info.kind == RESURF_PRIMITIVE_OTHER)
         return resurfi_error(error, RESURF_ERR_UNSUPPORTED, "%s is not made of triangles: it stays as it is",
                              p->info.name);

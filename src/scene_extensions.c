@@ -51,7 +51,7 @@ int resurfi_scene_unknown_references(const resurf_scene *s)
             return 1;
     for (size_t i = 0; i < s->prim_count; ++i) {
         const resurfi_scene_prim *p = &s->prims[i];
-        if (p->info.kind == RESURF_PRIMITIVE_TRIANGLES)
+        if (resurfi_scene_rewritten(p))
             continue; /* rewritten: its unknown extensions are dropped */
         const resurfi_gltf_primitive *g = &v->meshes[p->info.mesh].primitives[p->info.primitive];
         for (size_t e = 0; e < g->extension_count; ++e)
@@ -65,7 +65,7 @@ int resurfi_scene_unknown_references(const resurf_scene *s)
 static const char *dropped(const resurf_scene *s, size_t i, size_t e)
 {
     const resurfi_scene_prim *p = &s->prims[i];
-    if (!s->view || p->info.kind != RESURF_PRIMITIVE_TRIANGLES)
+    if (!s->view || !resurfi_scene_rewritten(p))
         return NULL;
     const resurfi_gltf_primitive *g = &s->view->meshes[p->info.mesh].primitives[p->info.primitive];
     return e < g->extension_count && !kept_on_primitives(g->extensions[e]) ? g->extensions[e] : NULL;

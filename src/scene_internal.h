@@ -58,6 +58,12 @@ struct resurf_scene {
 
 /* ---- levels and helpers -------------------------------------------------------------------------------------- */
 
+/* Does primitive p take levels of detail and get written from its mesh (triangles, with or without morph targets)? */
+static inline int resurfi_scene_rewritten(const resurfi_scene_prim *p)
+{
+    return p->info.kind == RESURF_PRIMITIVE_TRIANGLES || p->info.kind == RESURF_PRIMITIVE_MORPHED;
+}
+
 /* The effective mesh of primitive p at level k (its last level when it has fewer). */
 static inline const resurf_mesh *resurfi_scene_level_mesh(const resurfi_scene_prim *p, size_t level)
 {

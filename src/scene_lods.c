@@ -15,6 +15,7 @@
 #include <time.h>
 
 #include "hash.h"
+#include "union_find.h"
 #include "scene_internal.h"
 
 resurf_scene_lod_options resurf_scene_lod_options_default(void)
@@ -29,7 +30,7 @@ resurf_scene_lod_options resurf_scene_lod_options_default(void)
     return o;
 }
 
-/* MSFT_screencoverage from the measured errors (the derivation is in resurf.h at resurf_scene_build_lods):
+/* MSFT_screencoverage from the measured errors (the derivation is in scene.h at resurf_scene_build_lods):
  * errors[k] is level k's error relative to the mesh's own world diagonal (errors[0], full detail, is not used), out
  * receives `levels` values. */
 static void coverage_from_errors(const double *errors, size_t levels, double pixels, double height, double *out)
@@ -139,6 +140,49 @@ static resurf_simplify_options level_options(const resurf_simplify_options *sim,
     return o;
 }
 
+/* Whether level k (0-based) of t triangles, stopped for `stop`, ends a chain whose level before it had `before`
+ * (see resurf.h at resurf_scene_build_lods): 0 no, 1 it has no fewer triangles, 2 it missed its ratio. */
+static int level_ends_chain(size_t input, size_t before, size_t t, const double *ratios, size_t k,
+                            resurf_simplify_stop stop)
+{
+    if (t >= before)
+        return 1;
+    if (ratios && stop != RESURF_STOP_ERROR && (double)t > MISS_SLACK * ratios[k] * (double)input + MISS_TRIANGLES)
+        return 2;
+    return 0;
+}
+
+/* How many levels of a chain help, from their reports; *why: 0 all of them, else level_ends_chain's answer for the
+ * first that does not. */
+static size_t levels_that_help(const resurf_mesh *in, const resurf_simplify_report *rep, const double *ratios,
+                               size_t count, int *why)
+{
+    size_t before = in->triangle_count;
+    *why = 0;
+    for (size_t k = 0; k < count; ++k) {
+        if ((*why = level_ends_chain(in->triangle_count, before, rep[k].triangles, ratios, k, rep[k].stop)))
+            return k;
+        before = rep[k].triangles;
+    }
+    return count;
+}
+
+/* The same rule asked by the simplifier after each level's collapses, so that a level that ends the chain is
+ * neither built nor measured, nor any level after it (on 2CylinderEngine 14 of 34 primitives end early). */
+typedef struct chain_rule {
+    size_t input, before;
+    const double *ratios;
+} chain_rule;
+
+static int ends_chain(void *ctx, size_t k, size_t triangles, resurf_simplify_stop stop)
+{
+    chain_rule *r = ctx;
+    if (level_ends_chain(r->input, r->before, triangles, r->ratios, k, stop))
+        return 1;
+    r->before = triangles;
+    return 0;
+}
+
 /* One primitive's chain: one resurf_simplify_lods run when every level has the same bound and a ratio, else one
  * resurf_simplify run per level from the original (a bound that grows from level to level cannot be one run: a
  * candidate skipped for its error leaves the queue). */
@@ -151,8 +195,11 @@ static resurf_status make_chain(const resurf_mesh *in, const double *ratios, siz
         one_run = one_run && bounds[k] == bounds[0];
     if (one_run) {
         resurf_simplify_options o = level_options(sim, bounds[0]);
-        return resurf_simplify_lods(in, ratios, count, &o, chain, reports, e);
+        chain_rule rule = {in->triangle_count, in->triangle_count, ratios};
+        resurfi_chain_end end = {ends_chain, &rule};
+        return resurfi_simplify_lods_until(in, ratios, count, &o, &end, chain, reports, e);
     }
+    size_t before = in->triangle_count;
     for (size_t k = 0; k < count; ++k) {
         resurf_simplify_options o = level_options(sim, bounds[k]);
         o.target_ratio = ratios ? ratios[k] : 0;
@@ -164,31 +211,12 @@ static resurf_status make_chain(const resurf_mesh *in, const double *ratios, siz
             }
             return st;
         }
+        /* A level that ends the chain leaves the later ones unmade (they would not be kept). */
+        if (level_ends_chain(in->triangle_count, before, reports[k].triangles, ratios, k, reports[k].stop))
+            break;
+        before = reports[k].triangles;
     }
     return RESURF_OK;
-}
-
-/* How many levels of a chain help (see resurf.h at resurf_scene_build_lods); *why: 0 all of them, 1 the next one
- * has no fewer triangles than the one before, 2 it missed its ratio. */
-static size_t levels_that_help(const resurf_mesh *in, resurf_mesh *const *chain, const resurf_simplify_report *rep,
-                               const double *ratios, size_t count, int *why)
-{
-    size_t before = in->triangle_count;
-    *why = 0;
-    for (size_t k = 0; k < count; ++k) {
-        size_t t = chain[k]->triangle_count;
-        if (t >= before) {
-            *why = 1;
-            return k;
-        }
-        if (ratios && rep[k].stop != RESURF_STOP_ERROR &&
-            (double)t > MISS_SLACK * ratios[k] * (double)in->triangle_count + MISS_TRIANGLES) {
-            *why = 2;
-            return k;
-        }
-        before = t;
-    }
-    return count;
 }
 
 /* A monotonic clock in seconds, for the report's phase times. */
@@ -255,10 +283,11 @@ typedef struct pos_slot {
 } pos_slot;
 
 /* For every triangle primitive of mesh m, locks[p] (one byte per vertex, or NULL when none is locked): the
- * vertices whose position another primitive of the mesh also uses (a morphed primitive included, which keeps its
- * full detail), so that no level opens a crack between them. Only vertices that triangles use count. */
+ * vertices whose position another primitive of the mesh also uses (a morphed one included), so that no level
+ * opens a crack between them. Only vertices that triangles use count. With locks NULL, only *connected: whether the
+ * primitives with a mesh are one set linked by shared positions. */
 static resurf_status shared_positions(const resurf_scene *scene, size_t m, const resurf_allocator *alloc,
-                                      uint8_t **locks)
+                                      uint8_t **locks, bool *connected)
 {
     size_t first = scene->mesh_first[m], last = scene->mesh_first[m + 1], total = 0, with_mesh = 0;
     for (size_t p = first; p < last; ++p)
@@ -266,22 +295,30 @@ static resurf_status shared_positions(const resurf_scene *scene, size_t m, const
             total += scene->prims[p].mesh->vertex_count;
             with_mesh++;
         }
+    if (connected)
+        *connected = false;
     if (with_mesh < 2 || total == 0)
         return RESURF_OK;
     size_t cap = 16;
     while (cap < 2 * total)
         cap *= 2;
     pos_slot *table = resurfi_alloc(alloc, cap, sizeof *table);
-    if (!table)
+    uint32_t *set = resurfi_alloc(alloc, last - first, sizeof *set); /* union-find over the mesh's primitives */
+    if (!table || !set) {
+        resurfi_free(alloc, table);
+        resurfi_free(alloc, set);
         return RESURF_ERR_OUT_OF_MEMORY;
+    }
+    for (size_t p = first; p < last; ++p)
+        set[p - first] = (uint32_t)(p - first);
     for (size_t i = 0; i < cap; ++i)
         table[i].prim = SIZE_MAX;
     /* Pass 1: which positions more than one primitive uses; pass 2: the locks of each triangle primitive. */
     resurf_status st = RESURF_OK;
-    for (int pass = 0; pass < 2 && st == RESURF_OK; ++pass) {
+    for (int pass = 0; pass < (locks ? 2 : 1) && st == RESURF_OK; ++pass) {
         for (size_t p = first; p < last && st == RESURF_OK; ++p) {
             const resurf_mesh *mesh = scene->prims[p].mesh;
-            if (!mesh || (pass == 1 && scene->prims[p].info.kind != RESURF_PRIMITIVE_TRIANGLES))
+            if (!mesh || (pass == 1 && !resurfi_scene_rewritten(&scene->prims[p])))
                 continue;
             uint8_t *lock = NULL;
             size_t locked = 0;
@@ -298,8 +335,10 @@ static resurf_status shared_positions(const resurf_scene *scene, size_t m, const
                 if (pass == 0) {
                     if (table[i].prim == SIZE_MAX)
                         table[i] = (pos_slot){k, p, 0};
-                    else if (table[i].prim != p)
+                    else if (table[i].prim != p) {
                         table[i].shared = 1;
+                        resurfi_uf_union(set, (uint32_t)(table[i].prim - first), (uint32_t)(p - first));
+                    }
                 } else if (table[i].shared && !lock[v]) {
                     lock[v] = 1;
                     locked++;
@@ -311,7 +350,14 @@ static resurf_status shared_positions(const resurf_scene *scene, size_t m, const
                 resurfi_free(alloc, lock);
         }
     }
+    if (connected) {
+        *connected = true;
+        for (size_t p = first; p < last; ++p)
+            if (scene->prims[p].mesh && resurfi_uf_find(set, (uint32_t)(p - first)) != resurfi_uf_find(set, 0))
+                *connected = false;
+    }
     resurfi_free(alloc, table);
+    resurfi_free(alloc, set);
     return st;
 }
 
@@ -336,6 +382,118 @@ static resurf_status measure_level(const resurf_scene *scene, const resurfi_scen
     return st;
 }
 
+/* ---- the world errors composed from the primitives' own ---- */
+
+/* Whether the world matrix a (column-major; NULL = identity) is a similarity, a rotation and a uniform scale and a
+ * move, under which every distance is its scale (*scale) times the one in the primitive's units (to 1e-5). */
+static int is_similarity(const double *a, double *scale)
+{
+    *scale = matrix_scale(a);
+    if (!a)
+        return 1;
+    vec3 c[3] = {v3(a[0], a[1], a[2]), v3(a[4], a[5], a[6]), v3(a[8], a[9], a[10])};
+    double s2 = *scale * *scale, tol = 1e-5 * s2; /* float matrices of a file, multiplied down a hierarchy */
+    for (int i = 0; i < 3; ++i)
+        for (int j = i; j < 3; ++j)
+            if (fabs(v3_dot(c[i], c[j]) - (i == j ? s2 : 0)) > tol)
+                return 0;
+    return 1;
+}
+
+/* What the composition reads: the chains as they will be set, the primitives' reports, and their levels' areas. */
+typedef struct lod_levels_view {
+    resurf_mesh *const *const *chains; /* per primitive: its levels, or NULL */
+    const size_t *kept;                /* per primitive: the levels that help */
+    const resurf_simplify_report *reports;
+    const double *areas;
+    size_t count;                      /* levels asked for */
+} lod_levels_view;
+
+/* Level k's figures in world units over some instances: one-sided maxima and area-weighted means of each side. */
+typedef struct world_errors {
+    double to_full, from_full;      /* the level's surface to level 0's, and level 0's to the level's: maxima */
+    double to_sum, to_area;         /* the level's side: sum of mean × area, and the area */
+    double from_sum, from_area;     /* level 0's side */
+} world_errors;
+
+/* Adds what instance `item` shows at level k to *e from its primitives' own two-sided reports (reports[p × count
+ * + j] for level j + 1 of primitive p; areas[p × (count + 1) + j] the area of primitive p's level j, 0 = full
+ * detail): a primitive at full detail adds nothing but its area. 0 when the reports cannot say it: the transform is
+ * not a similarity, or a shown level was not measured. The maxima bound the whole scene's from above (a point's
+ * distance to all of level 0 is at most its distance to its own primitive's) and equal it where no other
+ * primitive lies nearer than the error; the means are those of area-uniform samples, as resurf_compare's. */
+static int add_instance(const resurf_scene *scene, const lod_levels_view *v, const resurfi_scene_instance *item,
+                        size_t k, world_errors *e)
+{
+    double s;
+    if (!is_similarity(item->world, &s))
+        return 0;
+    for (size_t p = scene->mesh_first[item->mesh]; p < scene->mesh_first[item->mesh + 1]; ++p) {
+        if (!scene->prims[p].mesh)
+            continue;
+        size_t shown = v->chains[p] ? (k < v->kept[p] ? k : v->kept[p]) : 0;
+        double full_area = s * s * v->areas[p * (v->count + 1)];
+        double level_area = s * s * v->areas[p * (v->count + 1) + shown];
+        e->from_area += full_area;
+        e->to_area += level_area;
+        if (shown == 0)
+            continue;
+        const resurf_simplify_report *r = &v->reports[p * v->count + shown - 1];
+        if (!(isfinite(r->result_to_input_max) && isfinite(r->input_to_result_max) &&
+              isfinite(r->result_to_input_mean) && isfinite(r->input_to_result_mean)))
+            return 0;
+        e->to_full = fmax(e->to_full, s * r->result_to_input_max);
+        e->from_full = fmax(e->from_full, s * r->input_to_result_max);
+        e->to_sum += s * r->result_to_input_mean * level_area;
+        e->from_sum += s * r->input_to_result_mean * full_area;
+    }
+    return 1;
+}
+
+/* An instance and its own bound on one side of a level, for measuring the largest first. */
+typedef struct bound_item {
+    double bound;
+    size_t instance;
+} bound_item;
+
+static int larger_bound_first(const void *a, const void *b)
+{
+    const bound_item *x = a, *y = b;
+    if (x->bound != y->bound)
+        return x->bound > y->bound ? -1 : 1;
+    return x->instance < y->instance ? -1 : x->instance > y->instance;
+}
+
+/* One side's maximum over the whole scene: the points of each instance as level `shown` shows it (resurf_compare's
+ * points at `density` samples per world area, and the vertices) measured to the whole other surface through `to`,
+ * the instances taken by their own bound, largest first, until the next bound is no more than the largest distance
+ * found. Each instance left lies within its bound of its own primitives' other surface, so of the whole scene's:
+ * none of them can raise the maximum. Usually one or two instances are measured, against a tree built once. */
+static resurf_status side_over_scene(const resurf_scene *scene, const resurfi_scene_instances *list, size_t shown,
+                                     const resurfi_scene_levels *levels, const bound_item *order, double density,
+                                     uint64_t seed, const resurfi_bvh *to, unsigned threads,
+                                     const resurf_allocator *alloc, double *out_max, resurf_error *error)
+{
+    double best = 0;
+    for (size_t j = 0; j < list->count && order[j].bound > best; ++j) {
+        resurfi_scene_instances single = {1, &list->items[order[j].instance]};
+        resurf_mesh *m = NULL;
+        resurf_status st = resurfi_scene_flatten(scene, &single, shown, levels, alloc, &m, error);
+        double d = NAN;
+        double samples = st == RESURF_OK ? ceil(density * mesh_area(m)) : 0;
+        samples = samples > 0 ? fmin(samples, 1e9) : 0;
+        if (st == RESURF_OK &&
+            resurfi_side_max(alloc, m, (size_t)samples, seed + order[j].instance, to, threads, &d) != RESURF_OK)
+            st = resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory measuring the levels");
+        resurf_mesh_free(m);
+        if (st != RESURF_OK)
+            return st;
+        best = d > best ? d : best;
+    }
+    *out_max = best;
+    return RESURF_OK;
+}
+
 /* Everything a call allocates, freed in one place. */
 typedef struct lod_work {
     const resurf_allocator *alloc;
@@ -348,6 +506,9 @@ typedef struct lod_work {
     double *errors;               /* per mesh and level: the mesh's own relative world error */
     double **coverage;            /* per mesh */
     uint8_t **locks;              /* per primitive: its vertices shared with other primitives of its mesh, or NULL */
+    bool *together;               /* per mesh: its primitives are simplified as one surface (simplified_together) */
+    size_t *joint_kept;           /* per primitive of such a mesh: 1 + the levels of the mesh that help, 0 = not yet */
+    int *joint_why;               /* and why the chain ended there (levels_that_help) */
 } lod_work;
 
 static void lod_work_free(lod_work *w, size_t prim_count, size_t mesh_count, size_t count)
@@ -356,6 +517,9 @@ static void lod_work_free(lod_work *w, size_t prim_count, size_t mesh_count, siz
     for (size_t p = 0; w->locks && p < prim_count; ++p)
         resurfi_free(w->alloc, w->locks[p]);
     resurfi_free(w->alloc, w->locks);
+    resurfi_free(w->alloc, w->together);
+    resurfi_free(w->alloc, w->joint_kept);
+    resurfi_free(w->alloc, w->joint_why);
     for (size_t m = 0; w->coverage && m < mesh_count; ++m)
         resurfi_free(w->alloc, w->coverage[m]);
     resurfi_free(w->alloc, w->coverage);
@@ -389,10 +553,142 @@ typedef struct chain_job {
     const size_t *order;             /* side by side: the triangle primitives in the order they are taken */
 } chain_job;
 
+/* May mesh m's primitives be simplified as one surface, each primitive a group whose border is a crease
+ * (src/mesh_parts.c)? When it has two or more, all of them triangles of one attribute layout; they are when, also,
+ * shared positions link them all (shared_positions): primitives that share nothing cannot crack, and each keeps
+ * its own ratio (joined, the cost moves triangles between them: an assimp export of two separate parts lost 4x
+ * in Hausdorff at 25%). Measured by
+ * tools/bench-borders on the dragon-48k cut into 4 parts, against locking the shared positions at the same triangle
+ * count: 1.00x Hausdorff and 0.90x mean at 10%, 0.21x and 0.24x at 2% (the locked parts also stopped at twice
+ * their target). Other meshes lock the positions their primitives share (shared_positions). */
+static bool simplified_together(const resurf_scene *scene, size_t m)
+{
+    size_t first = scene->mesh_first[m], last = scene->mesh_first[m + 1];
+    if (last - first < 2)
+        return false;
+    for (size_t p = first; p < last; ++p) {
+        const resurfi_scene_prim *prim = &scene->prims[p];
+        if (prim->info.kind != RESURF_PRIMITIVE_TRIANGLES || !prim->mesh ||
+            !resurfi_mesh_same_attributes(scene->prims[first].mesh, prim->mesh))
+            return false;
+    }
+    return true;
+}
+
+/* The work of primitive p's chain, for progress: its triangles, or its mesh's when they go together. */
+static double chain_weight(const chain_job *job, size_t p)
+{
+    const resurf_scene *scene = job->scene;
+    size_t m = scene->prims[p].info.mesh, triangles = 0;
+    if (!job->w->together[m])
+        return (double)scene->prims[p].mesh->triangle_count + 1;
+    for (size_t q = scene->mesh_first[m]; q < scene->mesh_first[m + 1]; ++q)
+        triangles += scene->prims[q].mesh->triangle_count + 1;
+    return (double)triangles;
+}
+
+static resurf_status make_primitive_chain(chain_job *job, size_t p, const resurf_simplify_options *base);
+
+/* The chains of mesh m's primitives, simplified together: the primitives joined as groups of one mesh, its chain,
+ * and each level split back into the primitives. Every primitive of m gets the mesh's reports, and one count of
+ * levels that help, so that no level mixes one primitive's borders with another's. A level that would leave a
+ * primitive without triangles makes the mesh lock its shared borders instead (which cannot). */
+static resurf_status make_joint_chain(chain_job *job, size_t m, const resurf_simplify_options *base)
+{
+    const resurf_scene *scene = job->scene;
+    lod_work *w = job->w;
+    size_t first = scene->mesh_first[m], n = scene->mesh_first[m + 1] - first, count = job->count;
+    resurf_error *e = &job->errors[first];
+    const resurf_mesh *parts[64];
+    const resurf_mesh **in = n <= 64 ? parts : resurfi_alloc(w->alloc, n, sizeof *in);
+    resurf_mesh *joined = NULL, **chain = resurfi_calloc(w->alloc, count, sizeof *chain);
+    resurf_simplify_report *reports = resurfi_calloc(w->alloc, count, sizeof *reports);
+    resurf_status st = in && chain && reports ? RESURF_OK : resurfi_error(e, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
+    double area = 0, scale = w->mesh_scale[m] > 0 ? w->mesh_scale[m] : 1;
+    for (size_t q = 0; st == RESURF_OK && q < n; ++q) {
+        in[q] = scene->prims[first + q].mesh;
+        area += mesh_area(in[q]);
+    }
+    if (st == RESURF_OK)
+        st = resurfi_mesh_join_parts(in, n, &in[0]->allocator, &joined, e);
+    size_t kept = 0;
+    int why = 0;
+    if (st == RESURF_OK) {
+        resurf_simplify_options sim = *base;
+        double bounds[RESURF_SCENE_MAX_LEVELS - 1];
+        for (size_t k = 0; k < count; ++k)
+            bounds[k] = world_bound(job->o, k, job->diagonal) / scale;
+        sim.vertex_lock = NULL;
+        sim.measure_samples = primitive_samples(job->sample_budget, area * scale * scale, job->scene_area);
+        st = make_chain(joined, job->ratios, count, bounds, &sim, chain, reports, e);
+        if (st == RESURF_OK)
+            kept = levels_that_help(joined, reports, job->ratios, count, &why);
+    }
+    /* Split every level into the primitives: w->chains[first + q][k]. */
+    for (size_t q = 0; st == RESURF_OK && q < n; ++q)
+        if (!(w->chains[first + q] = resurfi_calloc(w->alloc, count, sizeof **w->chains)))
+            st = resurfi_error(e, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
+    resurf_mesh *split[64];
+    resurf_mesh **level = n <= 64 ? split : resurfi_alloc(w->alloc, n, sizeof *level);
+    int emptied = 0;
+    for (size_t k = 0; st == RESURF_OK && k < count && chain[k]; ++k) { /* levels after the chain's end are unmade */
+        if (!level) {
+            st = resurfi_error(e, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
+            break;
+        }
+        st = resurfi_mesh_split_parts(chain[k], n, &chain[k]->allocator, level, e);
+        for (size_t q = 0; st == RESURF_OK && q < n; ++q) {
+            w->chains[first + q][k] = level[q];
+            emptied |= k < kept && level[q]->triangle_count == 0 && in[q]->triangle_count > 0;
+        }
+    }
+    for (size_t k = 0; k < count && chain; ++k)
+        resurf_mesh_free(chain[k]);
+    resurfi_free(w->alloc, chain);
+    resurf_mesh_free(joined);
+    if (level != split)
+        resurfi_free(w->alloc, level);
+    for (size_t q = 0; q < n; ++q) {
+        if (st == RESURF_OK && !emptied) {
+            /* The mesh's report, with the primitive's own counts (the distances are the mesh's). */
+            resurf_simplify_report *own = job->reports + (first + q) * count;
+            memcpy(own, reports, count * sizeof *reports);
+            for (size_t k = 0; k < count && w->chains[first + q][k]; ++k) {
+                own[k].input_triangles = in[q]->triangle_count;
+                own[k].triangles = w->chains[first + q][k]->triangle_count;
+                own[k].vertices = w->chains[first + q][k]->vertex_count;
+            }
+            w->joint_kept[first + q] = kept + 1;
+            w->joint_why[first + q] = why;
+        } else if (w->chains[first + q]) {
+            for (size_t k = 0; k < count; ++k)
+                resurf_mesh_free(w->chains[first + q][k]);
+            resurfi_free(w->alloc, w->chains[first + q]);
+            w->chains[first + q] = NULL;
+        }
+        job->status[first + q] = st;
+    }
+    resurfi_free(w->alloc, reports);
+    if (in != parts)
+        resurfi_free(w->alloc, in);
+    if (st == RESURF_OK && emptied) {
+        /* Lock the shared borders instead, primitive by primitive. */
+        w->together[m] = false;
+        if (shared_positions(scene, m, w->alloc, w->locks, NULL) != RESURF_OK)
+            return job->status[first] = resurfi_error(e, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
+        for (size_t q = 0; q < n && st == RESURF_OK; ++q)
+            st = make_primitive_chain(job, first + q, base);
+    }
+    return st;
+}
+
 /* Primitive p's chain with options sim (threads and progress as the caller chose): w->chains[p] and its reports, or
- * status[p] and errors[p]. */
+ * status[p] and errors[p]. A primitive of a mesh simplified together makes the whole mesh's chains. */
 static resurf_status make_primitive_chain(chain_job *job, size_t p, const resurf_simplify_options *base)
 {
+    if (job->w->together[job->scene->prims[p].info.mesh])
+        return make_joint_chain(job, job->scene->prims[p].info.mesh, base);
+
     const resurfi_scene_prim *prim = &job->scene->prims[p];
     lod_work *w = job->w;
     size_t count = job->count;
@@ -410,7 +706,7 @@ static resurf_status make_primitive_chain(chain_job *job, size_t p, const resurf
     if (st == RESURF_OK)
         st = make_chain(prim->mesh, job->ratios, count, bounds, &sim, chain, job->reports + p * count, e);
     for (size_t k = 0; k < count && st == RESURF_OK; ++k)
-        if (!same_layout(prim->mesh, chain[k]))
+        if (chain[k] && !same_layout(prim->mesh, chain[k]))
             st = resurfi_error(e, RESURF_ERR_INTERNAL, "level %zu lost an attribute of the input", k + 1);
     if (st != RESURF_OK && chain) {
         for (size_t k = 0; k < count; ++k)
@@ -445,9 +741,10 @@ static int chain_block(void *ctx, size_t begin, size_t end, unsigned worker)
         if (atomic_load(&job->cancelled))
             return 1;
         size_t p = job->order[i];
+        double weight = chain_weight(job, p);
         make_primitive_chain(job, p, job->sim);
         pthread_mutex_lock(&job->lock);
-        job->done += (double)job->scene->prims[p].mesh->triangle_count + 1;
+        job->done += weight;
         double f = job->total > 0 ? job->done / job->total : 1;
         /* Not asked again once a cancel was asked for. */
         int stop = atomic_load(&job->cancelled) ||
@@ -519,7 +816,10 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
     w.errors = resurfi_calloc(alloc, (mesh_count + 1) * (count + 1), sizeof *w.errors);
     w.coverage = resurfi_calloc(alloc, mesh_count + 1, sizeof *w.coverage);
     w.locks = resurfi_calloc(alloc, prim_count + 1, sizeof *w.locks);
-    if (!w.locks || !w.kept || !w.mesh_scale || !w.mesh_levels || !w.errors || !w.coverage ||
+    w.together = resurfi_calloc(alloc, mesh_count + 1, sizeof *w.together);
+    w.joint_kept = resurfi_calloc(alloc, prim_count + 1, sizeof *w.joint_kept);
+    w.joint_why = resurfi_calloc(alloc, prim_count + 1, sizeof *w.joint_why);
+    if (!w.locks || !w.together || !w.joint_kept || !w.joint_why || !w.kept || !w.mesh_scale || !w.mesh_levels || !w.errors || !w.coverage ||
         resurfi_scene_gather(scene, alloc, &w.list) != RESURF_OK)
         st = resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory building levels of detail");
     /* The levels measured are the ones made here, not those an MSFT_lod extension of the input names. */
@@ -529,8 +829,15 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
         st = resurfi_scene_flatten(scene, &w.list, 0, NULL, alloc, &w.full, error);
     if (st == RESURF_OK)
         report.diagonal = resurf_mesh_bounds(w.full, NULL, NULL);
+    for (size_t m = 0; st == RESURF_OK && m < mesh_count; ++m) {
+        bool connected = false;
+        if (o.keep_shared_borders && simplified_together(scene, m) &&
+            shared_positions(scene, m, alloc, NULL, &connected) != RESURF_OK)
+            st = resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory finding shared borders");
+        w.together[m] = connected;
+    }
     for (size_t m = 0; st == RESURF_OK && m < mesh_count; ++m)
-        if (o.keep_shared_borders && shared_positions(scene, m, alloc, w.locks) != RESURF_OK)
+        if (o.keep_shared_borders && !w.together[m] && shared_positions(scene, m, alloc, w.locks, NULL) != RESURF_OK)
             st = resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory finding shared borders");
     for (size_t i = 0; st == RESURF_OK && i < w.list.count; ++i) {
         double *sc = &w.mesh_scale[w.list.items[i].mesh];
@@ -540,7 +847,7 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
     /* The work of each primitive is taken as proportional to its triangles, for the progress fraction. */
     double total = 0, scene_area = 0;
     for (size_t p = 0; p < prim_count; ++p)
-        if (scene->prims[p].info.kind == RESURF_PRIMITIVE_TRIANGLES) {
+        if (resurfi_scene_rewritten(&scene->prims[p])) {
             const resurfi_scene_prim *prim = &scene->prims[p];
             double scale = w.mesh_scale[prim->info.mesh] > 0 ? w.mesh_scale[prim->info.mesh] : 1;
             total += (double)prim->mesh->triangle_count + 1;
@@ -567,13 +874,13 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
     size_t largest = 0;
     for (size_t p = 0; st == RESURF_OK && p < prim_count; ++p) {
         const resurfi_scene_prim *prim = &scene->prims[p];
-        if (prim->info.kind == RESURF_PRIMITIVE_MORPHED)
-            report.morphed++;
-        else if (prim->info.kind != RESURF_PRIMITIVE_TRIANGLES)
+        report.morphed += prim->info.kind == RESURF_PRIMITIVE_MORPHED;
+        if (!resurfi_scene_rewritten(prim))
             report.other++;
-        else {
-            order[tri_prims++] = p;
-            largest = prim->mesh->triangle_count > largest ? prim->mesh->triangle_count : largest;
+        else if (!w.together[prim->info.mesh] || p == scene->mesh_first[prim->info.mesh]) {
+            order[tri_prims++] = p; /* a mesh simplified together is one entry: its first primitive */
+            double weight = chain_weight(&job, p);
+            largest = weight > (double)largest ? (size_t)weight : largest;
         }
     }
     unsigned threads = resurfi_thread_count(sim.threads);
@@ -586,7 +893,7 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
         by_size *sorted = resurfi_alloc(alloc, tri_prims, sizeof *sorted);
         if (sorted) { /* else in primitive order */
             for (size_t i = 0; i < tri_prims; ++i)
-                sorted[i] = (by_size){scene->prims[order[i]].mesh->triangle_count, order[i]};
+                sorted[i] = (by_size){(size_t)chain_weight(&job, order[i]), order[i]};
             qsort(sorted, tri_prims, sizeof *sorted, larger_first);
             for (size_t i = 0; i < tri_prims; ++i)
                 order[i] = sorted[i].prim;
@@ -605,7 +912,7 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
         double done = 0;
         for (size_t i = 0; i < tri_prims; ++i) {
             size_t p = order[i];
-            double weight = (double)scene->prims[p].mesh->triangle_count + 1;
+            double weight = chain_weight(&job, p);
             sp.base = done / total;
             sp.span = weight / total;
             done += weight;
@@ -617,7 +924,7 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
      * side-by-side run stops early only for a cancel). */
     for (size_t p = 0; st == RESURF_OK && p < prim_count; ++p) {
         const resurfi_scene_prim *prim = &scene->prims[p];
-        if (prim->info.kind != RESURF_PRIMITIVE_TRIANGLES || job.status[p] == RESURF_OK)
+        if (!resurfi_scene_rewritten(prim) || job.status[p] == RESURF_OK)
             continue;
         /* The primitive's name first, so that a scene of many primitives says which one failed. */
         const resurf_error *e = &job.errors[p];
@@ -629,12 +936,12 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
         st = resurfi_error(error, RESURF_ERR_CANCELLED, "cancelled");
     for (size_t p = 0; st == RESURF_OK && p < prim_count; ++p) {
         const resurfi_scene_prim *prim = &scene->prims[p];
-        if (prim->info.kind != RESURF_PRIMITIVE_TRIANGLES)
+        if (!resurfi_scene_rewritten(prim))
             continue;
         const resurf_simplify_report *reports = job.reports + p * count;
         report.primitives++;
-        int why;
-        size_t kept = levels_that_help(prim->mesh, w.chains[p], reports, ratios, count, &why);
+        int why = w.joint_why[p];
+        size_t kept = w.joint_kept[p] ? w.joint_kept[p] - 1 : levels_that_help(prim->mesh, reports, ratios, count, &why);
         w.kept[p] = kept;
         if (why == 1)
             report.level_unreduced[kept + 1]++;
@@ -646,7 +953,6 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
             out_primitive_reports[p * count + k] = reports[k];
     }
     resurfi_free(alloc, order);
-    resurfi_free(alloc, job.reports);
     resurfi_free(alloc, job.status);
     resurfi_free(alloc, job.errors);
     pthread_mutex_destroy(&job.lock);
@@ -677,7 +983,69 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
     co.samples = sim.measure_samples;
     co.threads = sim.threads;
     co.allocator = alloc;
-    for (size_t k = 1; k < levels && st == RESURF_OK && sim.measure_samples > 0; ++k) {
+    /* Composed from the primitives' own two-sided reports when every instance is a similarity of its mesh (the
+     * usual case): their points already cover the scene by area at the same budget, so measuring the world again
+     * would only repeat them (on 2CylinderEngine that was 3 of the call's 4 CPU seconds). Else measured. */
+    double *areas = st == RESURF_OK ? resurfi_calloc(alloc, prim_count * (count + 1) + 1, sizeof *areas) : NULL;
+    lod_levels_view view = {(resurf_mesh *const *const *)w.chains, w.kept, job.reports, areas, count};
+    int composed = areas && job.reports && sim.measure_samples > 0;
+    for (size_t p = 0; composed && p < prim_count; ++p) {
+        if (!scene->prims[p].mesh)
+            continue;
+        areas[p * (count + 1)] = mesh_area(scene->prims[p].mesh);
+        for (size_t j = 0; w.chains[p] && j < w.kept[p]; ++j)
+            areas[p * (count + 1) + j + 1] = mesh_area(w.chains[p][j]);
+    }
+    bound_item *to_order = composed ? resurfi_alloc(alloc, w.list.count + 1, 2 * sizeof *to_order) : NULL;
+    bound_item *from_order = to_order ? to_order + w.list.count + 1 : NULL;
+    resurfi_bvh *full_bvh = NULL;
+    composed = to_order && w.full->triangle_count > 0 &&
+               resurfi_bvh_build_threads(alloc, w.full->positions, w.full->vertex_count, w.full->indices,
+                                         w.full->triangle_count, threads, &full_bvh) == RESURF_OK;
+    for (size_t k = 1; k < levels && composed && st == RESURF_OK; ++k) {
+        world_errors e = {0, 0, 0, 0, 0, 0};
+        for (size_t i = 0; i < w.list.count && composed; ++i) {
+            world_errors one = {0, 0, 0, 0, 0, 0};
+            composed = add_instance(scene, &view, &w.list.items[i], k, &one);
+            to_order[i] = (bound_item){one.to_full, i};
+            from_order[i] = (bound_item){one.from_full, i};
+            e.to_sum += one.to_sum, e.to_area += one.to_area, e.from_sum += one.from_sum, e.from_area += one.from_area;
+        }
+        resurf_mesh *level = NULL;
+        resurfi_bvh *level_bvh = NULL;
+        if (composed)
+            st = resurfi_scene_flatten(scene, &w.list, k, &stand_in, alloc, &level, error);
+        if (composed && st == RESURF_OK && level->triangle_count > 0 &&
+            resurfi_bvh_build_threads(alloc, level->positions, level->vertex_count, level->indices,
+                                      level->triangle_count, threads, &level_bvh) != RESURF_OK)
+            st = resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory measuring the levels");
+        if (composed && st == RESURF_OK && level_bvh) {
+            qsort(to_order, w.list.count, sizeof *to_order, larger_bound_first);
+            qsort(from_order, w.list.count, sizeof *from_order, larger_bound_first);
+            double level_area = mesh_area(level), full_area = mesh_area(w.full);
+            double to_density = level_area > 0 ? (double)sample_budget / level_area : 0;
+            double from_density = full_area > 0 ? (double)sample_budget / full_area : 0;
+            st = side_over_scene(scene, &w.list, k, &stand_in, to_order, to_density, 1, full_bvh, threads, alloc,
+                                 &e.to_full, error);
+            if (st == RESURF_OK)
+                st = side_over_scene(scene, &w.list, 0, NULL, from_order, from_density, 0x9e3779b9u, level_bvh,
+                                     threads, alloc, &e.from_full, error);
+        } else if (composed && st == RESURF_OK) { /* a level without triangles: not measurable */
+            e.to_full = e.from_full = e.to_sum = NAN;
+        }
+        resurfi_bvh_free(level_bvh);
+        resurf_mesh_free(level);
+        double d = report.diagonal > 0 ? report.diagonal : NAN;
+        report.level_to_full_rel[k] = e.to_full / d;
+        report.level_from_full_rel[k] = e.from_full / d;
+        report.level_error[k] = fmax(e.to_full, e.from_full);
+        report.level_error_rel[k] = report.level_error[k] / d;
+        report.level_mean_rel[k] = 0.5 * (e.to_area > 0 ? e.to_sum / e.to_area : NAN) / d +
+                                   0.5 * (e.from_area > 0 ? e.from_sum / e.from_area : NAN) / d;
+    }
+    resurfi_bvh_free(full_bvh);
+    resurfi_free(alloc, to_order);
+    for (size_t k = 1; k < levels && st == RESURF_OK && sim.measure_samples > 0 && !composed; ++k) {
         resurf_compare_report m;
         st = measure_level(scene, &w.list, w.full, k, &stand_in, &co, &m, error);
         if (st != RESURF_OK)
@@ -708,6 +1076,17 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
         resurfi_scene_instances single = {1, &one};
         resurf_mesh *full = NULL;
         st = resurfi_scene_flatten(scene, &single, 0, NULL, alloc, &full, error);
+        int mesh_composed = composed && st == RESURF_OK;
+        for (size_t k = 1; k < w.mesh_levels[m] && mesh_composed; ++k) {
+            world_errors e = {0, 0, 0, 0, 0, 0};
+            double d = resurf_mesh_bounds(full, NULL, NULL);
+            mesh_composed = add_instance(scene, &view, &one, k, &e);
+            err[k] = d > 0 ? fmax(e.to_full, e.from_full) / d : NAN;
+        }
+        if (mesh_composed) {
+            resurf_mesh_free(full);
+            continue;
+        }
         /* The scene's sample budget, spread by triangles (at least 1,000 samples a mesh). */
         resurf_compare_options mco = co;
         double share = st == RESURF_OK && scene_triangles ? (double)full->triangle_count / (double)scene_triangles
@@ -725,6 +1104,8 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
     if (st == RESURF_OK && resurfi_progress(&o.progress, RESURF_STAGE_FINISH, 1.0))
         st = resurfi_error(error, RESURF_ERR_CANCELLED, "cancelled");
 
+    resurfi_free(alloc, areas);
+    resurfi_free(alloc, job.reports);
     report.errors_seconds = seconds_now() - errors_start;
     /* Phase 3: the coverage of every mesh that has levels. */
     for (size_t m = 0; m < mesh_count && st == RESURF_OK && o.set_screen_coverage; ++m) {

@@ -63,6 +63,9 @@ typedef struct packed {
     unsigned char *draco;
     size_t draco_size;
     resurfi_gltf_named *draco_ids;
+    size_t target_count;    /* morph targets: target t has target_attributes[target_begin[t] .. target_begin[t+1]) */
+    size_t *target_begin;
+    resurfi_gltf_named *target_attributes;
     size_t bytes;
 } packed;
 
@@ -175,6 +178,28 @@ static int is_semantic(const char *name)
     return 0;
 }
 
+/* Is extra `name` a morph target's attribute ("targets[t].NAME")? Then *t and *attr (may be NULL) say which. */
+static int is_target(const char *name)
+{
+    return !strncmp(name, RESURF_MORPH_TARGET_PREFIX, strlen(RESURF_MORPH_TARGET_PREFIX));
+}
+
+static int parse_target(const char *name, size_t *t, const char **attr)
+{
+    if (!is_target(name))
+        return 0;
+    const char *p = name + strlen(RESURF_MORPH_TARGET_PREFIX);
+    size_t k = 0;
+    if (*p < '0' || *p > '9')
+        return 0;
+    for (; *p >= '0' && *p <= '9' && k < 100000; ++p)
+        k = 10 * k + (size_t)(*p - '0');
+    if (p[0] != ']' || p[1] != '.' || !p[2])
+        return 0;
+    *t = k, *attr = p + 2;
+    return 1;
+}
+
 static int draco_data_type(int component_type)
 {
     switch (component_type) {
@@ -221,8 +246,8 @@ static size_t list_attributes(const save_ctx *c, const resurfi_scene_prim *p, co
     }
     for (size_t i = 0; i < m->extra_count; ++i) {
         const resurf_attribute *x = &m->extras[i];
-        if (x->components < 1 || x->components > 4)
-            continue; /* glTF vertex attributes are SCALAR or VECn */
+        if (x->components < 1 || x->components > 4 || is_target(x->name))
+            continue; /* glTF vertex attributes are SCALAR or VECn; morph targets go apart (pack_targets) */
         a = &out[n++];
         memset(a, 0, sizeof *a);
         if (is_semantic(x->name))
@@ -320,9 +345,80 @@ static unsigned char *pack_attribute(save_ctx *c, const out_attr *a, size_t n, d
     return data;
 }
 
+/* Morph targets of mesh m (its "targets[t].NAME" extras) as float accessors of `count` vertices: the mesh's own
+ * vertex order, which a Draco payload with targets keeps (pack_draco). Targets must be numbered 0, 1, ... without
+ * a gap (a glTF target is a non-empty object). */
+static resurf_status pack_targets(save_ctx *c, const resurfi_scene_prim *p, const resurf_mesh *m, packed *pk)
+{
+    size_t count = 0, n = 0;
+    for (size_t i = 0; i < m->extra_count; ++i) {
+        size_t t;
+        const char *attr;
+        if (!is_target(m->extras[i].name))
+            continue;
+        if (!parse_target(m->extras[i].name, &t, &attr) || m->extras[i].components < 1 ||
+            m->extras[i].components > 4 || !m->extras[i].data)
+            return resurfi_fail(c->error, RESURF_ERR_INVALID_MESH, c->path, 0, -1,
+                                "%s: the extra %s is not a morph target attribute (targets[t].NAME, 1 to 4 "
+                                "components)", p->info.name, m->extras[i].name);
+        count = t + 1 > count ? t + 1 : count;
+        ++n;
+    }
+    if (n == 0)
+        return RESURF_OK;
+    pk->target_begin = own(c, resurfi_calloc(c->alloc, count + 1, sizeof *pk->target_begin));
+    pk->target_attributes = own(c, resurfi_alloc(c->alloc, n, sizeof *pk->target_attributes));
+    if (!pk->target_begin || !pk->target_attributes)
+        return oom(c);
+    size_t k = 0;
+    for (size_t t = 0; t < count; ++t) {
+        pk->target_begin[t] = k;
+        for (size_t i = 0; i < m->extra_count; ++i) {
+            size_t ti;
+            const char *attr;
+            if (!parse_target(m->extras[i].name, &ti, &attr) || ti != t)
+                continue;
+            const resurf_attribute *x = &m->extras[i];
+            out_attr a;
+            memset(&a, 0, sizeof a);
+            a.component_type = RESURFI_GLTF_FLOAT, a.components = (int)x->components;
+            a.f = x->data, a.stride = x->components;
+            double min[4], max[4];
+            unsigned char *data = pack_attribute(c, &a, m->vertex_count, min, max);
+            const char *name = own_string(c, attr);
+            if (!data || !name)
+                return oom(c);
+            resurfi_gltf_out_accessor acc;
+            memset(&acc, 0, sizeof acc);
+            acc.component_type = RESURFI_GLTF_FLOAT;
+            acc.components = a.components;
+            acc.count = m->vertex_count;
+            acc.data = data;
+            acc.data_size = m->vertex_count * (size_t)a.components * 4;
+            acc.target = RESURFI_GLTF_ARRAY_BUFFER;
+            acc.has_bounds = !strcmp(attr, "POSITION"); /* glTF 2.0 3.7.2.1: POSITION needs min and max */
+            for (int j = 0; j < a.components; ++j)
+                acc.min[j] = min[j], acc.max[j] = max[j];
+            long long index = add_accessor(c, &acc);
+            if (index < 0)
+                return oom(c);
+            pk->target_attributes[k++] = (resurfi_gltf_named){name, index};
+            pk->bytes += acc.data_size;
+        }
+        if (k == pk->target_begin[t])
+            return resurfi_fail(c->error, RESURF_ERR_INVALID_MESH, c->path, 0, -1,
+                                "%s: morph target %zu has no attribute (targets must be numbered from 0 without "
+                                "a gap)", p->info.name, t);
+    }
+    pk->target_begin[count] = k;
+    pk->target_count = count;
+    return RESURF_OK;
+}
+
 /* Draco: encodes, decodes again and checks what came back against what was meant. */
 static resurf_status pack_draco(save_ctx *c, const resurfi_scene_prim *p, size_t level, const resurf_mesh *m,
-                                const out_attr *attrs, size_t attr_count, unsigned char **values, packed *out)
+                                const out_attr *attrs, size_t attr_count, unsigned char **values, int keep_order,
+                                packed *out)
 {
     resurfi_draco_input_attribute in_attrs[32];
     if (attr_count > 32)
@@ -343,6 +439,7 @@ static resurf_status pack_draco(save_ctx *c, const resurfi_scene_prim *p, size_t
         .attribute_count = attr_count,
         .attributes = in_attrs,
         .compression_level = c->o->compression_level,
+        .keep_order = keep_order,
     };
     resurfi_draco_output enc;
     resurf_error derr;
@@ -390,6 +487,22 @@ static resurf_status pack_draco(save_ctx *c, const resurfi_scene_prim *p, size_t
             if (!(dlo[k] >= lo[k] - step && dhi[k] <= hi[k] + step))
                 snprintf(problem, sizeof problem, "positions decode outside the input's bounds by more than a "
                                                   "quantization step (axis %d)", k);
+        /* With morph targets the decoded points must be the mesh's vertices in their order (the targets'
+         * accessors use it): point v within a quantization step of vertex v, and the same triangles. */
+        if (keep_order && !problem[0] && (dm->point_count != m->vertex_count || dm->face_count != m->triangle_count))
+            snprintf(problem, sizeof problem, "has %zu points and %zu triangles, not the %zu vertices and %zu "
+                     "triangles its morph targets need", dm->point_count, dm->face_count, m->vertex_count,
+                     m->triangle_count);
+        for (size_t v = 0; keep_order && !problem[0] && v < dm->point_count; ++v)
+            for (int k = 0; k < 3; ++k)
+                if (!(fabs(found[0]->values[3 * v + (size_t)k] - (double)(float)m->positions[3 * v + (size_t)k]) <=
+                      step))
+                    snprintf(problem, sizeof problem, "changed the vertex order (point %zu), which its morph "
+                             "targets need", v);
+        for (size_t i = 0; keep_order && !problem[0] && i < 3 * dm->face_count; ++i)
+            if (dm->faces[i] != m->indices[i])
+                snprintf(problem, sizeof problem, "changed the triangles (index %zu), which its morph targets need",
+                         i);
     }
     size_t points = dm->point_count, faces = dm->face_count;
     resurfi_draco_mesh_free(dm);
@@ -465,8 +578,12 @@ static resurf_status pack(save_ctx *c, size_t prim, size_t level, packed **out)
     for (size_t i = 0; i < n; ++i)
         if (!(values[i] = pack_attribute(c, &attrs[i], m->vertex_count, i == 0 ? min : NULL, i == 0 ? max : NULL)))
             return oom(c);
-    if (c->o->draco)
-        return pack_draco(c, p, level, m, attrs, n, values, pk);
+    int morphed = p->info.kind == RESURF_PRIMITIVE_MORPHED;
+    resurf_status st = RESURF_OK;
+    if (c->o->draco) {
+        st = pack_draco(c, p, level, m, attrs, n, values, morphed, pk);
+        return st == RESURF_OK && morphed ? pack_targets(c, p, m, pk) : st;
+    }
 
     pk->attributes = own(c, resurfi_alloc(c->alloc, n, sizeof *pk->attributes));
     if (!pk->attributes)
@@ -513,7 +630,7 @@ static resurf_status pack(save_ctx *c, size_t prim, size_t level, packed **out)
         return oom(c);
     pk->attribute_count = n;
     pk->bytes += ia.data_size;
-    return RESURF_OK;
+    return morphed ? pack_targets(c, p, m, pk) : RESURF_OK;
 }
 
 /* ---- planning a document ------------------------------------------------------------------------------------- */
@@ -543,9 +660,8 @@ static resurf_status plan_mesh(save_ctx *c, size_t m, size_t level, resurfi_gltf
         o->source_mesh = s->doc ? m : SIZE_MAX;
         o->source_primitive = p->info.primitive;
         o->indices = -1;
-        if (p->info.kind != RESURF_PRIMITIVE_TRIANGLES) {
-            /* Morphed primitives (their targets stay aligned with the vertices) and points and lines are
-             * written from the source document as they are. */
+        if (!resurfi_scene_rewritten(p)) {
+            /* Points and lines are written from the source document as they are. */
             o->verbatim = 1;
             c->verbatim_any = 1;
             c->draco_used |= p->info.draco;
@@ -566,6 +682,9 @@ static resurf_status plan_mesh(save_ctx *c, size_t m, size_t level, resurfi_gltf
         o->draco = pk->draco;
         o->draco_size = pk->draco_size;
         o->draco_ids = pk->draco_ids;
+        o->target_count = pk->target_count;
+        o->target_begin = pk->target_begin;
+        o->target_attributes = pk->target_attributes;
         c->draco_used |= pk->draco != NULL;
         ++n;
     }

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The real-asset corpus (issue 20, item 11): every .gltf/.glb of Debian's assimp-testmodels glTF2 folder (Khronos
 # sample and test assets, a morphing cube and a skin among them, and files broken on purpose) and the project's
-# analytic meshes go through `resurf lod` into a folder other than their own, once as .glb (Draco, the default) and
+# analytic meshes (data/*.ply, and data/morph-sphere.glb: a sphere with an animated ellipsoid target) go through
+# `resurf lod` into a folder other than their own, once as .glb (Draco, the default) and
 # once as .gltf (plain accessors, images copied beside it). The Khronos validator judges inputs and outputs.
 #   - An input the validator passes must give an output with 0 errors and no more warnings than the input had (or,
 #     when it requires extensions, may be refused as below).
@@ -31,6 +32,7 @@ fail() {
 }
 
 mapfile -t inputs < <(find "$models" \( -name '*.gltf' -o -name '*.glb' \) | sort)
+inputs+=("$root/data/morph-sphere.glb") # the analytic morph (tools/morph_asset.h): one animated target
 validate "${inputs[@]}" > "$work/inputs.txt" 2>&1
 status=$?
 if [ $status -ge 2 ]; then
@@ -104,6 +106,17 @@ for input in "${inputs[@]}"; do
                 fi
                 previous=$t
             done
+            # The morph asset gets its levels, each with its target, and its animation drives every level node.
+            if [ "$name" = morph-sphere ] && ! node -e '
+                const fs = require("fs"), p = process.argv[1], b = fs.readFileSync(p);
+                const d = JSON.parse(b.slice(0, 4).toString() === "glTF" ? b.slice(20, 20 + b.readUInt32LE(12)).toString()
+                                                                         : b.toString());
+                const ids = d.nodes[0].extensions.MSFT_lod.ids;
+                const driven = d.animations[0].channels.filter(c => c.target.path === "weights").map(c => c.target.node);
+                process.exit(ids.length === 2 && [0, ...ids].every(n => driven.includes(n)) &&
+                             d.meshes.every(m => m.primitives[0].targets.length === 1) ? 0 : 1)' "$out"; then
+                fail "$input ($ext): the morph asset lost its levels, targets or animated weights (levels: $triangles)"
+            fi
         else
             refused=$((refused + 1))
             if [ "${in_errors:-1}" = 0 ] && ! grep -q '"extensionsRequired"' "$input"; then

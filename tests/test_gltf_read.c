@@ -312,8 +312,8 @@ START_TEST(gltf_skinned_primitive_keeps_joints_and_weights)
 }
 END_TEST
 
-/* Morph targets: the primitive stays at full detail (set_lods refuses it) and its targets are written back.
- * A points primitive beside it passes through untouched. */
+/* Morph targets: the primitive's mesh carries the target as an extra, takes levels, and its targets are
+ * written back. A points primitive beside it passes through untouched. */
 START_TEST(gltf_morph_targets_and_points_pass_through)
 {
     char *dir = tu_tempdir();
@@ -343,8 +343,17 @@ START_TEST(gltf_morph_targets_and_points_pass_through)
     resurf_mesh *lod = tu_tetrahedron();
     const resurf_mesh *lods[1] = {lod};
     resurf_error e;
-    ck_assert_int_eq(resurf_scene_set_lods(s, 0, lods, 1, &e), RESURF_ERR_UNSUPPORTED);
-    ck_assert_ptr_nonnull(strstr(e.message, "morph targets"));
+    const resurf_mesh *full = resurf_scene_primitive_mesh(s, 0);
+    ck_assert_uint_eq(full->extra_count, 1);
+    ck_assert_str_eq(full->extras[0].name, "targets[0].POSITION");
+    for (size_t v = 0; v < 4; ++v)
+        ck_assert(full->extras[0].data[3 * v + 2] == 0.5f && full->extras[0].data[3 * v] == 0);
+    ck_assert_int_eq(resurf_scene_set_lods(s, 0, lods, 1, &e), RESURF_ERR_INVALID_MESH); /* a level without it */
+    ck_assert_ptr_nonnull(strstr(e.message, "targets[0].POSITION"));
+    resurf_attribute *delta = NULL;
+    ck_assert_int_eq(resurf_mesh_add_extra(lod, "targets[0].POSITION", 3, &delta, NULL), RESURF_OK);
+    ck_assert_int_eq(resurf_scene_set_lods(s, 0, lods, 1, &e), RESURF_OK);
+    ck_assert_int_eq(resurf_scene_set_lods(s, 0, lods, 0, &e), RESURF_OK);
     ck_assert_int_eq(resurf_scene_set_lods(s, 1, lods, 1, NULL), RESURF_ERR_UNSUPPORTED);
     char *out = tu_path(dir, "out.glb");
     resurf_scene_save_options o = resurf_scene_save_options_default();
@@ -354,8 +363,9 @@ START_TEST(gltf_morph_targets_and_points_pass_through)
     char *facts = tu_node_eval(dir, TU_JS_LOAD "const p=[doc.meshes[0].primitives[0],doc.meshes[1].primitives[0]];"
                                          "console.log(p[0].targets.length, doc.accessors[p[0].targets[0].POSITION].count,"
                                          "doc.meshes[0].weights.join(','), p[1].mode, doc.accessors[p[1].attributes.POSITION].count,"
-                                         "JSON.stringify(doc.extensionsUsed||[]))", out);
-    ck_assert_str_eq(facts, "1 4 0.5 0 4 []");
+                                         "JSON.stringify(doc.extensionsUsed||[]),"
+                                         "doc.accessors[p[0].targets[0].POSITION].max.join(','))", out);
+    ck_assert_str_eq(facts, "1 4 0.5 0 4 [\"KHR_draco_mesh_compression\"] 0,0,0.5");
     free(facts);
     free(out);
     resurf_mesh_free(lod);

@@ -559,6 +559,52 @@ START_TEST(gltf_save_failures_write_nothing)
 }
 END_TEST
 
+/* Whole numbers are written as integers ("1", not "1.0": the same JSON number, shorter); -0.0 keeps its sign and
+ * extras stay as the source wrote them. The values read back are the source's. */
+START_TEST(gltf_whole_numbers_are_written_as_integers)
+{
+    char *dir = tu_tempdir();
+    tu_bytes b = tu_tetra_bin();
+    const char *json =
+        "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0]}],"
+        "\"nodes\":[{\"mesh\":0,\"matrix\":[1.0,0.0,0.0,0.0,0.0,1.0,0.0,0.0,0.0,0.0,1.0,0.0,2.5,-0.0,3.0,1.0],"
+        "\"extras\":{\"k\":[1.0,2.0]}}],"
+        "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":1,\"material\":0}]}],"
+        "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorFactor\":[1.0,0.5,0.0,1.0],\"roughnessFactor\":0.0}}],"
+        "\"accessors\":[" TU_TETRA_ACCESSORS "],\"bufferViews\":[" TU_TETRA_VIEWS "],"
+        "\"buffers\":[{\"byteLength\":72,\"uri\":\"whole.bin\"}]}";
+    char *path = tu_write_gltf(dir, "whole", json, &b);
+    resurf_scene *s = tu_load_scene_ok(path);
+    char *out = tu_strf("%s/out.glb", dir);
+    tu_save_scene_ok(s, out, NULL, NULL);
+    size_t size = 0;
+    char *bytes = tu_read_file(out, &size);
+    ck_assert(bytes && size > 20);
+    uint32_t length = (uint32_t)(unsigned char)bytes[12] | (uint32_t)(unsigned char)bytes[13] << 8 |
+                      (uint32_t)(unsigned char)bytes[14] << 16 | (uint32_t)(unsigned char)bytes[15] << 24;
+    ck_assert_uint_le(20 + (size_t)length, size);
+    char *text = tu_strf("%.*s", (int)length, bytes + 20);
+    ck_assert_msg(strstr(text, "\"matrix\":[1,0,0,0,0,1,0,0,0,0,1,0,2.5,-0.0,3,1]"), "%s", text);
+    ck_assert_msg(strstr(text, "\"baseColorFactor\":[1,0.5,0,1]"), "%s", text);
+    ck_assert_msg(strstr(text, "\"roughnessFactor\":0"), "%s", text);
+    ck_assert_msg(strstr(text, "\"max\":[1,1,1]") && strstr(text, "\"min\":[-1,-1,-1]"), "%s", text);
+    ck_assert_msg(strstr(text, "\"k\":[1.0,2.0]"), "extras changed: %s", text);
+    size_t fractions = 0; /* "X.0" before a ',' or ']': only -0.0 and the extras' two may be left */
+    for (const char *at = text; (at = strstr(at, ".0")); at += 2)
+        fractions += at[2] == ',' || at[2] == ']';
+    ck_assert_msg(fractions == 3, "%zu whole numbers written with a fraction: %s", fractions, text);
+    ck_assert_int_eq(tu_validator_errors(out), 0);
+    free(text);
+    free(bytes);
+    free(out);
+    resurf_scene_free(s);
+    free(path);
+    free(b.data);
+    tu_rmtree(dir);
+    free(dir);
+}
+END_TEST
+
 Suite *make_suite(void)
 {
     Suite *s = suite_create("gltf_write");
@@ -568,6 +614,7 @@ Suite *make_suite(void)
     tcase_add_test(round, gltf_draco_payload_decodes_with_draco_decoder);
     tcase_add_test(round, gltf_mesh_file_is_a_scene);
     tcase_add_test(round, gltf_load_memory_reads_what_was_saved);
+    tcase_add_test(round, gltf_whole_numbers_are_written_as_integers);
     suite_add_tcase(s, round);
     TCase *lod = tcase_create("lod");
     tcase_add_test(lod, gltf_msft_lod_structure);

@@ -70,10 +70,14 @@ c_flags=(-std=c17 -Wall -Wextra -pedantic -Werror "${san_flags[@]}")
 cxx_flags=(-std=c++17 -Wall -Wextra -pedantic -Werror "${san_flags[@]}")
 consumer=$source_root/tests/consumer
 
-# The header on its own, as strict C17: nothing it needs may come from the includer.
-printf '#include <resurf/resurf.h>\n' >"$work/header_only.c"
-"${cc[@]}" -std=c17 -pedantic -Wall -Wextra -Werror -fsyntax-only "${cflags[@]}" "$work/header_only.c" ||
-    fail "resurf.h does not compile on its own as C17 -pedantic"
+# Each installed header on its own, as strict C17: nothing it needs may come from the includer, and any of them
+# brings in the whole API (resurf.h includes the others at its end; each of them includes resurf.h first).
+for header in resurf scene preview; do
+    [ -f "$destdir$prefix/include/resurf/$header.h" ] || fail "include/resurf/$header.h is not installed"
+    printf '#include <resurf/%s.h>\nresurf_preview_options o;\nresurf_mesh *m;\n' "$header" >"$work/header_only.c"
+    "${cc[@]}" -std=c17 -pedantic -Wall -Wextra -Werror -fsyntax-only "${cflags[@]}" "$work/header_only.c" ||
+        fail "$header.h does not compile on its own as C17 -pedantic"
+done
 
 build() { # build OUTPUT COMMAND...: runs COMMAND -o OUTPUT
     local out=$1

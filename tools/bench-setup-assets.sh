@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
-# What build/tools/bench-assets needs besides the build (kept out of tools/setup.sh so that the test suite's set-up
-# stays fast), idempotent and quiet when nothing is missing: Debian's assimp-testmodels (the glTF2 assets, in
-# /usr/share/assimp/models/glTF2) and npm gltfpack 1.3 (meshoptimizer's glTF tool, compiled to wasm, run under
-# node) in tools/node/. Run as root on Debian 12, after tools/setup.sh.
+# What build/tools/bench-assets and bench-draco need besides the build (kept out of tools/setup.sh so that the test
+# suite's set-up stays fast), idempotent and quiet when nothing is missing: Debian's assimp-testmodels (the glTF2
+# assets, in /usr/share/assimp/models/glTF2), npm gltfpack 1.3 (meshoptimizer's glTF tool, compiled to wasm, run
+# under node) and npm @gltf-transform/cli 4.5 (bench-draco's `gltf-transform draco`) in tools/node/. Run as root on
+# Debian 12, after tools/setup.sh.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -15,4 +16,12 @@ installed=$(node -p "try { require('./tools/node/node_modules/gltfpack/package.j
 if [ "${installed%.*}" != "$version" ]; then
   echo "bench-setup-assets: installing gltfpack@$version (npm)" >&2
   npm install --prefix tools/node --no-audit --no-fund "gltfpack@$version" >/dev/null
+fi
+
+# bench-draco's level-by-level peer (issue 20 item 10 compares against glTF-Transform 4.5).
+version=4.5
+installed=$(node -p "try { require('./tools/node/node_modules/@gltf-transform/cli/package.json').version } catch { '' }")
+if [ "${installed%.*}" != "$version" ]; then
+  echo "bench-setup-assets: installing @gltf-transform/cli@$version (npm)" >&2
+  npm install --prefix tools/node --no-audit --no-fund "@gltf-transform/cli@$version" >/dev/null
 fi

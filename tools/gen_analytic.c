@@ -1,12 +1,15 @@
 /* resurf-gen-analytic: meshes of analytic surfaces with every vertex exactly on the surface (tools/shapes.h).
  *
  *   resurf-gen-analytic SHAPE TRIANGLES OUT [--jitter J] [--seed S] [--normals]
+ *   resurf-gen-analytic morph-sphere TRIANGLES OUT.glb [--jitter J] [--seed S]
+ *                                         the sphere with a morph target that makes an ellipsoid (morph_asset.h)
  *   resurf-gen-analytic --data DIR        the bundled set in data/ (what tools/make-data.sh runs)
  */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "morph_asset.h"
 #include "shapes.h"
 
 /* The bundled meshes: small, irregular, reproducible. */
@@ -45,9 +48,30 @@ static int write_shape(shape_kind kind, size_t triangles, double jitter, unsigne
     return rc;
 }
 
+static int write_morph(size_t triangles, double jitter, unsigned long long seed, const char *out)
+{
+    resurf_mesh *m = morph_sphere_mesh(triangles, jitter, seed, morph_asset_axes);
+    size_t size = 0;
+    unsigned char *glb = m ? morph_glb(m, &size) : NULL;
+    FILE *f = glb ? fopen(out, "wb") : NULL;
+    int rc = !f || fwrite(glb, 1, size, f) != size;
+    if (f && fclose(f))
+        rc = 1;
+    if (rc)
+        fprintf(stderr, "resurf-gen-analytic: cannot write %s\n", out);
+    else
+        printf("%-12s %-9s %8zu vertices %8zu triangles  jitter %.2f, one morph target (ellipsoid %g, %g, %g)\n",
+               out, "morph", m->vertex_count, m->triangle_count, jitter, morph_asset_axes[0], morph_asset_axes[1],
+               morph_asset_axes[2]);
+    free(glb);
+    resurf_mesh_free(m);
+    return rc;
+}
+
 static int usage(void)
 {
     fprintf(stderr, "usage: resurf-gen-analytic SHAPE TRIANGLES OUT [--jitter J] [--seed S] [--normals]\n"
+                    "       resurf-gen-analytic morph-sphere TRIANGLES OUT.glb [--jitter J] [--seed S]\n"
                     "       resurf-gen-analytic --data DIR\n"
                     "shapes: sphere torus cubic cylinder saddle plane\n");
     return 2;
@@ -62,11 +86,14 @@ int main(int argc, char **argv)
             snprintf(path, sizeof path, "%s/%s", argv[2], bundled[i].file);
             rc |= write_shape(bundled[i].kind, bundled[i].triangles, bundled[i].jitter, 1, 0, path);
         }
-        return rc;
+        char path[4096];
+        snprintf(path, sizeof path, "%s/morph-sphere.glb", argv[2]);
+        return rc | write_morph(1200, 0.35, 1, path);
     }
     if (argc < 4)
         return usage();
-    shape_kind kind = shape_from_name(argv[1]);
+    int morph = !strcmp(argv[1], "morph-sphere");
+    shape_kind kind = morph ? SHAPE_SPHERE : shape_from_name(argv[1]);
     char *end;
     unsigned long long triangles = strtoull(argv[2], &end, 10);
     if (kind == SHAPE_COUNT || *end || triangles == 0)
@@ -84,5 +111,7 @@ int main(int argc, char **argv)
         else
             return usage();
     }
+    if (morph)
+        return write_morph((size_t)triangles, jitter, seed, argv[3]);
     return write_shape(kind, (size_t)triangles, jitter, seed, normals, argv[3]);
 }

@@ -830,7 +830,10 @@ typedef struct resurf_simplify_options {
                                      moves. A vertex touching a crease, and every vertex that absorbs one, is
                                      neither restored onto S nor moved by the sag offset: the facets keep the
                                      quadric's place, on the flat faces and their sharp edges. In (0, 180]; 180 =
-                                     no crease by angle; default 80 (measured in docs/restoring.md §8) */
+                                     no crease by angle; default 80 (measured in docs/restoring.md §8). An edge
+                                     between two triangle_groups (materials) is a crease at any angle and in any
+                                     surface: the border between materials stays where it is, and where it turns by
+                                     more than corner_angle_deg it has a corner */
     double corner_angle_deg;      /* a border that turns by more than this at a vertex makes it a corner that never
                                      moves (the corners of a flat panel; a crease's sharp turn is none: on scans
                                      such turns are noise); in (0, 180]; 180 = none; default 80 */
@@ -842,7 +845,8 @@ typedef struct resurf_simplify_options {
                                      a repeat with the same orientation goes alone. Scans hold them: the Stanford
                                      dragon's 48k reconstruction has 1,052 pairs, whose 2,094 non-manifold edges
                                      stopped its 10% level at 8,056 triangles (17%, error 1.8% of the diagonal);
-                                     without them it reaches 4,778 (error 0.45%). false keeps every triangle. */
+                                     without them it reaches 4,778 (error 0.45%). false keeps every triangle.
+                                     Only triangles of one group pair up: two sides in two materials stay */
 
     /* Attributes in the cost (attribute quadrics, Hoppe 1999): each collapse also pays for how far the attributes of
      * the triangles merged into each of its wedges are from one linear field over them, so that collapses keep
@@ -869,6 +873,12 @@ typedef struct resurf_simplify_options {
     double normal_weight;         /* NORMAL (3 components); default 0 (off) */
     double texcoord_weight;       /* every texcoord set (2 components each); default 0.25 */
     double color_weight;          /* COLOR_0 (3 or 4 components); default 0.25 */
+    double morph_weight;          /* morph targets' POSITION deltas (extras "targets[t].POSITION", see
+                                     RESURF_MORPH_TARGET_PREFIX; the 8 with the largest delta), in geometric units:
+                                     the weight alone, not × the diagonal, so 1 prices a delta that departs by L from
+                                     one linear field over the merged triangles like a distance L off the surface,
+                                     what the level shows at morph weight 1. Default 1 (measured in
+                                     docs/restoring.md §12); 0 = off */
 
     size_t measure_samples;       /* area-uniform samples of the result and of the input (plus the vertices of
                                      each) whose distances to the other surface are measured for the report (see
@@ -882,7 +892,8 @@ typedef struct resurf_simplify_options {
 
 /* The defaults: no target (set one), quadric placement, inline restoration with the restorer's defaults (Max's
  * normals), sag_offset 1, feature_angle_deg 80, corner_angle_deg 80, max_normal_change_deg 60, min_angle_deg 0,
- * border_weight 1, normal_weight 0, texcoord_weight 0.25, color_weight 0.25, measure_samples 100000, all cores.
+ * border_weight 1, normal_weight 0, texcoord_weight 0.25, color_weight 0.25, morph_weight 1, measure_samples 100000,
+ * all cores.
  * Measured with tools/bench_simplify.c on the irregular analytic sphere, torus and cubic surface (20k triangles,
  * 10% and 2%): the mean distance of the LOD's surface to the true surface is lowest at sag_offset 1 (about 0.24–0.26,
  * 0.35–0.38 and 0.74–0.80 of meshoptimizer's; 0.86–0.89 with the offset at 0), as the chord-sag model predicts (the
@@ -995,441 +1006,12 @@ RESURF_API resurf_status resurf_simplify_lods(const resurf_mesh *in, const doubl
                                               const resurf_simplify_options *options, resurf_mesh **out_levels,
                                               resurf_simplify_report *out_reports, resurf_error *error);
 
-/* ------------------------------------------------------------------------------------------------------------- */
-/* Scenes (glTF)                                                                                                 */
-/* ------------------------------------------------------------------------------------------------------------- */
-
-/* A resurf_scene is a whole glTF 2.0 document (.gltf, .glb), a raw Draco mesh (.drc) or a mesh file (OBJ, PLY, OFF,
- * STL: a scene of one mesh). Its triangle primitives are decoded into resurf_meshes that the caller reads,
- * simplifies and hands back as levels of detail; everything else (node hierarchy, transforms, materials, textures,
- * images, samplers, skins, animations, morph targets, cameras, extras, extensions) is kept and written again.
- * A mesh instanced by several nodes is one set of primitives: it is decoded, simplified and written once.
- * A scene is used by one thread at a time; different scenes are independent.
- *
- * Attributes: POSITION → positions, NORMAL → normals, TEXCOORD_0..3 → texcoords, COLOR_0 → colors; every other
- * attribute (TANGENT, JOINTS_n, WEIGHTS_n, COLOR_n with n > 0, TEXCOORD_n with n > 3, _CUSTOM) becomes an extra
- * named exactly like the glTF attribute, carried untouched and written back in its original component type, so
- * joints stay integers. Integer and normalized component types are decoded as glTF defines them (a normalized
- * ubyte 255 is 1.0), sparse accessors are applied, triangle strips and fans become lists (the joining triangles
- * that repeat an index are dropped), KHR_draco_mesh_compression and KHR_mesh_quantization inputs are decoded.
- * The JSON is checked against the glTF 2.0 schema first (github.com/KhronosGroup/glTF, specification/2.0/schema):
- * the JSON type of every property of the core objects, required properties, array lengths and unique items, enum
- * values (componentType, accessor type, primitive mode, bufferView target, sampler filters and wraps, camera type,
- * animated path, interpolation, alphaMode: the values the specification lists, plus "pointer" when the document
- * uses KHR_animation_pointer) and numeric ranges (byteLength and count >= 1, byteStride a multiple of 4 in 4..252,
- * indices >= 0, factors in 0..1, ...). Unknown properties, extras and the content of extensions (each an object)
- * are free. The first problem fails with RESURF_ERR_PARSE and a message naming the JSON path and the cause
- * ("meshes[0].primitives[0].mode: 9 is not a glTF primitive mode (0..6)"); with resurf_load_options.lenient each
- * problem is a warning of the scene instead (the first 100, then one that counts the rest) and the document is
- * read as tinygltf reads it (a property of the wrong type is ignored), the checks below still applying. A number
- * such as 2.0 where the schema wants an integer is read as that integer.
- * Every index, accessor, buffer range, node graph and Draco reference is checked before it is used: a malformed
- * or hostile file fails with RESURF_ERR_PARSE and a one-line message naming the glTF object ("accessors[3]: ...").
- * JSON nested deeper than 128 levels, numbers that overflow to infinity and node graphs with cycles or nodes with
- * two parents are refused; so is a document that requires an extension resurf does not know.
- * Draco payloads: their header's counts are checked against the payload size before decoding (more than 2^20 + 256
- * faces or points per payload byte is RESURF_ERR_LIMIT); edgebreaker meshes that carry Draco metadata, whose counts
- * cannot be located ahead, and Draco point clouds are refused (a glTF points primitive with Draco is copied
- * undecoded). Known limit of the Draco library itself (Debian's 1.5.5): a corrupt texture-coordinate count inside a
- * payload can cost it seconds and some hundred MB before it fails cleanly.
- *
- * Images: external image files are read when the scene loads, their uri resolved relative to the document's
- * folder (percent-encoding, "./", ".." and Windows '\' separators understood); one that cannot be read fails the
- * load with RESURF_ERR_IO naming images[i], the path tried and the uri, and one that names no file of the folder
- * (a scheme such as http:, a drive letter, an encoded NUL, or any file of a document loaded from memory) with
- * RESURF_ERR_UNSUPPORTED (either is a warning with resurf_load_options.allow_missing_images). Outputs are whole
- * by themselves: see resurf_scene_save(). */
-
-typedef struct resurf_scene resurf_scene;
-
-/* Loads a scene: .gltf, .glb and .drc by extension (or, failing that, content); anything else goes through
- * resurf_mesh_load() into a one-mesh scene. options: max_triangles counts the triangles of all primitives; format
- * forces a mesh format (AUTO = by name); NULL = defaults. External .bin files are read relative to the .gltf file.
- * On success *out_scene owns everything; free it with resurf_scene_free(). */
-RESURF_API resurf_status resurf_scene_load(const char *path, const resurf_load_options *options,
-                                           resurf_scene **out_scene, resurf_error *error);
-
-/* What resurf_scene_load_memory() reads. */
-typedef enum resurf_scene_format {
-    RESURF_SCENE_FORMAT_AUTO = 0, /* by content: "glTF" → GLB, "DRACO" → DRC, '{' → GLTF, else MESH; a mesh format
-                                     in options->format means MESH */
-    RESURF_SCENE_FORMAT_GLTF,     /* glTF JSON */
-    RESURF_SCENE_FORMAT_GLB,      /* binary glTF */
-    RESURF_SCENE_FORMAT_DRC,      /* raw Draco */
-    RESURF_SCENE_FORMAT_MESH,     /* OBJ, PLY, OFF or STL as resurf_mesh_load_memory() reads it (options->format, else
-                                     by content): a one-mesh scene */
-    RESURF_SCENE_FORMAT_COUNT
-} resurf_scene_format;
-
-/* Loads a scene from size bytes at data, checked as resurf_scene_load() checks a file. No file is read: a glTF
- * buffer whose uri is not a data: URI fails with RESURF_ERR_PARSE and a message naming it ("buffers[0]: the uri
- * 'a.bin' names an external file ..."); external images are referenced as by resurf_scene_load() (a warning).
- * Messages name no file. data is not kept: the caller may free it when the call returns. */
-RESURF_API resurf_status resurf_scene_load_memory(const void *data, size_t size, resurf_scene_format format,
-                                                  const resurf_load_options *options, resurf_scene **out_scene,
-                                                  resurf_error *error);
-
-/* A one-mesh scene holding a copy of mesh (one node, one mesh, one triangle primitive, no material). */
-RESURF_API resurf_status resurf_scene_from_mesh(const resurf_mesh *mesh, resurf_scene **out_scene,
-                                                resurf_error *error);
-
-/* Frees a scene and everything it owns (its meshes, levels and document). NULL is allowed. */
-RESURF_API void resurf_scene_free(resurf_scene *scene);
-
-typedef enum resurf_primitive_kind {
-    RESURF_PRIMITIVE_TRIANGLES = 0, /* triangle list, strip or fan: has a mesh and can take levels of detail */
-    RESURF_PRIMITIVE_MORPHED,       /* triangles with morph targets: has a mesh, always written untouched at full
-                                       detail (resurf_scene_set_lods refuses it) */
-    RESURF_PRIMITIVE_OTHER,         /* points or lines: no mesh, written untouched */
-} resurf_primitive_kind;
-
-/* What resurf_scene_primitive_info() tells about one primitive. */
-typedef struct resurf_scene_primitive {
-    size_t mesh;              /* the glTF mesh index (0 in a mesh-file scene) */
-    size_t primitive;         /* the primitive's index in that mesh */
-    char name[64];            /* "meshes[2].primitives[0]", for messages and tables */
-    char mesh_name[64];       /* the glTF mesh's name (shortened to fit), or "" */
-    int mode;                 /* glTF mode as in the file: 0 points, 1 lines, 2 loop, 3 strip, 4 triangles, 5 strip, 6 fan */
-    resurf_primitive_kind kind;
-    bool draco;               /* the input was Draco-compressed */
-    size_t instances;         /* nodes that show its mesh (several: the mesh is still handled once) */
-    size_t lod_count;         /* levels of detail set with resurf_scene_set_lods() */
-} resurf_scene_primitive;
-
-/* Number of glTF meshes (1 for a mesh-file scene) and of primitives over all meshes, in file order. */
-RESURF_API size_t resurf_scene_mesh_count(const resurf_scene *scene);
-RESURF_API size_t resurf_scene_primitive_count(const resurf_scene *scene);
-
-/* Describes primitive `index` (0 .. resurf_scene_primitive_count() - 1). */
-RESURF_API resurf_status resurf_scene_primitive_info(const resurf_scene *scene, size_t index,
-                                                     resurf_scene_primitive *out, resurf_error *error);
-
-/* The decoded mesh of primitive `index` (attributes as described above), or NULL for a RESURF_PRIMITIVE_OTHER
- * primitive or an index out of range. Borrowed: valid until the scene is freed; do not modify it. */
-RESURF_API const resurf_mesh *resurf_scene_primitive_mesh(const resurf_scene *scene, size_t index);
-
-/* The whole scene at `level` as one mesh in world space: every triangle primitive with a mesh (morphed ones at full
- * detail) at that level (0 = full detail; a primitive with fewer levels uses its last), once for each node that
- * shows its mesh, with the node's world matrix applied (through the node hierarchy of the default scene, else scene
- * 0, else of every root node; a scene made from a mesh file or without nodes: each mesh once, untransformed).
- * Normals go through the matrix's inverse transpose and are renormalised. A node whose MSFT_lod extension (in a
- * loaded file) names level nodes shows their meshes at level 1, 2, ... (as resurf_preview_render() draws them).
- * The mesh has normals and TEXCOORD_0 when every included primitive has them, no other attribute; vertices are not
- * welded (each primitive instance keeps its own). level: 0 .. RESURF_SCENE_MAX_LEVELS - 1. alloc: NULL = the
- * scene's. *out is freed with resurf_mesh_free(). RESURF_ERR_LIMIT above 2^32 vertices or triangles. */
-RESURF_API resurf_status resurf_scene_world_mesh(const resurf_scene *scene, int level, const resurf_allocator *alloc,
-                                                 resurf_mesh **out, resurf_error *error);
-
-/* Sets the levels of detail of primitive `index`: lods[0] is level 1 (the first reduced level), lods[k-1] level k.
- * The meshes are copied (the caller keeps its own). Each must have finite positions and indices in range, and
- * carry the attributes the primitive's mesh has, by name (extras the source lacks are written as float custom
- * attributes "_NAME"). lod_count 0 removes the levels; at most RESURF_SCENE_MAX_LEVELS - 1.
- * Fails with RESURF_ERR_UNSUPPORTED for a morphed or point/line primitive (they stay at full detail),
- * RESURF_ERR_INVALID_MESH for a bad level (the message says which). On failure the previous levels stay. */
-#define RESURF_SCENE_MAX_LEVELS 16
-RESURF_API resurf_status resurf_scene_set_lods(resurf_scene *scene, size_t index, const resurf_mesh *const *lods,
-                                               size_t lod_count, resurf_error *error);
-
-/* MSFT_lod screen coverage of glTF mesh `mesh` (extras.MSFT_screencoverage): coverage[k] is the smallest share of
- * the screen at which level k is shown (k = 0 full detail); below the last value nothing is drawn. count must be
- * the mesh's level count (1 + the most levels of detail of any of its primitives) when the scene is saved, which
- * is one more value than MSFT_lod's ids. Values in [0, 1], non-increasing. Unset: 0.5, 0.25, ... halving per
- * level, and 0 for the coarsest level (never culled). */
-RESURF_API resurf_status resurf_scene_set_screen_coverage(resurf_scene *scene, size_t mesh, const double *coverage,
-                                                          size_t count, resurf_error *error);
-
-/* How resurf_scene_build_lods() works besides the simplification itself. */
-typedef struct resurf_scene_lod_options {
-    size_t struct_size;
-    bool set_screen_coverage; /* true (default): set each mesh's MSFT_screencoverage from the measured errors (see
-                                 below); false: leave the coverage as it is (values whose count no longer matches
-                                 the mesh's levels are removed: the defaults are written) */
-    double pixels;            /* a level is shown once its error covers at most this many pixels; > 0, default 1 */
-    double screen_height;     /* ... on a screen this many pixels high; > 0, default 1080 */
-    const double *level_max_error_rel; /* NULL (default), or `count` values >= 0: level k + 1 also stops where a
-                                 collapse's estimated error (resurf_simplify_options.max_error) would exceed
-                                 level_max_error_rel[k] × the whole scene's world bounding-box diagonal, in world
-                                 units (converted to each mesh's units by the largest scale of its nodes'
-                                 matrices); 0 = no error bound for that level */
-    const double *level_max_error; /* the same in world units; NULL (default) or `count` values >= 0. With both,
-                                 the smaller bound of a level counts */
-    bool keep_shared_borders; /* true (default): a position that several primitives of one mesh use (bit for bit)
-                                 is locked in each of them (resurf_simplify_options.vertex_lock), so no level opens
-                                 a crack between them; false: each primitive is simplified alone */
-    resurf_progress progress; /* the stages of resurf_simplify (RESURF_STAGE_PREPARE, _SIMPLIFY, _FINISH) with a
-                                 fraction of the whole scene's work that never decreases (primitives weighted by
-                                 their triangles) and ends at 1; a cancel returns RESURF_ERR_CANCELLED and leaves
-                                 the scene as it was */
-} resurf_scene_lod_options;
-
-RESURF_API resurf_scene_lod_options resurf_scene_lod_options_default(void);
-
-/* What resurf_scene_build_lods() made. Levels count from 0 (full detail) to `levels` - 1. */
-typedef struct resurf_scene_lod_report {
-    size_t levels;                                    /* 1 + the most levels any primitive kept (at most 1 + count:
-                                                         levels that do not help are not kept, see below) */
-    size_t primitives;                                /* triangle primitives that were simplified */
-    size_t morphed;                                   /* primitives with morph targets, kept at full detail */
-    size_t other;                                     /* point and line primitives, kept as they are */
-    size_t level_triangles[RESURF_SCENE_MAX_LEVELS];  /* triangles of each level over every primitive with a mesh
-                                                         (morphed ones at full detail in every level, a primitive
-                                                         with fewer levels at its last; each mesh once, whatever
-                                                         its instances): what resurf_scene_save() reports */
-    /* Measured in world space (resurf_scene_world_mesh(): every instance, node transforms applied) between the
-     * level and level 0 with resurf_compare() (measure_samples samples on each surface, its default seed): 0 for
-     * level 0 and when nothing was measured (measure_samples 0). */
-    double level_error_rel[RESURF_SCENE_MAX_LEVELS];  /* two-sided Hausdorff distance over `diagonal` */
-    double level_error[RESURF_SCENE_MAX_LEVELS];      /* the same in world units */
-    double level_mean_rel[RESURF_SCENE_MAX_LEVELS];   /* two-sided mean distance over `diagonal` */
-    double level_to_full_rel[RESURF_SCENE_MAX_LEVELS];   /* one-sided max: the level's surface to level 0's */
-    double level_from_full_rel[RESURF_SCENE_MAX_LEVELS]; /* one-sided max: level 0's surface to the level's (what
-                                                         the level lost) */
-    double diagonal;                                  /* of the whole scene's world bounding box at level 0 */
-    size_t level_unreduced[RESURF_SCENE_MAX_LEVELS];  /* primitives whose chain ended at this level because it
-                                                         had no fewer triangles than the one before */
-    size_t level_missed[RESURF_SCENE_MAX_LEVELS];     /* primitives whose chain ended at this level because it
-                                                         missed its ratio (see resurf_scene_build_lods) */
-    double chains_seconds;                            /* wall-clock time spent making the primitives' chains */
-    double errors_seconds;                            /* ... measuring the world errors (scene and each mesh) */
-} resurf_scene_lod_report;
-
-/* Builds levels of detail for every triangle primitive of the scene in one call: each primitive's chain comes from
- * resurf_simplify_lods() (ratios, count and simplify as documented there: level k has at most ratios[k-1] × the
- * primitive's triangles and lies on the smooth surface of the ORIGINAL primitive) and is set as with
- * resurf_scene_set_lods(), replacing levels set before. With per-level error bounds (options->level_max_error_rel,
- * level_max_error) that differ between levels, or without ratios, each level is simplified from the ORIGINAL by
- * its own resurf_simplify() call instead. Primitives with morph targets and point or line primitives keep full
- * detail (counted in the report).
- * Levels that help: a primitive's chain ends before the first level that has no fewer triangles than the level
- * before it (a level where nothing could be collapsed is never kept as a moved copy; level_unreduced), or that
- * missed its ratio by more than the slack, with more than 1.5 × ratio × the primitive's triangles + 2 (level_missed;
- * a level stopped by its error bound, RESURF_STOP_ERROR, has reached its target). A primitive with fewer levels
- * shows its last one in the levels above; a mesh has 1 + the most levels of its primitives, so MSFT_lod's ids are
- * shorter where levels did not help, and a mesh none of whose primitives could be reduced gets none.
- * Errors: the report's are measured in world space over the whole scene (see resurf_scene_lod_report); each
- * primitive's own, in its own units against its own diagonal, are in out_primitive_reports.
- * With options->set_screen_coverage, each mesh that has levels gets its MSFT_screencoverage from its own measured
- * errors in world space: e_k is the two-sided Hausdorff distance between the mesh's level k and its level 0 as its
- * first node shows them (world transform applied), over that mesh's own world bounding-box diagonal. A level of
- * relative error e on an object whose bounding-box diagonal spans d pixels is off by e·d pixels; with d ≈ √c·H for
- * a screen share c on a screen H pixels high, level k is good enough below c_k = (pixels / (e_k·H))², clamped to 1
- * and made non-increasing; coverage[k-1] = c_k is where level k-1 hands over to level k, and the coarsest level is
- * never culled (0). An unmeasured error counts as 0, so c_k = 1. (Before 0.3.0 e_k was the largest error of the
- * mesh's primitives each against its own diagonal: a mesh of many small primitives reported several times its
- * true error, 14% against 3.1% measured on 2CylinderEngine.)
- * - scene: modified only when the call succeeds; on error or cancel it is exactly as it was.
- * - simplify: NULL = resurf_simplify_options_default(); target_triangles and target_ratio are ignored, its
- *   progress and vertex_lock are not used (options->progress and keep_shared_borders are); its max_error / max_error_rel, in each primitive's own units,
- *   apply to every level beside options' bounds; measure_samples is the budget of the whole scene: each
- *   primitive's own report measures its share of it, by world area (at least 1,000 samples, at most the budget),
- *   and it is also the world measurement's sample count.
- * - ratios: count values in (0, 1], non-increasing; or NULL when every level has an error bound (a chain by
- *   errors alone: each level as far as its bound allows); 1 <= count <= RESURF_SCENE_MAX_LEVELS - 1.
- * - options: NULL = resurf_scene_lod_options_default().
- * - out_report: may be NULL.
- * - out_primitive_reports: NULL, or room for resurf_scene_primitive_count(scene) × count reports:
- *   [p × count + k] is level k + 1 of primitive p as it was made (zeroed for primitives that got no levels and
- *   after the level that ended its chain; that level's report is kept: its stop and blocked_* say why it missed).
- * Errors name the primitive ("meshes[1].primitives[0]: ..."; with several failures, the first in primitive
- * order). With at least 2 × simplify->threads triangle primitives (0 = all cores, at least 2), none of which holds
- * more than half the triangles, and no thread_pool, the primitives are simplified side by side, each on one
- * thread, and options->progress is then called from those threads (one call at a time) after each primitive;
- * else one after the other, each with simplify->threads worker threads. The result is the same either way, for
- * every thread count. */
-RESURF_API resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios, size_t count,
-                                                 const resurf_simplify_options *simplify,
-                                                 const resurf_scene_lod_options *options,
-                                                 resurf_scene_lod_report *out_report,
-                                                 resurf_simplify_report *out_primitive_reports, resurf_error *error);
-
-/* How resurf_scene_save() writes the levels of detail (when any primitive has some). */
-typedef enum resurf_lod_layout {
-    RESURF_LOD_MSFT_LOD = 0,  /* one file: each node showing a mesh with levels gets the MSFT_lod extension, whose
-                                 `ids` name new level nodes that are in no scene's node list, and
-                                 extras.MSFT_screencoverage (one more value than ids). A node that has children or
-                                 an animated transform gets a new child node that carries its mesh instead */
-    RESURF_LOD_FILES,         /* one complete file per level, named by resurf_scene_level_path() (NAME_lod0 also
-                                 when the scene has no levels) */
-    RESURF_LOD_SIDE_BY_SIDE,  /* one file: every level as visible copies of each scene's nodes, level k moved by
-                                 k × (scene width × (1 + spacing_rel)) along +x; for looking at in any viewer */
-    RESURF_LOD_LAYOUT_COUNT
-} resurf_lod_layout;
-
-typedef struct resurf_scene_save_options {
-    size_t struct_size;
-    bool draco;                /* true: KHR_draco_mesh_compression on every triangle primitive (not morphed ones,
-                                  which stay untouched); default false. A .drc file is always Draco */
-    int position_bits, normal_bits, texcoord_bits, color_bits; /* Draco quantization bits, 1..30; defaults 14, 10,
-                                                                   12, 8 */
-    int generic_bits;          /* other float attributes (TANGENT, WEIGHTS_n, custom): default 12; integer attributes
-                                  (JOINTS_n) are stored exactly */
-    int compression_level;     /* Draco: 0 fastest .. 10 smallest; default 7 */
-    bool embed_buffers;        /* .gltf: true puts the binary data in a data: URI; default false writes NAME.bin
-                                  beside it */
-    resurf_lod_layout layout;  /* default RESURF_LOD_MSFT_LOD */
-    double spacing_rel;        /* RESURF_LOD_SIDE_BY_SIDE: the gap between levels as a fraction of the scene's width
-                                  along x; >= 0; default 0.25 */
-    int level;                 /* -1 (default): all levels as `layout` says; k >= 0: level k alone as a plain scene
-                                  (0 = full detail; a primitive with fewer levels uses its last one) */
-    resurf_progress progress;
-    const resurf_allocator *allocator; /* NULL (default): the input mesh's (or the C heap); see resurf_allocator */
-} resurf_scene_save_options;
-
-RESURF_API resurf_scene_save_options resurf_scene_save_options_default(void);
-
-/* What resurf_scene_save() wrote. Levels are counted over all primitives (each mesh once, whatever its instances). */
-typedef struct resurf_scene_save_report {
-    size_t levels;                                   /* 1 + the most levels of detail any primitive has */
-    size_t level_triangles[RESURF_SCENE_MAX_LEVELS]; /* triangles of each level (point/line primitives excluded) */
-    size_t level_bytes[RESURF_SCENE_MAX_LEVELS];     /* geometry bytes of each level: the Draco payloads, or the
-                                                        index and vertex data, of its triangle primitives (morphed,
-                                                        point and line primitives, copied untouched, not counted) */
-    size_t files;                                    /* files written, .bin files and image copies included */
-    size_t total_bytes;                              /* their total size */
-    size_t dropped_extensions;                       /* primitive extensions left off rewritten triangle
-                                                        primitives (FB_ngon_encoding, unknown ones; counted per
-                                                        primitive; the load warnings name them) */
-} resurf_scene_save_report;
-
-/* Writes the scene by path's extension: .gltf (JSON; NAME.bin beside it unless embed_buffers), .glb (binary) or
- * .drc (raw Draco of the one triangle primitive the scene must have; with levels, use level or the FILES layout).
- * Triangle primitives are written from their meshes (float positions, normals, texcoords and colors; extras in
- * their original types), everything else from the loaded document. Every Draco payload is decoded again and
- * checked against what was meant (counts, attributes, positions within the quantization step) before it is
- * written; its accessors carry the decoded count and POSITION min/max. Each file goes to a temporary file in its
- * folder and is renamed into place only when every file of the call is complete: a failure leaves no new file and
- * no partial file. out_report may be NULL.
- * Images: a .glb (and a .gltf with embed_buffers) holds every image in a bufferView, with the mimeType its bytes
- * show; a .gltf otherwise gets a copy of each external image beside itself under its relative name (one that was
- * outside the input's folder under its file name: nothing is written outside the output's folder). Extensions of
- * triangle primitives that may describe the source's triangulation or vertex order (FB_ngon_encoding, unknown
- * ones) are left off the rewritten primitives (report.dropped_extensions); KHR_materials_variants stays. Source
- * accessors, bufferViews and buffers that nothing written refers to are not copied (all are kept, at their
- * indices, when an unknown extension elsewhere may refer to them). */
-RESURF_API resurf_status resurf_scene_save(const resurf_scene *scene, const char *path,
-                                           const resurf_scene_save_options *options,
-                                           resurf_scene_save_report *out_report, resurf_error *error);
-
-/* The file name RESURF_LOD_FILES gives to `level` of `path`: "dir/name.glb" → "dir/name_lod0.glb",
- * "dir/name_lod1.glb", ... (level 0 is full detail). Writes into dst (always NUL-terminated when dst_size > 0) and
- * returns the length the full name needs, like snprintf. */
-RESURF_API size_t resurf_scene_level_path(char *dst, size_t dst_size, const char *path, unsigned level);
-
-/* A description of the scene, as text lines for people (as_json 0) or as one JSON object: its scenes, nodes (mesh,
- * skin, camera, children, extensions), meshes and their primitives (triangles and vertices as decoded, mode,
- * material, attribute names, morph targets and their attributes, Draco, extensions), materials (textures,
- * extensions), textures, images (uri, bufferView or embedded; mimeType; bytes; missing), skins, animations
- * (channels, samplers, animated paths), cameras and the extensions used and required. A scene made from a mesh
- * (a .drc, a mesh file) is one mesh with one primitive. Written into dst like snprintf (NUL-terminated when
- * dst_size > 0; dst may be NULL with dst_size 0); *out_length gets the length of the whole description. */
-RESURF_API resurf_status resurf_scene_describe(const resurf_scene *scene, bool as_json, char *dst, size_t dst_size,
-                                               size_t *out_length, resurf_error *error);
-
-/* Problems that did not stop the load (a missing image allowed by allow_missing_images, a schema problem allowed by
- * lenient, primitive extensions that saving drops, a tinygltf warning), one line each. resurf_scene_warning
- * returns NULL for an index out of range; the strings live as long as the scene. */
-RESURF_API size_t resurf_scene_warning_count(const resurf_scene *scene);
-RESURF_API const char *resurf_scene_warning(const resurf_scene *scene, size_t index);
-
-/* ------------------------------------------------------------------------------------------------------------- */
-/* Preview: a picture of every level                                                                            */
-/* ------------------------------------------------------------------------------------------------------------- */
-
-/* A contact sheet of a scene's levels of detail, drawn by a software rasterizer (no GPU, no window): one cell per
- * level, all from the same perspective camera framing the whole scene (the bounding sphere of level 0), shaded with
- * each level's own normals (face normals where a primitive has none) by Lambert + ambient light fixed to the
- * camera, both sides of a face lit alike (no culling: open meshes show their inside). Under each cell: the level,
- * its triangles, its two-sided error (resurf_compare's hausdorff between level 0 and the level, relative to level
- * 0's diagonal and in scene units) and its MSFT_lod screen coverage. Every node that shows a mesh is drawn with its
- * world transform, as a viewer would; primitives with morph targets at rest; points and lines are not drawn.
- * Each primitive shows its material's base colour (baseColorFactor) times its base-colour texture, PNG or JPEG
- * (libpng, libjpeg), sampled bilinearly with its sampler's wrap modes at the texture coordinates the material names
- * (KHR_texture_transform is not applied); a primitive without a material is a warm grey. An image that cannot be
- * decoded leaves its surfaces with the colour alone and is counted in the report (textures_undrawn), never an error.
- * Deterministic: the same scene and options give the same pixels for any thread count and on any machine whose C
- * library computes the camera's sin, cos, tan and atan alike (the drawing itself uses exact IEEE operations only),
- * and, with the same libpng and zlib, the same PNG bytes. */
-
-typedef enum resurf_preview_view {
-    RESURF_PREVIEW_THREE_QUARTER = 0, /* default: yaw 35°, pitch 20° (in front, to the right, above) */
-    RESURF_PREVIEW_FRONT,             /* from +z looking down -z (yaw 0, pitch 0) */
-    RESURF_PREVIEW_SIDE,              /* from +x (yaw 90°) */
-    RESURF_PREVIEW_TOP,               /* from +y (pitch 90°; -z is up on screen) */
-    RESURF_PREVIEW_ISO,               /* yaw 45°, pitch 35.26° (the isometric direction (1, 1, 1)) */
-    RESURF_PREVIEW_VIEW_COUNT
-} resurf_preview_view;
-
-#define RESURF_PREVIEW_MAX_SIDE 16384         /* width and height at most this */
-#define RESURF_PREVIEW_MAX_PIXELS (1u << 26)  /* width × height at most this (256 MB of RGBA) */
-
-typedef struct resurf_preview_options {
-    size_t struct_size;
-    unsigned width, height;   /* the sheet in pixels; 16..RESURF_PREVIEW_MAX_SIDE each, at most
-                                 RESURF_PREVIEW_MAX_PIXELS in all (else RESURF_ERR_LIMIT); default 1600 × 900 */
-    resurf_preview_view view; /* default RESURF_PREVIEW_THREE_QUARTER */
-    double yaw_deg, pitch_deg;/* added to the view's angles (yaw about +y, pitch up from the horizon), finite; 0 */
-    bool wireframe;           /* true: darken the triangles' edges; default false */
-    bool heatmap;             /* true: under each level's picture a second one coloured by the distance from each
-                                 visible point of the level to level 0's surface (exact, per pixel), one colour
-                                 scale for all levels, with a colour bar in scene units at the bottom; default 0 */
-    unsigned char background[4]; /* RGBA; default 255, 255, 255, 255 */
-    bool measure;             /* true (default): measure each level's error with resurf_compare; false: skip it (the
-                                 labels and report then say nothing about errors: NaN) */
-    size_t compare_samples;   /* resurf_compare's samples for each level's error; default 10000; 0 = vertices */
-    unsigned threads;         /* 0 = all cores (the error measure and the heat map's distances) */
-    resurf_progress progress; /* RESURF_STAGE_PREVIEW; a cancel returns RESURF_ERR_CANCELLED */
-    const resurf_allocator *allocator; /* NULL (default): the scene's; see resurf_allocator */
-} resurf_preview_options;
-
-RESURF_API resurf_preview_options resurf_preview_options_default(void);
-
-/* An 8-bit RGBA image, rows top to bottom, no padding; rgba comes from `allocator` (freed by
- * resurf_preview_image_free). */
-typedef struct resurf_preview_image {
-    unsigned width, height;
-    unsigned char *rgba;
-    resurf_allocator allocator;
-} resurf_preview_image;
-
-/* What the sheet shows, in numbers. Levels count from 0 (full detail). */
-typedef struct resurf_preview_report {
-    size_t levels;                                   /* 1 + the most levels of detail any primitive has */
-    size_t level_triangles[RESURF_SCENE_MAX_LEVELS]; /* triangles drawn (each instance counted) */
-    double level_error[RESURF_SCENE_MAX_LEVELS];     /* two-sided error to level 0 in scene units (0 for level 0;
-                                                        NaN when not measurable: a level without triangles) */
-    double level_error_rel[RESURF_SCENE_MAX_LEVELS]; /* the same over level 0's bounding-box diagonal */
-    double level_coverage[RESURF_SCENE_MAX_LEVELS];  /* MSFT_lod screen coverage from which the level shows (the
-                                                        first node with levels: its file's values, its set values,
-                                                        else the defaults resurf_scene_save writes), -1 with a single
-                                                        level or when unknown */
-    double diagonal;                                 /* of level 0's bounding box in world space */
-    double heat_max;                                 /* the colour bar's top in scene units (0 without heatmap) */
-    size_t textures_undrawn;                         /* base-colour images that could not be drawn (missing, not
-                                                        PNG or JPEG, or broken): their surfaces show the material's
-                                                        colour alone */
-    char texture_warning[192];                       /* the first of them and why ("images[2] 'a.tga': neither
-                                                        PNG nor JPEG"), "" when none */
-} resurf_preview_report;
-
-/* Draws the sheet of scene into *out_image (required; on failure it is zeroed). A node's levels are those set on
- * its mesh's primitives (resurf_scene_set_lods, resurf_scene_build_lods), else those its MSFT_lod extension names
- * in the loaded file (each level node's mesh, drawn with the transform of the node it stands in for, as resurf
- * writes them; an extension naming a node without a mesh is ignored), with extras.MSFT_screencoverage. A scene
- * without triangles gives empty panels; degenerate triangles are skipped. out_report may be NULL. */
-RESURF_API resurf_status resurf_preview_render(const resurf_scene *scene, const resurf_preview_options *options,
-                                               resurf_preview_image *out_image, resurf_preview_report *out_report,
-                                               resurf_error *error);
-
-/* Frees the image's pixels and zeroes it. NULL is allowed. */
-RESURF_API void resurf_preview_image_free(resurf_preview_image *image);
-
-/* Writes the image as an RGBA PNG (libpng, fixed settings), atomically: a temporary file in path's folder renamed
- * into place once complete, so a failure leaves no partial file. */
-RESURF_API resurf_status resurf_preview_save_png(const resurf_preview_image *image, const char *path,
-                                                 resurf_error *error);
-
 #ifdef __cplusplus
 }
 #endif
+
+/* The manual goes on in two headers of their own, included here: */
+#include "scene.h"   /* Scenes (glTF): load, levels of detail, save */
+#include "preview.h" /* Preview: a picture of every level */
 
 #endif /* RESURF_RESURF_H */

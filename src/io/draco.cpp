@@ -261,8 +261,11 @@ resurf_status encode(const resurfi_draco_input *in, resurfi_draco_output *out, r
     }
     // Equal points become one, as Draco's own encoder and transcoder do before encoding: Edgebreaker then sees the
     // connectivity of the surface rather than of the attribute seams' copies.
-    geometry->DeduplicateAttributeValues();
-    geometry->DeduplicatePointIds();
+    // Not with keep_order: uncompressed morph targets beside the payload index the points in the input's order.
+    if (!in->keep_order) {
+        geometry->DeduplicateAttributeValues();
+        geometry->DeduplicatePointIds();
+    }
 
     std::unique_ptr<draco::ExpertEncoder> encoder(mesh ? new draco::ExpertEncoder(*mesh)
                                                        : new draco::ExpertEncoder(*geometry));
@@ -272,6 +275,8 @@ resurf_status encode(const resurfi_draco_input *in, resurfi_draco_output *out, r
     int speed = 10 - in->compression_level;
     encoder->SetSpeedOptions(speed, speed);
     encoder->SetTrackEncodedProperties(true);
+    if (in->keep_order && mesh) // Edgebreaker renumbers the points as it walks the surface; sequential does not
+        encoder->SetEncodingMethod(draco::MESH_SEQUENTIAL_ENCODING);
     draco::EncoderBuffer buffer;
     draco::Status status = encoder->EncodeToBuffer(&buffer);
     if (!status.ok())

@@ -208,6 +208,9 @@ typedef struct resurfi_gltf_out_primitive {
     const unsigned char *draco;/* KHR_draco_mesh_compression payload, or NULL */
     size_t draco_size;
     const resurfi_gltf_named *draco_ids; /* attribute_count entries: glTF name → Draco unique id */
+    size_t target_count;       /* morph targets: target t has target_attributes[target_begin[t] .. target_begin[t+1]) */
+    const size_t *target_begin;
+    const resurfi_gltf_named *target_attributes; /* name → index into the plan's accessors (never Draco) */
 } resurfi_gltf_out_primitive;
 
 /* One output mesh: source mesh `source_mesh` at one level. */
@@ -345,6 +348,8 @@ typedef struct resurfi_draco_input {
     size_t attribute_count;
     const resurfi_draco_input_attribute *attributes;
     int compression_level;     /* 0..10 */
+    int keep_order;            /* 1: the decoded points and triangles are the input's, in its order (sequential
+                                  encoding, no points merged): for uncompressed morph targets beside the payload */
 } resurfi_draco_input;
 
 typedef struct resurfi_draco_output {

@@ -7,6 +7,8 @@
 // plan's new accessors and the Draco payloads. Each bufferView starts on a 4-byte boundary (glTF 2.0, 3.6.2.4).
 // MSFT_lod (Microsoft vendor extension) and the side-by-side copies are built here from the plan's level table.
 #include <algorithm>
+#include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <map>
@@ -240,6 +242,12 @@ struct Writer {
         for (size_t i = 0; i < p.attribute_count; ++i)
             o.attributes[p.attributes[i].name] = plan_base + (int)p.attributes[i].index;
         o.indices = p.indices < 0 ? -1 : plan_base + (int)p.indices;
+        for (size_t t = 0; t < p.target_count; ++t) {
+            std::map<std::string, int> target;
+            for (size_t i = p.target_begin[t]; i < p.target_begin[t + 1]; ++i)
+                target[p.target_attributes[i].name] = plan_base + (int)p.target_attributes[i].index;
+            o.targets.push_back(target);
+        }
         if (p.draco) {
             // A primitive shown at several levels shares one payload (and one bufferView).
             auto known = draco_views.find(p.draco);
@@ -285,6 +293,21 @@ struct Writer {
         to.translation = from.translation;
         to.rotation = from.rotation;
         to.scale = from.scale;
+    }
+
+    // The animations that drive node `from`'s morph weights drive node `to`'s too (a level node shows the same
+    // targets): one more channel on the same sampler.
+    void drive_weights(int from, int to)
+    {
+        for (tinygltf::Animation &a : out.animations) {
+            size_t count = a.channels.size();
+            for (size_t i = 0; i < count; ++i)
+                if (a.channels[i].target_node == from && a.channels[i].target_path == "weights") {
+                    tinygltf::AnimationChannel c = a.channels[i];
+                    c.target_node = to;
+                    a.channels.push_back(c);
+                }
+        }
     }
 
     // MSFT_lod: the level nodes of every node that shows a mesh with levels.
@@ -334,6 +357,7 @@ struct Writer {
                     copy_transform(t, lod);
                 out.nodes.push_back(lod);
                 ids.push_back(tinygltf::Value((int)out.nodes.size() - 1));
+                drive_weights((int)target, (int)out.nodes.size() - 1);
             }
             tinygltf::Value::Object ext;
             ext["ids"] = tinygltf::Value(ids);
@@ -372,9 +396,12 @@ struct Writer {
             if (s.mesh >= 0)
                 c.mesh = (int)level_mesh(level, (size_t)s.mesh);
             std::vector<int> children = s.children;
+            bool shows_mesh = s.mesh >= 0;
             out.nodes.push_back(c);
             int idx = (int)out.nodes.size() - 1;
             copies[n] = idx;
+            if (shows_mesh)
+                drive_weights(n, idx);
             if (parent >= 0)
                 out.nodes[(size_t)parent].children.push_back(idx);
             else
@@ -585,11 +612,33 @@ void nulls_to_objects(nlohmann::json &j)
     }
 }
 
-// What tinygltf 2.7 serialises wrongly: empty objects (above), and an absent perspective zfar (an infinite
-// projection) comes out as 0.
+// tinygltf keeps every glTF number as a double, and nlohmann writes a whole double as "1.0": a whole number is
+// written as an integer instead ("0.0" and "1.0" fill matrices, factors and min/max: 1.3 kB of the 41 kB of JSON
+// of a 2CylinderEngine level). The same value to any JSON reader; -0.0 keeps its sign, and extras stay as the
+// source wrote them.
+void whole_numbers_as_integers(nlohmann::json &j)
+{
+    if (j.is_number_float()) {
+        double x = j.get<double>();
+        bool whole = std::isfinite(x) && x == std::trunc(x) && std::fabs(x) < 9007199254740992.0; // below 2^53
+        if (whole && !(x == 0 && std::signbit(x)))
+            j = (int64_t)x;
+    } else if (j.is_object()) {
+        for (auto it = j.begin(); it != j.end(); ++it)
+            if (it.key() != "extras")
+                whole_numbers_as_integers(it.value());
+    } else if (j.is_array()) {
+        for (nlohmann::json &x : j)
+            whole_numbers_as_integers(x);
+    }
+}
+
+// What tinygltf 2.7 serialises wrongly or longer than needed: empty objects (above), an absent perspective zfar
+// (an infinite projection) comes out as 0, whole numbers as "1.0".
 void fix_json(nlohmann::json &root)
 {
     nulls_to_objects(root);
+    whole_numbers_as_integers(root);
     auto cameras = root.find("cameras");
     if (cameras != root.end() && cameras->is_array())
         for (nlohmann::json &c : *cameras) {

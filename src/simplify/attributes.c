@@ -24,6 +24,57 @@
 
 enum { ATTR_HEAD = 11 }; /* A (6), b (3), c, W; then G (3) and D per component */
 
+/* Morph targets (extras "targets[t].POSITION", RESURF_MORPH_TARGET_PREFIX): their deltas are positions, so they
+ * enter in geometric units, weight × 1 (docs/restoring.md §12): a delta that departs by L from one linear field over
+ * the merged triangles counts like a distance L off the surface, which is what the level shows at morph weight 1.
+ * At most ATTR_MORPH_TARGETS of them, those with the largest delta (ties: the first). */
+static void choose_morph_components(simplifier *s)
+{
+    const resurf_mesh *in = s->in;
+    attr_quadrics *q = &s->attr;
+    if (!(s->opt.morph_weight > 0))
+        return;
+    size_t chosen[ATTR_MORPH_TARGETS];
+    double peak[ATTR_MORPH_TARGETS];
+    size_t n = 0;
+    for (size_t e = 0; e < in->extra_count; ++e) {
+        const resurf_attribute *x = &in->extras[e];
+        size_t len = strlen(RESURF_MORPH_TARGET_PREFIX), name_len = strlen(x->name);
+        if (strncmp(x->name, RESURF_MORPH_TARGET_PREFIX, len) || name_len < len + 10 ||
+            strcmp(x->name + name_len - 10, "].POSITION") || x->components != 3 || !x->data)
+            continue;
+        double m = 0;
+        for (size_t v = 0; v < in->vertex_count; ++v) {
+            const float *d = x->data + 3 * v;
+            double l2 = (double)d[0] * d[0] + (double)d[1] * d[1] + (double)d[2] * d[2];
+            m = l2 > m ? l2 : m;
+        }
+        if (!(m > 0) || !isfinite(m))
+            continue;
+        size_t at = n < ATTR_MORPH_TARGETS ? n++ : ATTR_MORPH_TARGETS;
+        if (at == ATTR_MORPH_TARGETS) { /* full: replace the smallest when this one is larger */
+            size_t low = 0;
+            for (size_t k = 1; k < n; ++k)
+                low = peak[k] < peak[low] ? k : low;
+            if (!(m > peak[low]))
+                continue;
+            at = low;
+        }
+        chosen[at] = e, peak[at] = m;
+    }
+    for (size_t k = 0; k < n; ++k)
+        for (unsigned c = 0; c < 3; ++c)
+            q->src[q->count] = NULL, q->srcf[q->count] = in->extras[chosen[k]].data, q->step[q->count] = 3,
+            q->offset[q->count] = c, q->scale[q->count++] = s->opt.morph_weight;
+}
+
+/* The value of component j at input vertex v. */
+static inline double component(const attr_quadrics *q, unsigned j, uint32_t v)
+{
+    size_t i = (size_t)q->step[j] * v + q->offset[j];
+    return q->src[j] ? q->src[j][i] : (double)q->srcf[j][i];
+}
+
 /* The components the options weigh, from the input's arrays. */
 static void choose_components(simplifier *s)
 {
@@ -44,6 +95,7 @@ static void choose_components(simplifier *s)
         for (unsigned k = 0; k < (in->color_components == 3 ? 3u : 4u); ++k)
             q->src[q->count] = in->colors, q->step[q->count] = 4, q->offset[q->count] = k,
             q->scale[q->count++] = s->opt.color_weight * d;
+    choose_morph_components(s);
     q->stride = ATTR_HEAD + 4 * (size_t)q->count;
 }
 
@@ -65,10 +117,8 @@ static void add_triangle(const simplifier *s, uint32_t t, double *r)
     uint32_t w0 = TW(3 * t), w1 = TW(3 * t + 1), w2 = TW(3 * t + 2);
     r[10] += w;
     for (unsigned j = 0; j < q->count; ++j) {
-        const double *src = q->src[j];
-        size_t step = q->step[j], off = q->offset[j];
-        double s0 = q->scale[j] * src[step * w0 + off], s1 = q->scale[j] * src[step * w1 + off],
-               s2 = q->scale[j] * src[step * w2 + off];
+        double s0 = q->scale[j] * component(q, j, w0), s1 = q->scale[j] * component(q, j, w1),
+               s2 = q->scale[j] * component(q, j, w2);
         vec3 g = v3_add(v3_scale(u, s1 - s0), v3_scale(v, s2 - s0));
         double d = s0 - v3_dot(g, x0);
         if (!v3_finite(g) || !isfinite(d))

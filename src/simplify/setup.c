@@ -136,6 +136,13 @@ static int fin_key(const resurf_mesh *in, const uint32_t *remap, uint32_t t, uin
     return u < w ? 1 : -1;
 }
 
+/* Are input triangles t and u of the same group? A fin's two sides in two materials (a double-sided sign) are two
+ * surfaces the input means, not a modelling slip. */
+static int same_group(const resurf_mesh *in, uint32_t t, uint32_t u)
+{
+    return !in->triangle_groups || in->triangle_groups[t] == in->triangle_groups[u];
+}
+
 /* The triangles drop_fins leaves out (see resurf_simplify_options): (*out_drop)[t] == FIN_DROP for them, or
  * *out_drop = NULL when there are none. Triangles over the same three positions share their lowest position, so
  * each is compared only with the few others filed under it. Of n+ triangles running one way and n− the other,
@@ -179,7 +186,7 @@ static resurf_status find_fins(simplifier *s, const uint32_t *remap, uint8_t **o
             for (uint32_t y = x + 1; y < offset[p + 1]; ++y) {
                 uint32_t lo2, hi2;
                 int side2 = fin_key(in, remap, filed[y], (uint32_t)p, &lo2, &hi2);
-                if (!drop[filed[y]] && lo2 == lo && hi2 == hi)
+                if (!drop[filed[y]] && lo2 == lo && hi2 == hi && same_group(in, t, filed[y]))
                     balance += side2, ++members;
             }
             if (members == 1)
@@ -189,7 +196,7 @@ static resurf_status find_fins(simplifier *s, const uint32_t *remap, uint8_t **o
             for (uint32_t y = x; y < offset[p + 1]; ++y) {
                 uint32_t lo2, hi2, m = filed[y];
                 int side2 = fin_key(in, remap, m, (uint32_t)p, &lo2, &hi2);
-                if (drop[m] || lo2 != lo || hi2 != hi)
+                if (drop[m] || lo2 != lo || hi2 != hi || !same_group(in, t, m))
                     continue;
                 if (side2 == keep)
                     drop[m] = FIN_KEEP, keep = 0;
@@ -392,11 +399,20 @@ static double edge_cos(const simplifier *s, uint32_t ti, uint32_t tj)
     return l2 > 0 ? v3_dot(ni, nj) / sqrt(l2) : 1;
 }
 
-/* Is edge (a, x), shared by triangles ti and tj, a feature edge: the triangles' normals more than
- * feature_angle_deg apart, or the input's normals split along it (a normal seam: its wedges at an end carry normals
- * more than about 1° apart)? */
+/* Do triangles ti and tj belong to different groups of the input (an OBJ usemtl/g border: another material)? */
+static int group_border(const simplifier *s, uint32_t ti, uint32_t tj)
+{
+    const uint32_t *g = s->in->triangle_groups;
+    return g && g[s->src[ti]] != g[s->src[tj]];
+}
+
+/* Is edge (a, x), shared by triangles ti and tj, a feature edge: a border between two groups (materials), the
+ * triangles' normals more than feature_angle_deg apart, or the input's normals split along it (a normal seam: its
+ * wedges at an end carry normals more than about 1° apart)? */
 int feature_edge(const simplifier *s, uint32_t ti, uint32_t tj, uint32_t a, uint32_t x)
 {
+    if (group_border(s, ti, tj))
+        return 1;
     const double *normals = s->in->normals;
     for (int end = 0; normals && end < 2; ++end) {
         uint32_t v = end ? x : a;
@@ -432,7 +448,8 @@ int analyse_position(simplifier *s, uint32_t a, scratch *sc, pos_flags *out_flag
     pos_flags f = 0;
     for (size_t i = 0; i < fan->count; ++i)
         sc->uf[i] = (uint32_t)i;
-    int seam_edges = 0;
+    int seam_edges = 0, group_edges = 0;
+    uint32_t group_end[2] = {NONE, NONE}; /* the other ends of the first two material border edges */
     uint32_t wedges[3];
     int wedge_count = 0;
     for (size_t i = 0; i < fan->count && wedge_count < 3; ++i) {
@@ -495,13 +512,17 @@ int analyse_position(simplifier *s, uint32_t a, scratch *sc, pos_flags *out_flag
             resurfi_uf_union(sc->uf, si / 2, sj / 2);
             int seam_here = TW(ci) != TW(cj);
             int seam_there = TW(corner_at(s, ti, x)) != TW(corner_at(s, tj, x));
+            int material = group_border(s, ti, tj);
             seam_edges += seam_here;
+            if (material && group_edges < 2)
+                group_end[group_edges] = x;
+            group_edges += material;
             if (feature_edge(s, ti, tj, a, x)) {
                 ++features;
             } else if (edge_cos(s, ti, tj) < s->smooth_cos) {
                 rough = 1;
             }
-            if (out_q && (seam_here || seam_there)) {
+            if (out_q && (seam_here || seam_there || material)) {
                 /* Each side's triangle adds its own perpendicular plane, at half weight. */
                 double len2 = v3_dist2(pa, s->P[x].p);
                 for (int side = 0; side < 2; ++side) {
@@ -535,11 +556,13 @@ int analyse_position(simplifier *s, uint32_t a, scratch *sc, pos_flags *out_flag
      * 444 triangles instead of 310; the cut dragon-notch.obj's 5% level went from 4.3% to 7.7% of the diagonal).
      * A crease that turns sharply with no third feature edge is no corner either: on the dragon scan such corners
      * raised the 2% level's mean distance from 25.9 to 31.3 ×1e-4 of the diagonal, and a box's corners have three
-     * edges. */
+     * edges. A border between groups (materials) always counts: it is where the input says the surface changes; and
+ * like a mesh border it has corners where it turns by more than corner_angle_deg (a decal's corners stay). */
     if (rough)
-        features = 0;
+        features = group_edges; /* a material border is one however rough the surface around it */
     if (features >= 3 || (features >= 1 && borders > 0) ||
-        (borders == 2 && !rough && curve_turns(s, pa, s->P[border_end[0]].p, s->P[border_end[1]].p)))
+        (borders == 2 && !rough && curve_turns(s, pa, s->P[border_end[0]].p, s->P[border_end[1]].p)) ||
+        (group_edges == 2 && curve_turns(s, pa, s->P[group_end[0]].p, s->P[group_end[1]].p)))
         f |= POS_CORNER;
     else if (features == 2)
         f |= POS_CREASE;

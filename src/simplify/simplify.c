@@ -71,6 +71,7 @@ resurf_simplify_options resurf_simplify_options_default(void)
     o.normal_weight = 0;
     o.texcoord_weight = 0.25;
     o.color_weight = 0.25;
+    o.morph_weight = 1;
     o.measure_samples = 100000;
     return o;
 }
@@ -105,8 +106,9 @@ static resurf_status check_options(const resurf_simplify_options *o, resurf_erro
         bad = "border_weight must be finite and >= 0";
     else if (!(o->normal_weight >= 0 && isfinite(o->normal_weight)) ||
              !(o->texcoord_weight >= 0 && isfinite(o->texcoord_weight)) ||
-             !(o->color_weight >= 0 && isfinite(o->color_weight)))
-        bad = "normal_weight, texcoord_weight and color_weight must be finite and >= 0";
+             !(o->color_weight >= 0 && isfinite(o->color_weight)) ||
+             !(o->morph_weight >= 0 && isfinite(o->morph_weight)))
+        bad = "normal_weight, texcoord_weight, color_weight and morph_weight must be finite and >= 0";
     else if (o->restore_options && o->restore_options->struct_size != sizeof(resurf_restore_options))
         bad = "restore_options was not initialised by resurf_restore_options_default()";
     else if (o->thread_pool && !o->thread_pool->run)
@@ -137,10 +139,13 @@ static void simplifier_free(simplifier *s)
     resurfi_pool_free(s->pool);
 }
 
-/* The shared worker: one run of collapses, a snapshot at each target (non-increasing). */
+/* The shared worker: one run of collapses, a snapshot at each target (non-increasing). With `ends`, a level for
+ * which ends() says so after its collapses ends the chain there: it gets a report without a mesh (triangles, stop
+ * and blocked_* as they were; vertices, positions 0; distances NaN, not measured) and no later level is made. */
 static resurf_status simplify_levels(const resurf_mesh *in, const resurf_simplify_options *options,
                                      const size_t *targets, size_t count, resurf_mesh **outs,
-                                     resurf_simplify_report *reports, resurf_error *error)
+                                     resurf_simplify_report *reports, const resurfi_chain_end *ends,
+                                     resurf_error *error)
 {
     simplifier s;
     memset(&s, 0, sizeof s);
@@ -168,6 +173,19 @@ static resurf_status simplify_levels(const resurf_mesh *in, const resurf_simplif
             s.rep.stop = RESURF_STOP_TARGET;
         if (st == RESURF_OK && resurfi_progress(&s.opt.progress, RESURF_STAGE_FINISH, (double)i / (double)count))
             st = resurfi_error(error, RESURF_ERR_CANCELLED, "simplification cancelled");
+        if (st == RESURF_OK && ends && ends->fn(ends->ctx, i, s.alive_tris, s.rep.stop)) {
+            if (reports) {
+                reports[i] = s.rep;
+                reports[i].triangles = s.alive_tris;
+                reports[i].vertices = reports[i].positions = 0;
+                reports[i].max_distance = reports[i].mean_distance = NAN;
+                reports[i].max_distance_rel = reports[i].mean_distance_rel = NAN;
+                reports[i].result_to_input_max = reports[i].result_to_input_mean = NAN;
+                reports[i].input_to_result_max = reports[i].input_to_result_mean = NAN;
+                reports[i].uv_error_mean = reports[i].uv_error_p95 = NAN;
+            }
+            break;
+        }
         if (i + 1 == count) { /* no more collapses: the queue's memory goes before the output's comes */
             s.last_level = 1;
             simp_queue_free(&s.queue);
@@ -214,7 +232,7 @@ resurf_status resurf_simplify(const resurf_mesh *in, const resurf_simplify_optio
         target = r > target ? r : target;
     }
     resurf_simplify_report rep;
-    st = simplify_levels(in, &o, &target, 1, out, out_report ? &rep : NULL, error);
+    st = simplify_levels(in, &o, &target, 1, out, out_report ? &rep : NULL, NULL, error);
     if (st == RESURF_OK && out_report)
         *out_report = rep;
     return st;
@@ -223,6 +241,14 @@ resurf_status resurf_simplify(const resurf_mesh *in, const resurf_simplify_optio
 resurf_status resurf_simplify_lods(const resurf_mesh *in, const double *ratios, size_t count,
                                    const resurf_simplify_options *options, resurf_mesh **out_levels,
                                    resurf_simplify_report *out_reports, resurf_error *error)
+{
+    return resurfi_simplify_lods_until(in, ratios, count, options, NULL, out_levels, out_reports, error);
+}
+
+resurf_status resurfi_simplify_lods_until(const resurf_mesh *in, const double *ratios, size_t count,
+                                          const resurf_simplify_options *options, const resurfi_chain_end *ends,
+                                          resurf_mesh **out_levels, resurf_simplify_report *out_reports,
+                                          resurf_error *error)
 {
     resurfi_clear_error(error);
     if (!out_levels || (count && !ratios))
@@ -246,7 +272,7 @@ resurf_status resurf_simplify_lods(const resurf_mesh *in, const double *ratios, 
         }
         targets[i] = (size_t)floor(ratios[i] * (double)in->triangle_count * (1 + 1e-12));
     }
-    st = simplify_levels(in, options, targets, count, out_levels, out_reports, error);
+    st = simplify_levels(in, options, targets, count, out_levels, out_reports, ends, error);
     resurfi_free(alloc, targets);
     return st;
 }

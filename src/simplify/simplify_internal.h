@@ -193,12 +193,15 @@ typedef struct charts {
 
 /* Attribute quadrics (attributes.c), one record of `stride` doubles per wedge (indexed by its input vertex id), or
  * none (data NULL) when the input has no attribute the options weigh. */
-enum { ATTR_MAX = 3 + 2 * RESURF_MAX_TEXCOORD_SETS + 4 }; /* components weighed at most: normal, texcoords, colour */
+enum { ATTR_MORPH_TARGETS = 8 }; /* morph targets whose POSITION deltas are weighed at most (the largest) */
+enum { ATTR_MAX = 3 + 2 * RESURF_MAX_TEXCOORD_SETS + 4 + 3 * ATTR_MORPH_TARGETS }; /* components weighed at most:
+                                   normal, texcoords, colour, morph targets' position deltas */
 typedef struct attr_quadrics {
     double *data;
     size_t stride;                /* ATTR_HEAD + 4 × count */
     unsigned count;               /* components weighed */
-    const double *src[ATTR_MAX];  /* per component: the input's array, */
+    const double *src[ATTR_MAX];  /* per component: the input's array (or srcf: an extra's floats), */
+    const float *srcf[ATTR_MAX];
     unsigned step[ATTR_MAX];      /* its doubles per vertex, */
     unsigned offset[ATTR_MAX];    /* the component's place in a vertex's values */
     double scale[ATTR_MAX];       /* and its factor: weight × the diagonal */

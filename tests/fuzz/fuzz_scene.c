@@ -2,7 +2,10 @@
  * _GLB, _DRC). No input may crash, hang, read outside its bytes or the file system, or allocate beyond what its size
  * justifies (ASan and libFuzzer's -rss_limit_mb catch that). A scene that loads must keep the loader's promises:
  * every primitive's mesh has its indices in range, finite positions, attribute arrays as long as their counts say,
- * and passes validation, and its description (resurf_scene_describe) is as long as it says. A refusal must carry a parse, unsupported or limit status and a one-line message.
+ * and passes validation, and its description (resurf_scene_describe) is as long as it says. A refusal must carry a
+ * parse, unsupported or limit status and a one-line message. A morphed primitive's mesh carries its targets as
+ * extras of 1 to 4 finite components ("targets[t].NAME"), and a small one goes through resurf_scene_build_lods (the
+ * morph path of the simplifier and its cost): every level keeps every target extra.
  * A broken promise traps, so libFuzzer keeps the input. */
 #include <math.h>
 #include <stddef.h>
@@ -10,6 +13,7 @@
 #include <string.h>
 
 #include "resurf/resurf.h"
+#include "scene_internal.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
@@ -44,6 +48,55 @@ static double check_mesh(const resurf_mesh *m)
     REQUIRE(resurf_validation_ok(&v));
     REQUIRE(v.vertex_count == m->vertex_count && v.triangle_count == m->triangle_count);
     return sum;
+}
+
+/* A morphed primitive's target extras: present, 1 to 4 components, finite. Returns how many. */
+static size_t check_targets(const resurf_mesh *m)
+{
+    size_t n = 0, len = strlen(RESURF_MORPH_TARGET_PREFIX);
+    for (size_t e = 0; e < m->extra_count; ++e) {
+        if (strncmp(m->extras[e].name, RESURF_MORPH_TARGET_PREFIX, len))
+            continue;
+        REQUIRE(m->extras[e].components >= 1 && m->extras[e].components <= 4);
+        for (size_t i = 0; i < m->extras[e].components * m->vertex_count; ++i)
+            REQUIRE(isfinite(m->extras[e].data[i]));
+        ++n;
+    }
+    return n;
+}
+
+/* Levels of the scene's small morphed primitives: each level carries the same target extras. */
+static void morph_levels(resurf_scene *scene)
+{
+    size_t n = resurf_scene_primitive_count(scene), triangles = 0;
+    for (size_t i = 0; i < n; ++i) {
+        resurf_scene_primitive info;
+        resurf_scene_primitive_info(scene, i, &info, NULL);
+        const resurf_mesh *m = resurf_scene_primitive_mesh(scene, i);
+        if (m)
+            triangles += m->triangle_count;
+        if (info.kind == RESURF_PRIMITIVE_MORPHED)
+            REQUIRE(check_targets(m) > 0);
+    }
+    if (triangles > 4096)
+        return; /* the fuzzer's time goes to the loader */
+    resurf_simplify_options so = resurf_simplify_options_default();
+    so.threads = 1;
+    so.measure_samples = 0;
+    const double ratio = 0.5;
+    resurf_status s = resurf_scene_build_lods(scene, &ratio, 1, &so, NULL, NULL, NULL, NULL);
+    REQUIRE(s == RESURF_OK || s == RESURF_ERR_INVALID_MESH || s == RESURF_ERR_LIMIT);
+    for (size_t i = 0; s == RESURF_OK && i < n; ++i) {
+        resurf_scene_primitive info;
+        resurf_scene_primitive_info(scene, i, &info, NULL);
+        if (info.kind != RESURF_PRIMITIVE_MORPHED)
+            continue;
+        const resurfi_scene_prim *p = &scene->prims[i];
+        for (size_t k = 0; k < p->lod_count; ++k) {
+            check_mesh(p->lods[k]);
+            REQUIRE(check_targets(p->lods[k]) == check_targets(p->mesh));
+        }
+    }
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
@@ -83,6 +136,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         REQUIRE(strlen(small) == (length < sizeof small ? length : sizeof small - 1));
         REQUIRE(resurf_scene_describe(scene, json, NULL, 0, &again, NULL) == RESURF_OK && again == length);
     }
+    morph_levels(scene);
     resurf_scene_free(scene);
     sink = sum;
     return 0;

@@ -13,13 +13,13 @@ static const char usage[] =
     "                 [--lock-border] [--draco|--no-draco] [--layout msft_lod|files|side-by-side] [--json] [options]\n\n"
     "Builds levels of detail of every triangle primitive of IN (.gltf, .glb, .drc, or a mesh file as a one-mesh\n"
     "scene): each level keeps at most R x the triangles, is simplified from the previous level and restored onto\n"
-    "the smooth surface of the ORIGINAL mesh. A mesh shown by several nodes is simplified once. Primitives with\n"
-    "morph targets stay at full detail (with a warning); points and lines are copied. Everything else of the\n"
-    "scene (nodes, materials, textures, skins, animations, extensions) is kept. A level that has no fewer\n"
-    "triangles than the one before, or misses its ratio (more than 1.5 x its target + 2 triangles), ends the\n"
-    "primitive's chain (a warning says which guard blocked how many collapses); a primitive with fewer levels\n"
-    "shows its last one. Prints per level the triangles, the measured error in world space over the whole scene\n"
-    "(two-sided Hausdorff distance to level 0, relative to the scene's bounding-box diagonal, and in scene\n"
+    "the smooth surface of the ORIGINAL mesh. A mesh shown by several nodes is simplified once. Morph targets\n"
+    "follow every level (each vertex's deltas are the input's at its closest point); points and lines are copied.\n"
+    "Everything else of the scene (nodes, materials, textures, skins, animations, extensions) is kept. A level that\n"
+    "has no fewer triangles than the one before, or misses its ratio (more than 1.5 x its target + 2 triangles),\n"
+    "ends the primitive's chain (a warning says which guard blocked how many collapses); a primitive with fewer\n"
+    "levels shows its last one. Prints per level the triangles, the measured error in world space over the whole\n"
+    "scene (two-sided Hausdorff distance to level 0, relative to the scene's bounding-box diagonal, and in scene\n"
     "units) and the bytes of geometry.\n\n"
     "  -o, --output OUT       .glb, .gltf or .drc (a .drc holds one mesh: use --layout files)\n"
     "  --levels R1,R2,...     ratios of the levels, non-increasing in (0, 1] (default 0.5,0.25,0.1)\n"
@@ -294,12 +294,6 @@ int cmd_lod(int argc, char **argv)
         fprintf(stderr, "resurf: warning: %s\n", resurf_scene_warning(scene, i));
 
     /* Every triangle primitive's chain and each mesh's MSFT_screencoverage, in one library call. */
-    for (size_t p = 0; p < resurf_scene_primitive_count(scene); ++p) {
-        resurf_scene_primitive info;
-        resurf_scene_primitive_info(scene, p, &info, NULL);
-        if (info.kind == RESURF_PRIMITIVE_MORPHED)
-            fprintf(stderr, "resurf: warning: %s has morph targets: kept at full detail\n", info.name);
-    }
     resurf_scene_lod_options lod = resurf_scene_lod_options_default();
     lod.pixels = pixels;
     lod.screen_height = height;
@@ -323,7 +317,7 @@ int cmd_lod(int argc, char **argv)
         resurf_scene_primitive info;
         resurf_scene_primitive_info(scene, p, &info, NULL);
         size_t k = info.lod_count;
-        if (info.kind != RESURF_PRIMITIVE_TRIANGLES || k >= ratio_count)
+        if (info.kind == RESURF_PRIMITIVE_OTHER || k >= ratio_count)
             continue;
         const resurf_simplify_report *r = &prim_reports[p * ratio_count + k];
         const resurf_mesh *m = resurf_scene_primitive_mesh(scene, p);
@@ -333,11 +327,17 @@ int cmd_lod(int argc, char **argv)
         if (level_ratios)
             snprintf(target, sizeof target, " (ratio %g, target %zu triangles)", level_ratios[k],
                      (size_t)floor(level_ratios[k] * (double)m->triangle_count));
+        /* A primitive simplified together with the others of its mesh ends where the mesh's chain ends, even when
+         * its own part made its ratio (the stop and the guards are the mesh's). */
+        const char *what = r->triangles >= before ? "could not reduce, keeping"
+                           : level_ratios && (double)r->triangles <= 1.5 * level_ratios[k] * (double)m->triangle_count + 2
+                               ? "reached its ratio, but its mesh's level (the primitives go together) did not, at"
+                               : "missed its ratio at";
         fprintf(stderr,
                 "resurf: warning: %s: level %zu%s %s %zu of %zu triangles (stopped: %s; blocked: %s); its chain "
                 "ends at level %zu\n",
-                info.name, k + 1, target, r->triangles >= before ? "could not reduce, keeping" : "missed its ratio at",
-                r->triangles, m->triangle_count, stop_names[r->stop < RESURF_STOP_COUNT ? r->stop : 0], blocked, k);
+                info.name, k + 1, target, what, r->triangles, m->triangle_count,
+                stop_names[r->stop < RESURF_STOP_COUNT ? r->stop : 0], blocked, k);
     }
     resurf_scene_save_report report;
     double save_seconds = 0;
@@ -390,13 +390,14 @@ int cmd_lod(int argc, char **argv)
             for (size_t p = 0; p < prim_count; ++p) {
                 resurf_scene_primitive info;
                 resurf_scene_primitive_info(scene, p, &info, NULL);
-                if (info.kind != RESURF_PRIMITIVE_TRIANGLES)
+                if (info.kind == RESURF_PRIMITIVE_OTHER)
                     continue;
                 printf("%s{\"name\": ", first ? "" : ", ");
                 first = 0;
                 cli_json_string(stdout, info.name);
-                printf(", \"triangles\": %zu, \"kept_levels\": %zu, \"levels\": [",
-                       resurf_scene_primitive_mesh(scene, p)->triangle_count, info.lod_count);
+                printf(", \"triangles\": %zu, \"morphed\": %s, \"kept_levels\": %zu, \"levels\": [",
+                       resurf_scene_primitive_mesh(scene, p)->triangle_count,
+                       info.kind == RESURF_PRIMITIVE_MORPHED ? "true" : "false", info.lod_count);
                 for (size_t k = 0; k < ratio_count && k <= info.lod_count; ++k) {
                     const resurf_simplify_report *r = &prim_reports[p * ratio_count + k];
                     printf("%s{\"level\": %zu, \"kept\": %s, \"triangles\": %zu, \"stop\": \"%s\", \"error_rel\": ",
@@ -412,10 +413,10 @@ int cmd_lod(int argc, char **argv)
                 printf("]}");
             }
             /* Wall-clock seconds of each phase. */
-            printf("], \"dropped_extensions\": %zu, \"seconds\": {\"load\": %.3f, \"chains\": %.3f, "
-                   "\"errors\": %.3f, \"save\": %.3f}}\n",
-                   report.dropped_extensions, load_seconds, lod_report.chains_seconds, lod_report.errors_seconds,
-                   save_seconds);
+            printf("], \"morphed\": %zu, \"dropped_extensions\": %zu, \"seconds\": {\"load\": %.3f, "
+                   "\"chains\": %.3f, \"errors\": %.3f, \"save\": %.3f}}\n",
+                   lod_report.morphed, report.dropped_extensions, load_seconds, lod_report.chains_seconds,
+                   lod_report.errors_seconds, save_seconds);
         } else {
             printf("%-6s %-6s %12s %8s %14s %14s %12s\n", "level", "ratio", "triangles", "reached", "error (rel)",
                    "error", "bytes");
