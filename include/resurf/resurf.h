@@ -800,9 +800,9 @@ typedef struct resurf_simplify_options {
     double sag_offset;            /* with restoration: once vertices lie on S, the facets between them cut inside
                                      convex parts of S by the chord sag (about h²κ/8 for an edge of length h where
                                      S bends by κ). Each output vertex is moved along S's normal by sag_offset × its
-                                     estimated local sag beyond the input's own (the input's edges, of length h_M,
-                                     sag by h_M²κ/8: the offset is (h² − h_M²)κ/8) so that the facets straddle the
-                                     input's surface, which the report measures against. Not at a vertex touching
+                                     estimated local sag less the depth of the input's own facets under S there
+                                     (each measured along its own edges) so that the facets straddle the input's
+                                     surface, which the report measures against. Not at a vertex touching
                                      a crease or corner, nor at one whose triangles are not one smooth fan (a face
                                      more than feature_angle_deg from S's normal there): the chord-sag model holds
                                      on smooth surfaces only. 0 = vertices exactly on S; range [0, 4]; default 1 */

@@ -21,6 +21,7 @@ typedef struct output {
     vec3 *final;          /* per u: the output position */
     vec3 *normal;         /* per u: S's normal at base (sag offset only) */
     double *sag_sum;      /* per u */
+    double *m_depth;      /* per u: how far M's facets lie under S where v is (sag offset only) */
     double *len;          /* per u: longest incident edge */
     uint32_t *sag_count;
     uint8_t *outcome;     /* per u: POST restoration left it (1) */
@@ -44,6 +45,7 @@ static void output_free(output *o, const resurf_allocator *alloc)
     resurfi_free(alloc, o->final);
     resurfi_free(alloc, o->normal);
     resurfi_free(alloc, o->sag_sum);
+    resurfi_free(alloc, o->m_depth);
     resurfi_free(alloc, o->len);
     resurfi_free(alloc, o->sag_count);
     resurfi_free(alloc, o->outcome);
@@ -76,6 +78,24 @@ static int post_restore_block(void *ctx, size_t begin, size_t end, unsigned work
     return 0;
 }
 
+/* How far input triangle t lies under S on average: (1/24) Σ over its corners j and the other corners k of
+ * −N_j·(p_k − p_j), N_j S's normal at corner j (docs/restoring.md §8, the sag offset). */
+static double facet_depth(const simplifier *s, uint32_t t)
+{
+    const uint32_t *ix = s->in->indices + 3 * (size_t)t;
+    vec3 p[3];
+    for (int k = 0; k < 3; ++k)
+        p[k] = v3_load(s->in->positions + 3 * (size_t)ix[k]);
+    double sum = 0;
+    for (int j = 0; j < 3; ++j) {
+        double bary[3] = {j == 0, j == 1, j == 2};
+        vec3 n = resurfi_restorer_normal(s->restorer, t, bary);
+        for (int d = 1; d < 3; ++d)
+            sum -= v3_dot(n, v3_sub(p[(j + d) % 3], p[j]));
+    }
+    return sum / 24.0;
+}
+
 static int normal_block(void *ctx, size_t begin, size_t end, unsigned worker)
 {
     (void)worker;
@@ -87,6 +107,7 @@ static int normal_block(void *ctx, size_t begin, size_t end, unsigned worker)
         uint32_t t = resurfi_restorer_closest_walk(j->s->restorer, j->o->base[u], j->s->home[j->o->upos[u]], bary,
                                                    &d2);
         j->o->normal[u] = t == NONE ? v3(0, 0, 0) : resurfi_restorer_normal(j->s->restorer, t, bary);
+        j->o->m_depth[u] = t == NONE ? 0 : facet_depth(j->s, t);
     }
     return 0;
 }
@@ -345,13 +366,13 @@ static void measure_edges(output *o)
     }
 }
 
-/* Final positions: POST restoration, then the sag offset: each vertex moves along S's normal by sag_offset × the
- * mean over its incident triangle corners of −n·(p_w − p_v)/4 × (1 − h_M²/h²). For a vertex on S and a neighbour w
- * at chord length h where S bends by κ, −n·(p_w − p_v) ≈ h²κ/2, so the term is the chord's sag h²κ/8 less the sag
- * h_M²κ/8 of M's own edges (length h_M there): the facets straddle M, which lies under S by that much, and which
- * the reported distances measure against. At 10% and 2% the factor is 0.9 to 1; at 50% about 0.5. Measured with
- * bench_simplify, mean distance over meshoptimizer's: to the dragon scan at 50% 1.01 -> 0.51 (10%: 0.61 -> 0.55),
- * to the 20k sphere's true surface at 10% 0.23 -> 0.27, torus 0.36 -> 0.38, cubic unchanged, 2% within 2%. */
+/* Final positions: POST restoration, then the sag offset: each vertex moves along S's normal by sag_offset × (the
+ * mean over its incident triangle corners of −n·(p_w − p_v)/4, less the depth of M's facets under S there). For a
+ * vertex on S and a neighbour w at chord length h where S bends by κ, −n·(p_w − p_v) ≈ h²κ/2, so the term is the
+ * chord's sag h²κ/8, the mean depth of the LOD's facets under S; M's facets lie under S by their own depth
+ * (facet_depth), and the reported distances measure against M: the difference makes the LOD's facets straddle M.
+ * Each side is measured along its own edges, so a LOD that kept M's spacing across the curvature (a cylinder's
+ * first collapses are along its axis) is not offset (docs/restoring.md §8 has the figures). */
 static resurf_status place_output(simplifier *s, output *o)
 {
     size_t nu = o->nu;
@@ -390,7 +411,8 @@ static resurf_status place_output(simplifier *s, output *o)
         o->normal = resurfi_alloc(s->alloc, nu, sizeof *o->normal);
         o->sag_sum = resurfi_calloc(s->alloc, nu, sizeof *o->sag_sum);
         o->sag_count = resurfi_calloc(s->alloc, nu, sizeof *o->sag_count);
-        if (!o->normal || !o->sag_sum || !o->sag_count)
+        o->m_depth = resurfi_calloc(s->alloc, nu, sizeof *o->m_depth);
+        if (!o->normal || !o->sag_sum || !o->sag_count || !o->m_depth)
             return RESURF_ERR_OUT_OF_MEMORY;
         resurfi_pool_for(s->pool, nu, BLOCK_POSITIONS, normal_block, &job);
     }
@@ -408,11 +430,9 @@ static resurf_status place_output(simplifier *s, output *o)
              * across the crease). */
             if (!(v3_dot(face, o->normal[u[c]]) >= s->feature_cos * v3_len(face)))
                 o->held[u[c]] |= HELD_OFFSET;
-            double hm = resurfi_restorer_edge_length(s->restorer, s->home[o->upos[u[c]]]); /* M's edges there */
             for (int d = 1; d < 3; ++d) {
                 vec3 pw = o->base[u[(c + d) % 3]];
-                double e2 = v3_dist2(pw, pv), keep = e2 > hm * hm ? 1 - hm * hm / e2 : 0;
-                o->sag_sum[u[c]] -= keep * v3_dot(o->normal[u[c]], v3_sub(pw, pv));
+                o->sag_sum[u[c]] -= v3_dot(o->normal[u[c]], v3_sub(pw, pv));
                 o->sag_count[u[c]]++;
             }
         }
@@ -421,7 +441,7 @@ static resurf_status place_output(simplifier *s, output *o)
         o->final[u] = o->base[u];
         if (!offset || !o->sag_count[u] || o->held[u])
             continue; /* a corner or a crease vertex: the model of a smooth surface around it does not hold */
-        double sag = s->opt.sag_offset * o->sag_sum[u] / (4.0 * o->sag_count[u]);
+        double sag = s->opt.sag_offset * (o->sag_sum[u] / (4.0 * o->sag_count[u]) - o->m_depth[u]);
         double cap = 0.25 * o->len[u]; /* a fold or a spike, not a sag */
         sag = sag > cap ? cap : sag < -cap ? -cap : sag;
         o->final[u] = v3_madd(o->base[u], o->normal[u], sag);
