@@ -257,20 +257,22 @@ START_TEST(lod_world_error_scales_with_the_node)
 }
 END_TEST
 
-/* The triangles of m on one side of the plane z = 0 (by centroid), with their own vertices: a half with a border. */
-static resurf_mesh *half(const resurf_mesh *m, int upper)
+/* The triangles of m whose centroid lies in slab `which` of `parts` equal slabs of z over [−1, 1], with their own
+ * vertices. */
+static resurf_mesh *slab(const resurf_mesh *m, int which, int parts)
 {
-    size_t nt = 0;
     uint32_t *map = malloc(m->vertex_count * sizeof *map);
+    uint8_t *in = calloc(m->triangle_count, 1);
+    size_t nv = 0, nt = 0;
     for (size_t v = 0; v < m->vertex_count; ++v)
         map[v] = UINT32_MAX;
-    size_t nv = 0;
     for (size_t t = 0; t < m->triangle_count; ++t) {
         const uint32_t *c = m->indices + 3 * t;
-        double z = m->positions[3 * c[0] + 2] + m->positions[3 * c[1] + 2] + m->positions[3 * c[2] + 2];
-        if ((z > 0) != upper)
+        double z = (m->positions[3 * c[0] + 2] + m->positions[3 * c[1] + 2] + m->positions[3 * c[2] + 2]) / 3;
+        int k = (int)floor((z + 1) / 2 * parts);
+        if ((k < 0 ? 0 : k >= parts ? parts - 1 : k) != which)
             continue;
-        nt++;
+        in[t] = 1, nt++;
         for (int i = 0; i < 3; ++i)
             if (map[c[i]] == UINT32_MAX)
                 map[c[i]] = (uint32_t)nv++;
@@ -281,18 +283,19 @@ static resurf_mesh *half(const resurf_mesh *m, int upper)
         if (map[v] != UINT32_MAX)
             memcpy(h->positions + 3 * map[v], m->positions + 3 * v, 3 * sizeof(double));
     nt = 0;
-    for (size_t t = 0; t < m->triangle_count; ++t) {
-        const uint32_t *c = m->indices + 3 * t;
-        double z = m->positions[3 * c[0] + 2] + m->positions[3 * c[1] + 2] + m->positions[3 * c[2] + 2];
-        if ((z > 0) != upper)
-            continue;
-        for (int i = 0; i < 3; ++i)
-            h->indices[3 * nt + i] = map[c[i]];
-        nt++;
-    }
+    for (size_t t = 0; t < m->triangle_count; ++t)
+        if (in[t]) {
+            for (int i = 0; i < 3; ++i)
+                h->indices[3 * nt + i] = map[m->indices[3 * t + i]];
+            nt++;
+        }
     free(map);
+    free(in);
     return h;
 }
+
+/* The triangles of m on one side of the plane z = 0 (by centroid), with their own vertices: a half with a border. */
+static resurf_mesh *half(const resurf_mesh *m, int upper) { return slab(m, upper ? 1 : 0, 2); }
 
 /* The positions of mesh's border edges (edges of one triangle), as sorted pairs of float-exact coordinates, into
  * out (6 doubles per edge, sorted); returns the count. */
@@ -377,43 +380,6 @@ START_TEST(lod_two_primitives_keep_their_shared_border)
     free(dir);
 }
 END_TEST
-
-/* The triangles of m whose centroid lies in slab `which` of `parts` equal slabs of z over [−1, 1], with their own
- * vertices. */
-static resurf_mesh *slab(const resurf_mesh *m, int which, int parts)
-{
-    uint32_t *map = malloc(m->vertex_count * sizeof *map);
-    uint8_t *in = calloc(m->triangle_count, 1);
-    size_t nv = 0, nt = 0;
-    for (size_t v = 0; v < m->vertex_count; ++v)
-        map[v] = UINT32_MAX;
-    for (size_t t = 0; t < m->triangle_count; ++t) {
-        const uint32_t *c = m->indices + 3 * t;
-        double z = (m->positions[3 * c[0] + 2] + m->positions[3 * c[1] + 2] + m->positions[3 * c[2] + 2]) / 3;
-        int k = (int)floor((z + 1) / 2 * parts);
-        if ((k < 0 ? 0 : k >= parts ? parts - 1 : k) != which)
-            continue;
-        in[t] = 1, nt++;
-        for (int i = 0; i < 3; ++i)
-            if (map[c[i]] == UINT32_MAX)
-                map[c[i]] = (uint32_t)nv++;
-    }
-    resurf_mesh *h = NULL;
-    ck_assert_int_eq(resurf_mesh_create(nv, nt, 0, &h, NULL), RESURF_OK);
-    for (size_t v = 0; v < m->vertex_count; ++v)
-        if (map[v] != UINT32_MAX)
-            memcpy(h->positions + 3 * map[v], m->positions + 3 * v, 3 * sizeof(double));
-    nt = 0;
-    for (size_t t = 0; t < m->triangle_count; ++t)
-        if (in[t]) {
-            for (int i = 0; i < 3; ++i)
-                h->indices[3 * nt + i] = map[m->indices[3 * t + i]];
-            nt++;
-        }
-    free(map);
-    free(in);
-    return h;
-}
 
 /* A sphere as six primitives of one mesh (slabs of z) is simplified as one surface whose part borders are creases:
  * at 10% and 2% the parts together stay closed (every edge of the joined level has its twin, coordinates exact),

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "byte_buffer.h"
 #include "shapes.h"
 
 void morph_axes_at(const double axes[3], double w, double out[3])
@@ -89,45 +90,6 @@ double ellipsoid_distance(const double a[3], const double p[3])
 }
 
 /* ---- the .glb ------------------------------------------------------------------------------------------------ */
-
-typedef struct bytes {
-    unsigned char *data;
-    size_t size, cap;
-    int failed;
-} bytes;
-
-static void put(bytes *b, const void *p, size_t n)
-{
-    if (b->failed)
-        return;
-    if (b->size + n > b->cap) {
-        size_t cap = b->cap ? b->cap : 4096;
-        while (cap < b->size + n)
-            cap *= 2;
-        unsigned char *d = realloc(b->data, cap);
-        if (!d) {
-            b->failed = 1;
-            return;
-        }
-        b->data = d, b->cap = cap;
-    }
-    memcpy(b->data + b->size, p, n);
-    b->size += n;
-}
-
-static void put_u32(bytes *b, uint32_t x)
-{
-    unsigned char le[4] = {(unsigned char)x, (unsigned char)(x >> 8), (unsigned char)(x >> 16),
-                           (unsigned char)(x >> 24)};
-    put(b, le, 4);
-}
-
-static void put_f32(bytes *b, float f)
-{
-    uint32_t x;
-    memcpy(&x, &f, 4);
-    put_u32(b, x);
-}
 
 /* Appends n VEC3 values (doubles or floats) and returns their min/max. */
 static void put_vec3(bytes *b, const double *d, const float *f, size_t n, double lo[3], double hi[3])
