@@ -282,47 +282,45 @@ typedef struct pos_slot {
     int shared;
 } pos_slot;
 
-/* For every triangle primitive of mesh m, locks[p] (one byte per vertex, or NULL when none is locked): the
- * vertices whose position another primitive of the mesh also uses (a morphed one included), so that no level
- * opens a crack between them. Only vertices that triangles use count. With locks NULL, only *connected: whether the
- * primitives with a mesh are one set linked by shared positions. */
-static resurf_status shared_positions(const resurf_scene *scene, size_t m, const resurf_allocator *alloc,
-                                      uint8_t **locks, bool *connected)
+/* The positions that primitives of different owners use, bit for bit (prims[i] has owner[i], in 0..n-1). With
+ * locks, the vertices of each rewritten primitive at such a position are locked: added to locks[p], which is
+ * allocated when NULL. With connected, whether shared positions link all owners into one set. Only vertices that
+ * triangles use count. */
+static resurf_status lock_shared(const resurf_scene *scene, const size_t *prims, const size_t *owner, size_t n,
+                                 const resurf_allocator *alloc, uint8_t **locks, bool *connected)
 {
-    size_t first = scene->mesh_first[m], last = scene->mesh_first[m + 1], total = 0, with_mesh = 0;
-    for (size_t p = first; p < last; ++p)
-        if (scene->prims[p].mesh) {
-            total += scene->prims[p].mesh->vertex_count;
-            with_mesh++;
-        }
+    size_t total = 0;
+    for (size_t i = 0; i < n; ++i)
+        total += scene->prims[prims[i]].mesh->vertex_count;
     if (connected)
         *connected = false;
-    if (with_mesh < 2 || total == 0)
+    if (n < 2 || total == 0)
         return RESURF_OK;
     size_t cap = 16;
     while (cap < 2 * total)
         cap *= 2;
     pos_slot *table = resurfi_alloc(alloc, cap, sizeof *table);
-    uint32_t *set = resurfi_alloc(alloc, last - first, sizeof *set); /* union-find over the mesh's primitives */
+    uint32_t *set = resurfi_alloc(alloc, n, sizeof *set); /* union-find over the owners */
     if (!table || !set) {
         resurfi_free(alloc, table);
         resurfi_free(alloc, set);
         return RESURF_ERR_OUT_OF_MEMORY;
     }
-    for (size_t p = first; p < last; ++p)
-        set[p - first] = (uint32_t)(p - first);
+    for (size_t i = 0; i < n; ++i)
+        set[i] = (uint32_t)i;
     for (size_t i = 0; i < cap; ++i)
         table[i].prim = SIZE_MAX;
-    /* Pass 1: which positions more than one primitive uses; pass 2: the locks of each triangle primitive. */
+    /* Pass 1: which positions more than one owner uses; pass 2: the locks of each rewritten primitive. */
     resurf_status st = RESURF_OK;
     for (int pass = 0; pass < (locks ? 2 : 1) && st == RESURF_OK; ++pass) {
-        for (size_t p = first; p < last && st == RESURF_OK; ++p) {
+        for (size_t x = 0; x < n && st == RESURF_OK; ++x) {
+            size_t p = prims[x];
             const resurf_mesh *mesh = scene->prims[p].mesh;
-            if (!mesh || (pass == 1 && !resurfi_scene_rewritten(&scene->prims[p])))
+            if (pass == 1 && !resurfi_scene_rewritten(&scene->prims[p]))
                 continue;
-            uint8_t *lock = NULL;
+            uint8_t *lock = pass == 1 ? locks[p] : NULL, *made = NULL;
             size_t locked = 0;
-            if (pass == 1 && !(lock = resurfi_calloc(alloc, mesh->vertex_count + 1, 1))) {
+            if (pass == 1 && !lock && !(lock = made = resurfi_calloc(alloc, mesh->vertex_count + 1, 1))) {
                 st = RESURF_ERR_OUT_OF_MEMORY;
                 break;
             }
@@ -334,30 +332,103 @@ static resurf_status shared_positions(const resurf_scene *scene, size_t m, const
                     i = (i + 1) & (cap - 1);
                 if (pass == 0) {
                     if (table[i].prim == SIZE_MAX)
-                        table[i] = (pos_slot){k, p, 0};
-                    else if (table[i].prim != p) {
+                        table[i] = (pos_slot){k, owner[x], 0};
+                    else if (table[i].prim != owner[x]) {
                         table[i].shared = 1;
-                        resurfi_uf_union(set, (uint32_t)(table[i].prim - first), (uint32_t)(p - first));
+                        resurfi_uf_union(set, (uint32_t)table[i].prim, (uint32_t)owner[x]);
                     }
                 } else if (table[i].shared && !lock[v]) {
                     lock[v] = 1;
                     locked++;
                 }
             }
-            if (pass == 1 && locked)
-                locks[p] = lock;
+            if (made && locked)
+                locks[p] = made;
             else
-                resurfi_free(alloc, lock);
+                resurfi_free(alloc, made);
         }
     }
     if (connected) {
         *connected = true;
-        for (size_t p = first; p < last; ++p)
-            if (scene->prims[p].mesh && resurfi_uf_find(set, (uint32_t)(p - first)) != resurfi_uf_find(set, 0))
+        for (size_t x = 0; x < n; ++x)
+            if (resurfi_uf_find(set, (uint32_t)owner[x]) != resurfi_uf_find(set, 0))
                 *connected = false;
     }
     resurfi_free(alloc, table);
     resurfi_free(alloc, set);
+    return st;
+}
+
+/* Mesh m's primitives (those with a mesh) for lock_shared, each its own owner: locks the positions they share (a
+ * morphed one included), so that no level opens a crack between them; or, with locks NULL, only *connected. */
+static resurf_status shared_positions(const resurf_scene *scene, size_t m, const resurf_allocator *alloc,
+                                      uint8_t **locks, bool *connected)
+{
+    size_t first = scene->mesh_first[m], last = scene->mesh_first[m + 1], n = 0;
+    size_t *prims = resurfi_alloc(alloc, last - first + 1, sizeof *prims);
+    size_t *owner = resurfi_alloc(alloc, last - first + 1, sizeof *owner);
+    resurf_status st = prims && owner ? RESURF_OK : RESURF_ERR_OUT_OF_MEMORY;
+    for (size_t p = first; st == RESURF_OK && p < last; ++p)
+        if (scene->prims[p].mesh)
+            prims[n] = p, owner[n] = n, n++;
+    if (st == RESURF_OK)
+        st = lock_shared(scene, prims, owner, n, alloc, locks, connected);
+    else if (connected)
+        *connected = false;
+    resurfi_free(alloc, prims);
+    resurfi_free(alloc, owner);
+    return st;
+}
+
+/* An instance's world matrix for comparing (NULL is the identity). */
+static const double *world_of(const resurfi_scene_instance *it)
+{
+    static const double identity[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+    return it->world ? it->world : identity;
+}
+
+static int by_world_then_mesh(const void *a, const void *b)
+{
+    const resurfi_scene_instance *x = a, *y = b;
+    int c = memcmp(world_of(x), world_of(y), 16 * sizeof(double));
+    return c ? c : (x->mesh > y->mesh) - (x->mesh < y->mesh);
+}
+
+/* Different meshes shown by nodes of one world matrix (the parts an exporter split an object into, side by side
+ * under one parent): the positions they share, bit for bit, are locked in each, so that no level opens a crack
+ * between them either. */
+static resurf_status shared_between_meshes(const resurf_scene *scene, const resurfi_scene_instances *list,
+                                           const resurf_allocator *alloc, uint8_t **locks)
+{
+    if (list->count < 2)
+        return RESURF_OK;
+    resurfi_scene_instance *sorted = resurfi_alloc(alloc, list->count, sizeof *sorted);
+    size_t *prims = resurfi_alloc(alloc, scene->prim_count + 1, sizeof *prims);
+    size_t *owner = resurfi_alloc(alloc, scene->prim_count + 1, sizeof *owner);
+    resurf_status st = sorted && prims && owner ? RESURF_OK : RESURF_ERR_OUT_OF_MEMORY;
+    if (st == RESURF_OK) {
+        memcpy(sorted, list->items, list->count * sizeof *sorted);
+        qsort(sorted, list->count, sizeof *sorted, by_world_then_mesh);
+    }
+    for (size_t a = 0, b; st == RESURF_OK && a < list->count; a = b) {
+        /* sorted[a .. b) share one world matrix; their distinct meshes are the owners */
+        size_t n = 0, owners = 0;
+        for (b = a; b < list->count && !memcmp(world_of(&sorted[a]), world_of(&sorted[b]), 16 * sizeof(double));
+             ++b) {
+            if (b > a && sorted[b].mesh == sorted[b - 1].mesh)
+                continue;
+            size_t m = sorted[b].mesh;
+            for (size_t p = scene->mesh_first[m]; p < scene->mesh_first[m + 1]; ++p)
+                if (scene->prims[p].mesh)
+                    prims[n] = p, owner[n] = owners, n++;
+            owners++;
+        }
+        if (owners >= 2)
+            st = lock_shared(scene, prims, owner, n, alloc, locks, NULL);
+    }
+    resurfi_free(alloc, sorted);
+    resurfi_free(alloc, prims);
+    resurfi_free(alloc, owner);
     return st;
 }
 
@@ -589,6 +660,30 @@ static double chain_weight(const chain_job *job, size_t p)
 
 static resurf_status make_primitive_chain(chain_job *job, size_t p, const resurf_simplify_options *base);
 
+/* The locks of primitives first .. first + n - 1 (the positions they share with other meshes) over their joined
+ * vertices, in the order resurfi_mesh_join_parts puts them: *out, or NULL when none is locked. */
+static resurf_status joined_locks(const chain_job *job, size_t first, size_t n, size_t vertices, uint8_t **out)
+{
+    const lod_work *w = job->w;
+    *out = NULL;
+    int any = 0;
+    for (size_t q = 0; q < n; ++q)
+        any |= w->locks[first + q] != NULL;
+    if (!any)
+        return RESURF_OK;
+    uint8_t *lock = resurfi_calloc(w->alloc, vertices + 1, 1);
+    if (!lock)
+        return RESURF_ERR_OUT_OF_MEMORY;
+    for (size_t q = 0, v0 = 0; q < n; ++q) {
+        size_t nv = job->scene->prims[first + q].mesh->vertex_count;
+        if (w->locks[first + q])
+            memcpy(lock + v0, w->locks[first + q], nv);
+        v0 += nv;
+    }
+    *out = lock;
+    return RESURF_OK;
+}
+
 /* The chains of mesh m's primitives, simplified together: the primitives joined as groups of one mesh, its chain,
  * and each level split back into the primitives. Every primitive of m gets the mesh's reports, and one count of
  * levels that help, so that no level mixes one primitive's borders with another's. A level that would leave a
@@ -613,14 +708,18 @@ static resurf_status make_joint_chain(chain_job *job, size_t m, const resurf_sim
         st = resurfi_mesh_join_parts(in, n, &in[0]->allocator, &joined, e);
     size_t kept = 0;
     int why = 0;
+    uint8_t *joint_lock = NULL;
     if (st == RESURF_OK) {
         resurf_simplify_options sim = *base;
         double bounds[RESURF_SCENE_MAX_LEVELS - 1];
         for (size_t k = 0; k < count; ++k)
             bounds[k] = world_bound(job->o, k, job->diagonal) / scale;
-        sim.vertex_lock = NULL;
+        if (joined_locks(job, first, n, joined->vertex_count, &joint_lock) != RESURF_OK)
+            st = resurfi_error(e, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
+        sim.vertex_lock = joint_lock;
         sim.measure_samples = primitive_samples(job->sample_budget, area * scale * scale, job->scene_area);
-        st = make_chain(joined, job->ratios, count, bounds, &sim, chain, reports, e);
+        if (st == RESURF_OK)
+            st = make_chain(joined, job->ratios, count, bounds, &sim, chain, reports, e);
         if (st == RESURF_OK)
             kept = levels_that_help(joined, reports, job->ratios, count, &why);
     }
@@ -645,6 +744,7 @@ static resurf_status make_joint_chain(chain_job *job, size_t m, const resurf_sim
     for (size_t k = 0; k < count && chain; ++k)
         resurf_mesh_free(chain[k]);
     resurfi_free(w->alloc, chain);
+    resurfi_free(w->alloc, joint_lock);
     resurf_mesh_free(joined);
     if (level != split)
         resurfi_free(w->alloc, level);
@@ -839,6 +939,8 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
     for (size_t m = 0; st == RESURF_OK && m < mesh_count; ++m)
         if (o.keep_shared_borders && !w.together[m] && shared_positions(scene, m, alloc, w.locks, NULL) != RESURF_OK)
             st = resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory finding shared borders");
+    if (st == RESURF_OK && o.keep_shared_borders && shared_between_meshes(scene, &w.list, alloc, w.locks) != RESURF_OK)
+        st = resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory finding shared borders");
     for (size_t i = 0; st == RESURF_OK && i < w.list.count; ++i) {
         double *sc = &w.mesh_scale[w.list.items[i].mesh];
         *sc = fmax(*sc, matrix_scale(w.list.items[i].world));

@@ -381,6 +381,55 @@ START_TEST(lod_two_primitives_keep_their_shared_border)
 }
 END_TEST
 
+/* The same two hemispheres as two meshes, each shown by its own node with the same transform (an exporter's parts
+ * of one object side by side): their shared border is locked as well, so at every level both halves have the same
+ * border bit for bit; with keep_shared_borders false they do not. */
+START_TEST(lod_two_meshes_of_one_transform_keep_their_shared_border)
+{
+    resurf_mesh *sphere = shape_mesh(SHAPE_SPHERE, tu_light() ? 600 : 1500, 0.2, 5, 0);
+    resurf_mesh *halves[2] = {half(sphere, 1), half(sphere, 0)};
+    char *dir = tu_tempdir();
+    int prim_mesh[] = {0, 1};
+    char *path = write_scene(dir, "parts", halves, prim_mesh, 2,
+                             "[{\"children\":[1,2]},{\"mesh\":0,\"translation\":[1,2,3]},"
+                             "{\"mesh\":1,\"translation\":[1,2,3]}]",
+                             "0");
+    const double ratios[] = {0.4, 0.15};
+    for (int keep = 1; keep >= 0; --keep) {
+        resurf_scene *s = tu_load_scene_ok(path);
+        resurf_scene_lod_options lo = resurf_scene_lod_options_default();
+        lo.keep_shared_borders = keep;
+        resurf_simplify_options so = fast_options();
+        so.corner_angle_deg = 180; /* the zigzag border's turns would hold it without the lock too */
+        resurf_scene_lod_report r = build_with(s, ratios, 2, &lo, NULL, so);
+        ck_assert_uint_eq(r.levels, 3);
+        int all_equal = 1;
+        for (size_t k = 0; k < 3; ++k) {
+            const resurf_mesh *a = resurfi_scene_level_mesh(&s->prims[0], k),
+                              *b = resurfi_scene_level_mesh(&s->prims[1], k);
+            double *ea = malloc(3 * a->triangle_count * 6 * sizeof(double)),
+                   *eb = malloc(3 * b->triangle_count * 6 * sizeof(double));
+            size_t na = border_edges(a, ea), nb = border_edges(b, eb);
+            int equal = na == nb && !memcmp(ea, eb, na * 6 * sizeof(double));
+            if (keep)
+                ck_assert_msg(equal, "level %zu: the meshes' borders differ (%zu and %zu edges)", k, na, nb);
+            all_equal = all_equal && equal;
+            free(ea);
+            free(eb);
+        }
+        if (!keep)
+            ck_assert_msg(!all_equal, "simplified alone, the meshes still share their borders");
+        resurf_scene_free(s);
+    }
+    resurf_mesh_free(halves[0]);
+    resurf_mesh_free(halves[1]);
+    resurf_mesh_free(sphere);
+    free(path);
+    tu_rmtree(dir);
+    free(dir);
+}
+END_TEST
+
 /* A sphere as six primitives of one mesh (slabs of z) is simplified as one surface whose part borders are creases:
  * at 10% and 2% the parts together stay closed (every edge of the joined level has its twin, coordinates exact),
  * the 2% level reaches its target, and its two-sided error is within 2x of the whole sphere's as one primitive at
@@ -607,6 +656,7 @@ Suite *make_suite(void)
     tcase_set_timeout(lod, 600);
     tcase_add_test(lod, lod_world_error_scales_with_the_node);
     tcase_add_test(lod, lod_two_primitives_keep_their_shared_border);
+    tcase_add_test(lod, lod_two_meshes_of_one_transform_keep_their_shared_border);
     tcase_add_test(lod, lod_primitives_of_a_mesh_simplified_together);
     tcase_add_test(lod, lod_unreducible_box_gets_no_levels);
     tcase_add_test(lod, lod_chain_by_errors_alone);

@@ -208,8 +208,10 @@ typedef struct resurf_scene_lod_options {
                                  Hausdorff and 0.90x its mean at 10%, 0.21x and 0.24x at 2%, where locked stops at
                                  twice its target; on real assets the scene's Hausdorff is 1.09x / 1.00x locked's at
                                  25% / 10% (2CylinderEngine) and 1.14x / 0.65x (an assimp export of
-                                 HUMAN.blend): the joined cost moves triangles between the primitives. false: each
-                                 primitive is simplified alone */
+                                 HUMAN.blend): the joined cost moves triangles between the primitives. Meshes shown
+                                 by nodes of one world matrix (an exporter's parts of one object side by side)
+                                 lock the positions they share with each other, so no crack opens between them
+                                 either. false: each primitive is simplified alone */
     resurf_progress progress; /* the stages of resurf_simplify (RESURF_STAGE_PREPARE, _SIMPLIFY, _FINISH) with a
                                  fraction of the whole scene's work that never decreases (primitives weighted by
                                  their triangles) and ends at 1; a cancel returns RESURF_ERR_CANCELLED and leaves
