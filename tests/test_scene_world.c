@@ -330,6 +330,19 @@ static size_t border_edges(const resurf_mesh *m, double *out)
     return n;
 }
 
+/* Whether level k of primitives 0 and 1 has the same border edges, bit for bit; *na and *nb: how many each has. */
+static int same_borders(const resurf_scene *s, size_t k, size_t *na, size_t *nb)
+{
+    const resurf_mesh *a = resurfi_scene_level_mesh(&s->prims[0], k), *b = resurfi_scene_level_mesh(&s->prims[1], k);
+    double *ea = malloc(3 * a->triangle_count * 6 * sizeof(double)),
+           *eb = malloc(3 * b->triangle_count * 6 * sizeof(double));
+    *na = border_edges(a, ea), *nb = border_edges(b, eb);
+    int equal = *na == *nb && !memcmp(ea, eb, *na * 6 * sizeof(double));
+    free(ea);
+    free(eb);
+    return equal;
+}
+
 /* A sphere as two primitives of one mesh (two hemispheres sharing the equator's positions): at every level both
  * halves have the same border, bit for bit, so no crack opens; simplified alone (keep_shared_borders false) they do
  * not, which shows that the check can fail. */
@@ -353,18 +366,12 @@ START_TEST(lod_two_primitives_keep_their_shared_border)
         ck_assert_uint_eq(r.levels, 3);
         int all_equal = 1;
         for (size_t k = 0; k < 3; ++k) {
-            const resurf_mesh *a = resurfi_scene_level_mesh(&s->prims[0], k),
-                              *b = resurfi_scene_level_mesh(&s->prims[1], k);
-            double *ea = malloc(3 * a->triangle_count * 6 * sizeof(double)),
-                   *eb = malloc(3 * b->triangle_count * 6 * sizeof(double));
-            size_t na = border_edges(a, ea), nb = border_edges(b, eb);
+            size_t na, nb;
+            int equal = same_borders(s, k, &na, &nb);
             ck_assert_uint_gt(na, 0);
-            int equal = na == nb && !memcmp(ea, eb, na * 6 * sizeof(double));
             if (keep)
                 ck_assert_msg(equal, "level %zu: the halves' borders differ (%zu and %zu edges)", k, na, nb);
             all_equal = all_equal && equal;
-            free(ea);
-            free(eb);
         }
         if (!keep)
             ck_assert_msg(!all_equal, "simplified alone, the halves still share their borders");
@@ -405,17 +412,11 @@ START_TEST(lod_two_meshes_of_one_transform_keep_their_shared_border)
         ck_assert_uint_eq(r.levels, 3);
         int all_equal = 1;
         for (size_t k = 0; k < 3; ++k) {
-            const resurf_mesh *a = resurfi_scene_level_mesh(&s->prims[0], k),
-                              *b = resurfi_scene_level_mesh(&s->prims[1], k);
-            double *ea = malloc(3 * a->triangle_count * 6 * sizeof(double)),
-                   *eb = malloc(3 * b->triangle_count * 6 * sizeof(double));
-            size_t na = border_edges(a, ea), nb = border_edges(b, eb);
-            int equal = na == nb && !memcmp(ea, eb, na * 6 * sizeof(double));
+            size_t na, nb;
+            int equal = same_borders(s, k, &na, &nb);
             if (keep)
                 ck_assert_msg(equal, "level %zu: the meshes' borders differ (%zu and %zu edges)", k, na, nb);
             all_equal = all_equal && equal;
-            free(ea);
-            free(eb);
         }
         if (!keep)
             ck_assert_msg(!all_equal, "simplified alone, the meshes still share their borders");
