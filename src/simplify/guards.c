@@ -272,7 +272,7 @@ vec3 restore_point(const simplifier *s, vec3 p, double scale, uint32_t home, int
     }
     q = resurfi_restorer_limit_height(s->restorer, *out_home, q, RISE_LIMIT);
     resurfi_restorer_closest_walk(s->restorer, q, *out_home, bary, &q_d2);
-    if (sqrt(q_d2) > sqrt(p_d2) + GATE_DEPTH * fabs(facet_depth(s, *out_home))) {
+    if (q_d2 > p_d2 && sqrt(q_d2) > sqrt(p_d2) + GATE_DEPTH * fabs(facet_depth(s, *out_home))) {
         *left = 1;
         *out_home = NONE;
         return p;
