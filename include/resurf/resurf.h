@@ -799,10 +799,10 @@ typedef struct resurf_simplify_options {
                                      its threads, progress and allocator are ignored: this call's are used */
     double sag_offset;            /* with restoration: once vertices lie on S, the facets between them cut inside
                                      convex parts of S by the chord sag (about h²κ/8 for an edge of length h where
-                                     S bends by κ). Each output vertex is moved along S's normal by sag_offset × its
-                                     estimated local sag less the depth of the input's own facets under S there
-                                     (each measured along its own edges) so that the facets straddle the input's
-                                     surface, which the report measures against. Not at a vertex touching
+                                     S bends by κ). Each output vertex is moved along S's normal by sag_offset × how
+                                     far the input lies above its triangles on average (measured from their edges'
+                                     midpoints to the input's closest points) so that the facets straddle the
+                                     input's surface, which the report measures against. Not at a vertex touching
                                      a crease or corner, nor at one whose triangles are not one smooth fan (a face
                                      more than feature_angle_deg from S's normal there): the chord-sag model holds
                                      on smooth surfaces only. 0 = vertices exactly on S; range [0, 4]; default 1 */
@@ -974,8 +974,10 @@ typedef struct resurf_simplify_report {
 
     size_t restored;                 /* points restored onto S (INLINE: one per collapse; POST: one per position) */
     size_t restore_left;             /* of those, points left unrestored: the restorer left them (too far, no
-                                        root), or moved them implausibly far (more than twice their distance to
-                                        the input plus a quarter of the local edge length) */
+                                        root), moved them implausibly far (more than twice their distance to
+                                        the input plus a quarter of the local edge length), or moved them farther
+                                        from the input than they were by more than twice the input's own facet
+                                        depth under S there (S is not smooth at the collapse's scale) */
 } resurf_simplify_report;
 
 /* Simplifies a mesh by edge collapses (Garland–Heckbert quadrics) over welded positions, restoring new vertices
