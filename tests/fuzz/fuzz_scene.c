@@ -5,11 +5,13 @@
  * and passes validation, and its description (resurf_scene_describe) is as long as it says. A refusal must carry a
  * parse, unsupported or limit status and a one-line message. A morphed primitive's mesh carries its targets as
  * extras of 1 to 4 finite components ("targets[t].NAME"), and a small one goes through resurf_scene_build_lods (the
- * morph path of the simplifier and its cost): every level keeps every target extra.
+ * morph path of the simplifier and its cost): every level keeps every target extra. A skinned one's levels keep
+ * their influences valid (weights summing to 1) wherever the original's are.
  * A broken promise traps, so libFuzzer keeps the input. */
 #include <math.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "resurf/resurf.h"
@@ -65,6 +67,63 @@ static size_t check_targets(const resurf_mesh *m)
     return n;
 }
 
+/* The extra named NAME of m, or NULL. */
+static const resurf_attribute *extra_named(const resurf_mesh *m, const char *name)
+{
+    for (size_t e = 0; e < m->extra_count; ++e)
+        if (!strcmp(m->extras[e].name, name))
+            return &m->extras[e];
+    return NULL;
+}
+
+/* Skin influences (JOINTS_n / WEIGHTS_n, VEC4, n = 0..3): when every vertex of the original has finite joints and
+ * finite non-negative weights with a positive total over its sets, every vertex of each level has finite whole
+ * joints and non-negative weights summing to 1 (within float rounding): the levels combine influences, never
+ * numbers (src/skin.c). A broken original may have its values copied through, so nothing is asserted then. */
+static void check_skin_levels(const resurf_mesh *original, resurf_mesh *const *levels, size_t level_count)
+{
+    const resurf_attribute *oj[4], *ow[4];
+    unsigned sets = 0;
+    for (unsigned n = 0; n < 4; ++n) {
+        char jn[16], wn[16];
+        snprintf(jn, sizeof jn, "JOINTS_%u", n);
+        snprintf(wn, sizeof wn, "WEIGHTS_%u", n);
+        oj[sets] = extra_named(original, jn), ow[sets] = extra_named(original, wn);
+        if (oj[sets] && ow[sets] && oj[sets]->components == 4 && ow[sets]->components == 4)
+            ++sets;
+    }
+    if (!sets)
+        return;
+    for (size_t v = 0; v < original->vertex_count; ++v) {
+        double total = 0;
+        for (unsigned s = 0; s < sets; ++s)
+            for (size_t k = 0; k < 4; ++k) {
+                double j = oj[s]->data[4 * v + k], w = ow[s]->data[4 * v + k];
+                if (!isfinite(j) || !isfinite(w) || w < 0)
+                    return;
+                total += w;
+            }
+        if (!(total > 0))
+            return;
+    }
+    for (size_t l = 0; l < level_count; ++l) {
+        const resurf_mesh *m = levels[l];
+        for (unsigned s = 0; s < sets; ++s)
+            REQUIRE(extra_named(m, oj[s]->name) && extra_named(m, ow[s]->name));
+        for (size_t v = 0; v < m->vertex_count; ++v) {
+            double total = 0;
+            for (unsigned s = 0; s < sets; ++s) {
+                const float *j = extra_named(m, oj[s]->name)->data + 4 * v, *w = extra_named(m, ow[s]->name)->data + 4 * v;
+                for (int k = 0; k < 4; ++k) {
+                    REQUIRE(isfinite(j[k]) && j[k] == floorf(j[k]) && isfinite(w[k]) && w[k] >= 0);
+                    total += w[k];
+                }
+            }
+            REQUIRE(fabs(total - 1) <= 1e-5);
+        }
+    }
+}
+
 /* Levels of the scene's small morphed primitives: each level carries the same target extras. */
 static void morph_levels(resurf_scene *scene)
 {
@@ -89,9 +148,11 @@ static void morph_levels(resurf_scene *scene)
     for (size_t i = 0; s == RESURF_OK && i < n; ++i) {
         resurf_scene_primitive info;
         resurf_scene_primitive_info(scene, i, &info, NULL);
+        const resurfi_scene_prim *p = &scene->prims[i];
+        if (p->mesh && p->lod_count)
+            check_skin_levels(p->mesh, p->lods, p->lod_count);
         if (info.kind != RESURF_PRIMITIVE_MORPHED)
             continue;
-        const resurfi_scene_prim *p = &scene->prims[i];
         for (size_t k = 0; k < p->lod_count; ++k) {
             check_mesh(p->lods[k]);
             REQUIRE(check_targets(p->lods[k]) == check_targets(p->mesh));
