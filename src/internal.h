@@ -256,6 +256,12 @@ resurf_status resurfi_simplify_lods_until(const resurf_mesh *in, const double *r
  * use, as resurf_compare draws them) to the surface under `to`; NaN for a mesh without triangles. */
 resurf_status resurfi_side_max(const resurf_allocator *alloc, const resurf_mesh *from, size_t samples, uint64_t seed,
                                const resurfi_bvh *to, unsigned threads, double *out_max);
+/* The same to the surface of the mesh `to`, through a tree over only its triangles near `from` (side_nearby.c): the
+ * same figure bit for bit, at a cost set by the triangles within `margin` of from's box (a guess of the answer; a
+ * wrong one costs a second run, never a wrong figure). */
+resurf_status resurfi_side_max_nearby(const resurf_allocator *alloc, const resurf_mesh *from, size_t samples,
+                                      uint64_t seed, const resurf_mesh *to, double margin, unsigned threads,
+                                      double *out_max);
 
 /* ---- vertex normals (normals.c) ------------------------------------------------------------------------------ */
 
