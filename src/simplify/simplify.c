@@ -49,6 +49,7 @@
 static void scratch_free(scratch *s)
 {
     resurfi_free(s->alloc, s->fan.data);
+    resurfi_free(s->alloc, s->shaped);
     for (int i = 0; i < 2 * GATHER_GROUP; ++i)
         resurfi_free(s->alloc, s->group[i].data);
     resurfi_free(s->alloc, s->pairs);
