@@ -523,7 +523,9 @@ static int add_instance(const resurf_scene *scene, const lod_levels_view *v, con
 
 /* The margin of the part of the other surface that an instance is measured to, over the instance's own bound: its
  * points lie about that far from their own primitives' other surface, so usually the nearest triangles lie within
- * it; when not, resurfi_side_max_nearby measures again (the figure is the same either way). */
+ * it; when not, resurfi_side_max_nearby measures again (the figure is the same either way). On 2CylinderEngine at
+ * 25% and 10% the errors phase took 0.84 G instructions at 0.5 (retries), 0.65 G at 1.0, 0.69 G at 1.25, which
+ * leaves room for a sampled maximum above the bound without a retry. */
 #define NEAR_MARGIN 1.25
 
 /* An instance and its own bound on one side of a level, for measuring the largest first. */
