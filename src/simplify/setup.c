@@ -638,6 +638,21 @@ static resurf_status find_charts(simplifier *s, scratch *sc)
                 s->charts.of_wedge[TW(3 * t + k)] = c;
     }
     resurfi_free(s->alloc, parent);
+    /* Each chart's input triangles (chart ids are working triangles), for the output's scan of a small chart. */
+    size_t nt = s->in->triangle_count;
+    s->charts.first = resurfi_calloc(s->alloc, s->tri_count + 2, sizeof *s->charts.first);
+    s->charts.tris = resurfi_alloc(s->alloc, nt + 1, sizeof *s->charts.tris);
+    if (!s->charts.first || !s->charts.tris)
+        return RESURF_ERR_OUT_OF_MEMORY;
+    uint32_t *first = s->charts.first;
+    for (size_t t = 0; t < nt; ++t)
+        if (s->charts.of_input_tri[t] != NONE)
+            first[s->charts.of_input_tri[t] + 2]++;
+    for (size_t c = 2; c < s->tri_count + 2; ++c)
+        first[c] += first[c - 1];
+    for (size_t t = 0; t < nt; ++t) /* first[c + 1] runs over chart c's slots, ending at its end */
+        if (s->charts.of_input_tri[t] != NONE)
+            s->charts.tris[first[s->charts.of_input_tri[t] + 1]++] = (uint32_t)t;
     return RESURF_OK;
 }
 

@@ -130,6 +130,8 @@ static void simplifier_free(simplifier *s)
     resurfi_free(s->alloc, s->mark);
     resurfi_free(s->alloc, s->charts.of_input_tri);
     resurfi_free(s->alloc, s->charts.of_wedge);
+    resurfi_free(s->alloc, s->charts.first);
+    resurfi_free(s->alloc, s->charts.tris);
     resurfi_free(s->alloc, s->attr.data);
     resurfi_free(s->alloc, s->attr.skin);
     resurfi_free(s->alloc, s->wedge_root);

@@ -198,6 +198,8 @@ typedef struct schedule {
 typedef struct charts {
     uint32_t *of_input_tri;
     uint32_t *of_wedge;
+    uint32_t *first;        /* chart c's input triangles are tris[first[c] .. first[c + 1]), ascending */
+    uint32_t *tris;
 } charts;
 
 /* Attribute quadrics (attributes.c), one record of `stride` doubles per wedge (indexed by its input vertex id), or
