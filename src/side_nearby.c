@@ -23,8 +23,8 @@ static size_t near_triangles(const resurf_mesh *to, const double lo[3], const do
         for (int k = 0; k < 3 && in && isfinite(m); ++k) {
             double a = to->positions[3 * (size_t)f[0] + k], b = to->positions[3 * (size_t)f[1] + k],
                    c = to->positions[3 * (size_t)f[2] + k];
-            double tlo = fmin(a, fmin(b, c)), thi = fmax(a, fmax(b, c));
-            in = !(tlo > hi[k] + m || thi < lo[k] - m); /* a corner that is not finite keeps the triangle */
+            double tlo = dmin(a, dmin(b, c)), thi = dmax(a, dmax(b, c)); /* NaN either way: the tree skips it */
+            in = !(tlo > hi[k] + m || thi < lo[k] - m);
         }
         if (in) {
             tris[3 * n] = f[0], tris[3 * n + 1] = f[1], tris[3 * n + 2] = f[2];
