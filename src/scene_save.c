@@ -8,6 +8,7 @@
  * Microsoft MSFT_lod extension. Draco quantization: a float attribute of range R stored in b bits is within
  * R / (2^b - 1) of its input after decoding; that bound is what the decode check enforces for positions. */
 #include <errno.h>
+#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -744,14 +745,23 @@ static resurf_status pack(save_ctx *c, size_t prim, size_t level, packed **out)
 typedef struct ahead_run {
     draco_job *jobs;
     const size_t *order;
+    size_t count;
+    atomic_size_t made;
+    const resurf_progress *progress;
+    atomic_int cancelled;
 } ahead_run;
 
+/* One payload; the calling thread (worker 0) also asks the caller's progress, and a cancel stops the run. */
 static int make_block(void *ctx, size_t begin, size_t end, unsigned worker)
 {
-    (void)worker;
-    const ahead_run *r = ctx;
+    ahead_run *r = ctx;
     for (size_t i = begin; i < end; ++i)
         draco_make(&r->jobs[r->order[i]]);
+    double f = (double)(atomic_fetch_add(&r->made, end - begin) + end - begin) / (double)r->count;
+    if (worker == 0 && resurfi_progress(r->progress, RESURF_STAGE_SAVE, 0.5 * f)) {
+        atomic_store(&r->cancelled, 1);
+        return 1;
+    }
     return 0;
 }
 
@@ -772,18 +782,18 @@ static int more_triangles_first(const void *a, const void *b)
  * most of a save, and each payload is one primitive's own work, so the bytes do not depend on the thread count.
  * pack then takes them as they are made; what cannot be prepared here (an allocation, a primitive Draco cannot
  * take) is left to pack, which says why in plan order, as without this pass. */
-static void encode_ahead(save_ctx *c)
+static resurf_status encode_ahead(save_ctx *c)
 {
     const resurf_scene *s = c->s;
     unsigned threads = resurfi_thread_count(c->o->threads);
     if (!c->o->draco || threads < 2)
-        return;
+        return RESURF_OK;
     size_t n = 0;
     for (size_t p = 0; p < s->prim_count; ++p)
         if (resurfi_scene_rewritten(&s->prims[p]))
             n += c->o->level >= 0 ? 1 : s->prims[p].lod_count + 1;
     if (n < 2)
-        return;
+        return RESURF_OK;
     c->jobs = resurfi_calloc(c->alloc, n, sizeof *c->jobs);
     c->job_of = resurfi_calloc(c->alloc, s->prim_count * RESURF_SCENE_MAX_LEVELS, sizeof *c->job_of);
     size_t *order = resurfi_alloc(c->alloc, n, sizeof *order);
@@ -794,7 +804,7 @@ static void encode_ahead(save_ctx *c)
         resurfi_free(c->alloc, order);
         resurfi_free(c->alloc, sizes);
         c->jobs = NULL, c->job_of = NULL;
-        return;
+        return RESURF_OK;
     }
     /* pack fills each job's input; its failures are not this pass's to report. */
     resurf_error *error = c->error, scratch;
@@ -824,7 +834,9 @@ static void encode_ahead(save_ctx *c)
     for (size_t i = 0; i < prepared; ++i)
         order[i] = sizes[i].job;
     resurfi_free(c->alloc, sizes);
-    ahead_run run = {c->jobs, order};
+    ahead_run run = {.jobs = c->jobs, .order = order, .count = prepared, .progress = &c->o->progress};
+    atomic_init(&run.made, 0);
+    atomic_init(&run.cancelled, 0);
     resurfi_parallel_for(prepared, 1, threads, make_block, &run);
     for (size_t i = 0; i < prepared; ++i) {
         draco_job *j = &c->jobs[order[i]];
@@ -832,6 +844,9 @@ static void encode_ahead(save_ctx *c)
             j->enc.data = NULL;
     }
     resurfi_free(c->alloc, order);
+    if (atomic_load(&run.cancelled))
+        return resurfi_fail(c->error, RESURF_ERR_CANCELLED, c->path, 0, -1, "cancelled by the progress callback");
+    return RESURF_OK;
 }
 
 /* ---- planning a document ------------------------------------------------------------------------------------- */
@@ -1255,12 +1270,13 @@ resurf_status resurf_scene_save(const resurf_scene *scene, const char *path, con
     c.cache = resurfi_alloc(c.alloc, scene->prim_count * RESURF_SCENE_MAX_LEVELS + 1, sizeof *c.cache);
     if (!c.cache)
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
-    encode_ahead(&c);
+    resurf_status status = encode_ahead(&c);
     resurf_scene_save_report report;
     memset(&report, 0, sizeof report);
     report.levels = levels;
     pending_list *files = resurfi_calloc(c.alloc, 1, sizeof *files);
-    resurf_status status = files ? RESURF_OK : oom(&c);
+    if (status == RESURF_OK && !files)
+        status = oom(&c);
     resurfi_gltf_layout layout = o.layout == RESURF_LOD_SIDE_BY_SIDE ? RESURFI_GLTF_SIDE_BY_SIDE
                                                                      : RESURFI_GLTF_MSFT_LOD;
     for (size_t k = 0; k < (per_file ? levels : 1) && status == RESURF_OK; ++k) {

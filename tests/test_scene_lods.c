@@ -438,6 +438,15 @@ START_TEST(scene_lods_side_by_side_same_as_one_thread)
         } else {
             file1 = file, size1 = size;
         }
+        /* A cancel while the payloads are made: CANCELLED, no file, the progress rising until then. */
+        watch w = {0, 0, 1, 0.25, RESURF_STAGE_COUNT};
+        save.progress = (resurf_progress){watch_fn, &w};
+        char *cancelled = tu_path(dir, "cancelled.glb");
+        ck_assert_int_eq(resurf_scene_save(s, cancelled, &save, NULL, &e), RESURF_ERR_CANCELLED);
+        ck_assert_int_eq(e.status, RESURF_ERR_CANCELLED);
+        ck_assert(w.monotone && w.calls >= 1 && w.last >= 0.25);
+        ck_assert_int_ne(access(cancelled, F_OK), 0);
+        free(cancelled);
         if (t == 0) {
             one = s;
             r1 = r;
