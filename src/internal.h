@@ -252,16 +252,24 @@ resurf_status resurfi_simplify_lods_until(const resurf_mesh *in, const double *r
                                           const resurf_simplify_options *options, const resurfi_chain_end *ends,
                                           resurf_mesh **out_levels, resurf_simplify_report *out_reports,
                                           resurf_error *error);
+/* A simplified surface's facet points, RESURFI_FACET_POINTS per triangle: its centroid, then the midpoints of its
+ * edges that run from a lower to a higher vertex index (an edge two triangles share is taken once). Where a coarse
+ * facet leaves the surface it spans, it leaves it most at those: a chord's sag peaks at its middle, a facet's at its
+ * centre. Sets *out to point k (triangle k / RESURFI_FACET_POINTS) and returns 1, or returns 0 for an edge left to
+ * the other triangle. */
+enum { RESURFI_FACET_POINTS = 4 };
+int resurfi_facet_point(const resurf_mesh *m, size_t k, vec3 *out);
 /* The largest distance from `from` (samples area-uniform samples drawn from seed, then the vertices its triangles
- * use, as resurf_compare draws them) to the surface under `to`; NaN for a mesh without triangles. */
+ * use, as resurf_compare draws them, then with facet_points its facet points) to the surface under `to`; NaN for a
+ * mesh without triangles. */
 resurf_status resurfi_side_max(const resurf_allocator *alloc, const resurf_mesh *from, size_t samples, uint64_t seed,
-                               const resurfi_bvh *to, unsigned threads, double *out_max);
+                               int facet_points, const resurfi_bvh *to, unsigned threads, double *out_max);
 /* The same to the surface of the mesh `to`, through a tree over only its triangles near `from` (side_nearby.c): the
  * same figure bit for bit, at a cost set by the triangles within `margin` of from's box (a guess of the answer; a
  * wrong one costs a second run, never a wrong figure). */
 resurf_status resurfi_side_max_nearby(const resurf_allocator *alloc, const resurf_mesh *from, size_t samples,
-                                      uint64_t seed, const resurf_mesh *to, double margin, unsigned threads,
-                                      double *out_max);
+                                      uint64_t seed, int facet_points, const resurf_mesh *to, double margin,
+                                      unsigned threads, double *out_max);
 
 /* ---- vertex normals (normals.c) ------------------------------------------------------------------------------ */
 

@@ -41,7 +41,8 @@ typedef struct side {
     uint64_t stream;
     const resurfi_bvh *to;
     const resurf_mesh *to_mesh;    /* the surface `to` is built over */
-    double *distance;              /* samples + from->vertex_count */
+    size_t facets;                 /* facet points measured after the vertices (resurfi_side_max), or 0 */
+    double *distance;              /* samples + from->vertex_count (+ facets) */
     double *uv;                    /* samples: UV errors, or NULL when not measured */
 } side;
 
@@ -81,7 +82,16 @@ static int measure_points(void *ctx, size_t begin, size_t end, unsigned worker)
 {
     (void)worker;
     const side *s = ctx;
+    size_t vertices_end = s->samples + s->from->vertex_count;
     for (size_t i = begin; i < end; ++i) {
+        if (i >= vertices_end) {
+            vec3 p;
+            double d2;
+            s->distance[i] = !resurfi_facet_point(s->from, i - vertices_end, &p) ? 0
+                             : resurfi_bvh_closest(s->to, p, INFINITY, NULL, NULL, &d2) == UINT32_MAX ? INFINITY
+                                                                                                       : sqrt(d2);
+            continue;
+        }
         if (i >= s->samples) {
             vec3 p = resurfi_position(s->from, (uint32_t)(i - s->samples));
             double d2;
@@ -307,6 +317,8 @@ static side_stats summarize(const side *s, const uint8_t *used)
             ++n;
         }
     }
+    for (size_t k = 0; k < s->facets; ++k)
+        st.max = fmax(st.max, s->distance[s->samples + s->from->vertex_count + k]);
     if (n) {
         st.mean = sum / (double)n;
         st.mean_square = sum2 / (double)n;
@@ -358,8 +370,24 @@ static resurf_status compare_fail(compare_work *w, resurf_error *error, resurf_s
 }
 
 /* One side alone (resurf_compare's points and figures): for scene measurements that reuse one tree many times. */
+int resurfi_facet_point(const resurf_mesh *m, size_t k, vec3 *out)
+{
+    const uint32_t *f = m->indices + 3 * (k / RESURFI_FACET_POINTS);
+    size_t j = k % RESURFI_FACET_POINTS;
+    if (j == 0) {
+        vec3 a = resurfi_position(m, f[0]), b = resurfi_position(m, f[1]), c = resurfi_position(m, f[2]);
+        *out = v3_scale(v3_add(v3_add(a, b), c), 1.0 / 3);
+        return 1;
+    }
+    uint32_t u = f[j - 1], v = f[j % 3];
+    if (u > v)
+        return 0;
+    *out = v3_scale(v3_add(resurfi_position(m, u), resurfi_position(m, v)), 0.5);
+    return 1;
+}
+
 resurf_status resurfi_side_max(const resurf_allocator *alloc, const resurf_mesh *from, size_t samples, uint64_t seed,
-                               const resurfi_bvh *to, unsigned threads, double *out_max)
+                               int facet_points, const resurfi_bvh *to, unsigned threads, double *out_max)
 {
     *out_max = NAN;
     if (from->triangle_count == 0)
@@ -367,11 +395,13 @@ resurf_status resurfi_side_max(const resurf_allocator *alloc, const resurf_mesh 
     double area = 0;
     double *cum = cumulative_areas(alloc, from, &area);
     uint8_t *used = used_vertices(alloc, from);
-    side sd = {from, cum, area, area > 0 ? samples : 0, seed, to, NULL, NULL, NULL};
-    sd.distance = resurfi_alloc(alloc, sd.samples + from->vertex_count + 1, sizeof *sd.distance);
+    side sd = {from, cum, area, area > 0 ? samples : 0, seed, to, NULL, 0, NULL, NULL};
+    sd.facets = facet_points ? RESURFI_FACET_POINTS * from->triangle_count : 0;
+    size_t points = sd.samples + from->vertex_count + sd.facets;
+    sd.distance = resurfi_alloc(alloc, points + 1, sizeof *sd.distance);
     resurf_status st = cum && used && sd.distance ? RESURF_OK : RESURF_ERR_OUT_OF_MEMORY;
     if (st == RESURF_OK) {
-        resurfi_parallel_for(sd.samples + from->vertex_count, BLOCK, threads, measure_points, &sd);
+        resurfi_parallel_for(points, BLOCK, threads, measure_points, &sd);
         *out_max = summarize(&sd, used).max;
     }
     resurfi_free(alloc, sd.distance);
@@ -445,9 +475,9 @@ resurf_status resurf_compare(const resurf_mesh *ref, const resurf_mesh *test, co
     if (!w.ref_cum || !w.test_cum || !w.ref_used || !w.test_used)
         return compare_fail(&w, error, RESURF_ERR_OUT_OF_MEMORY, "preparing the comparison");
     /* A surface of zero area has nothing to sample: its vertices alone stand for it. */
-    side test_side = {test, w.test_cum, test_area, test_area > 0 ? o.samples : 0, o.seed, NULL, ref, NULL, NULL};
+    side test_side = {test, w.test_cum, test_area, test_area > 0 ? o.samples : 0, o.seed, NULL, ref, 0, NULL, NULL};
     side ref_side = {ref, w.ref_cum, ref_area, ref_area > 0 ? o.samples : 0, o.seed ^ 0xd1b54a32d192ed03ull, NULL,
-                     test, NULL, NULL};
+                     test, 0, NULL, NULL};
     w.test_dist = resurfi_alloc(w.alloc, test_side.samples + test->vertex_count, sizeof *w.test_dist);
     w.ref_dist = resurfi_alloc(w.alloc, ref_side.samples + ref->vertex_count, sizeof *w.ref_dist);
     w.angle = resurfi_alloc(w.alloc, test->triangle_count, sizeof *w.angle);

@@ -550,7 +550,7 @@ static int larger_bound_first(const void *a, const void *b)
  * near it (resurfi_side_max_nearby, with its own bound as the guess of the margin). */
 static resurf_status side_over_scene(const resurf_scene *scene, const resurfi_scene_instances *list, size_t shown,
                                      const resurfi_scene_levels *levels, const bound_item *order, double density,
-                                     uint64_t seed, const resurf_mesh *to, unsigned threads,
+                                     uint64_t seed, int facet_points, const resurf_mesh *to, unsigned threads,
                                      const resurf_allocator *alloc, double *out_max, resurf_error *error)
 {
     double best = 0;
@@ -561,8 +561,9 @@ static resurf_status side_over_scene(const resurf_scene *scene, const resurfi_sc
         double d = NAN;
         double samples = st == RESURF_OK ? ceil(density * mesh_area(m)) : 0;
         samples = samples > 0 ? fmin(samples, 1e9) : 0;
-        if (st == RESURF_OK && resurfi_side_max_nearby(alloc, m, (size_t)samples, seed + order[j].instance, to,
-                                                       NEAR_MARGIN * order[j].bound, threads, &d) != RESURF_OK)
+        if (st == RESURF_OK &&
+            resurfi_side_max_nearby(alloc, m, (size_t)samples, seed + order[j].instance, facet_points, to,
+                                    NEAR_MARGIN * order[j].bound, threads, &d) != RESURF_OK)
             st = resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory measuring the levels");
         resurf_mesh_free(m);
         if (st != RESURF_OK)
@@ -1127,10 +1128,10 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
             double level_area = mesh_area(level), full_area = mesh_area(w.full);
             double to_density = level_area > 0 ? (double)sample_budget / level_area : 0;
             double from_density = full_area > 0 ? (double)sample_budget / full_area : 0;
-            st = side_over_scene(scene, &w.list, k, &stand_in, to_order, to_density, 1, w.full, threads, alloc,
+            st = side_over_scene(scene, &w.list, k, &stand_in, to_order, to_density, 1, 1, w.full, threads, alloc,
                                  &e.to_full, error);
             if (st == RESURF_OK)
-                st = side_over_scene(scene, &w.list, 0, NULL, from_order, from_density, 0x9e3779b9u, level, threads,
+                st = side_over_scene(scene, &w.list, 0, NULL, from_order, from_density, 0x9e3779b9u, 0, level, threads,
                                      alloc, &e.from_full, error);
         } else if (composed && st == RESURF_OK) { /* a level without triangles: not measurable */
             e.to_full = e.from_full = e.to_sum = NAN;

@@ -3,12 +3,12 @@
  * resurf_scene_build_lods measures a few instances of a scene to the whole scene at the other level. A tree over the
  * whole scene costs far more than the few thousand points measured (on 2CylinderEngine the three trees of a 2-level
  * chain were 0.86 of the call's 8.0 G instructions, the points 0.43 G), so the tree is built over the triangles near
- * the points only. The answer is exact: every point lies in the box A of `from`'s vertices; a triangle of `to`
- * whose box misses A grown by a margin m is, on some axis, more than m away from every such point. When the largest
- * distance found over the near triangles is at most m, each point's nearest triangle among them is nearer than any
- * triangle left out, so every distance (and the maximum) is the one over all of `to`, bit for bit (the tree's
- * closest point is exact). Otherwise the measure is made again with m = that largest distance, which the larger set
- * of triangles can only lower: two runs at most. */
+ * the points only. The answer is exact: every point (a sample, a vertex, a facet's centroid or edge midpoint) lies
+ * in the box A of `from`'s vertices; a triangle of `to` whose box misses A grown by a margin m is, on some axis,
+ * more than m away from every such point. When the largest distance found over the near triangles is at most m, each
+ * point's nearest triangle among them is nearer than any triangle left out, so every distance (and the maximum) is
+ * the one over all of `to`, bit for bit (the tree's closest point is exact). Otherwise the measure is made again with
+ * m = that largest distance, which the larger set of triangles can only lower: two runs at most. */
 #include <math.h>
 
 #include "internal.h"
@@ -35,8 +35,8 @@ static size_t near_triangles(const resurf_mesh *to, const double lo[3], const do
 }
 
 resurf_status resurfi_side_max_nearby(const resurf_allocator *alloc, const resurf_mesh *from, size_t samples,
-                                      uint64_t seed, const resurf_mesh *to, double margin, unsigned threads,
-                                      double *out_max)
+                                      uint64_t seed, int facet_points, const resurf_mesh *to, double margin,
+                                      unsigned threads, double *out_max)
 {
     *out_max = NAN;
     if (from->triangle_count == 0)
@@ -62,7 +62,7 @@ resurf_status resurfi_side_max_nearby(const resurf_allocator *alloc, const resur
         double d = INFINITY;
         st = resurfi_bvh_build_threads(alloc, to->positions, to->vertex_count, tris, n, threads, &bvh);
         if (st == RESURF_OK)
-            st = resurfi_side_max(alloc, from, samples, seed, bvh, threads, &d);
+            st = resurfi_side_max(alloc, from, samples, seed, facet_points, bvh, threads, &d);
         resurfi_bvh_free(bvh);
         if (st != RESURF_OK)
             break;

@@ -31,18 +31,21 @@ START_TEST(side_max_nearby_is_the_whole_side)
             for (int k = 0; k < 3; ++k)
                 patch->positions[3 * v + (size_t)k] =
                     (k < 2 ? 0.2 * patch->positions[3 * v + (size_t)k] : 0) + offsets[o][k];
-        double truth = NAN;
-        ck_assert_int_eq(resurfi_side_max(NULL, patch, 3000, 7, whole, 1, &truth), RESURF_OK);
-        if (o == 0)
-            ck_assert_double_eq_tol(truth, 0.05, 1e-12); /* the grid, not the wall, is nearest everywhere */
-        const double margins[] = {0, 0.01, 1, INFINITY};
-        for (size_t i = 0; i < sizeof margins / sizeof *margins; ++i)
-            for (unsigned threads = 1; threads <= 2; ++threads) {
-                double d = NAN;
-                ck_assert_int_eq(resurfi_side_max_nearby(NULL, patch, 3000, 7, to, margins[i], threads, &d),
-                                 RESURF_OK);
-                ck_assert_double_eq(d, truth);
-            }
+        for (int facets = 0; facets <= 1; ++facets) { /* with the patch's facet points too */
+            double truth = NAN;
+            ck_assert_int_eq(resurfi_side_max(NULL, patch, 3000, 7, facets, whole, 1, &truth), RESURF_OK);
+            if (o == 0)
+                ck_assert_double_eq_tol(truth, 0.05, 1e-12); /* the grid, not the wall, is nearest everywhere */
+            const double margins[] = {0, 0.01, 1, INFINITY};
+            for (size_t i = 0; i < sizeof margins / sizeof *margins; ++i)
+                for (unsigned threads = 1; threads <= 2; ++threads) {
+                    double d = NAN;
+                    ck_assert_int_eq(resurfi_side_max_nearby(NULL, patch, 3000, 7, facets, to, margins[i], threads,
+                                                             &d),
+                                     RESURF_OK);
+                    ck_assert_double_eq(d, truth);
+                }
+        }
         resurf_mesh_free(patch);
     }
     resurfi_bvh_free(whole);

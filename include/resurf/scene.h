@@ -235,7 +235,8 @@ typedef struct resurf_scene_lod_report {
                                                          reports */
     /* Measured in world space (resurf_scene_world_mesh(): every instance, node transforms applied) between the
      * level and level 0, each side's points (resurf_compare()'s: area-uniform samples, measure_samples over the
-     * whole surface, and the vertices) measured to the whole other surface: 0 for level 0 and when nothing was
+     * whole surface, and the vertices; on the level's side also its facet points, as in resurf_simplify_report)
+     * measured to the whole other surface: 0 for level 0 and when nothing was
      * measured (measure_samples 0). When every instance's transform is a similarity (rotation, uniform scale,
      * translation), each instance's own bound, its primitives' reports scaled to world units, decides which
      * instances are measured: largest first, until the next bound is no more than the largest distance found (no

@@ -2,7 +2,11 @@
  *
  * Each side is a set of points on one surface measured to the other through a BVH over it, exactly (the closest
  * point on any triangle): measure_samples area-uniform samples, stratified over the cumulative area (sample i lies
- * in the slice [i, i + 1) / n of it), then the vertices. The result's points go to the input's tree (the one the
+ * in the slice [i, i + 1) / n of it), then the vertices, and on the result's side its facet points (each
+ * triangle's centroid and edge midpoints, resurfi_facet_point): a level's long chords and coarse facets leave the
+ * input farthest there, so its maximum needs no dense sampling (on a torus's 25% level, 5,000 samples and the
+ * facet points find 0.996 of the maximum 2M samples find; 100k samples alone found 0.92). The samples then serve
+ * the means, which converge fast. The result's points go to the input's tree (the one the
  * simplifier built for attributes), the input's points to a tree built over the level. A one-sided measure cannot
  * see what a level lost: a square of two triangles reduced to one lies on the input everywhere, and only the
  * input's points on the lost half find the distance. The figures are those of resurf_compare (metrics.c): the
@@ -31,6 +35,7 @@ typedef struct side {
     size_t samples;
     const uint32_t *vertices;   /* the vertices measured after the samples, or NULL for all of from's */
     size_t vertex_count;
+    size_t facets;              /* then its facet points (resurfi_facet_point), or 0 */
     uint64_t stream;            /* first of the three sample_unit streams of this side */
     const resurfi_bvh *to;
     const resurf_mesh *to_mesh;
@@ -73,6 +78,9 @@ static int measure_block(void *ctx, size_t begin, size_t end, unsigned worker)
         vec3 p;
         if (is_sample) {
             p = sample_point(sd, i, &t, b);
+        } else if (i >= sd->samples + sd->vertex_count) {
+            if (!resurfi_facet_point(sd->from, i - sd->samples - sd->vertex_count, &p))
+                continue;
         } else {
             size_t k = i - sd->samples;
             p = resurfi_position(sd->from, sd->vertices ? sd->vertices[k] : (uint32_t)k);
@@ -83,7 +91,7 @@ static int measure_block(void *ctx, size_t begin, size_t end, unsigned worker)
         mx = d > mx ? d : mx;
         if (is_sample)
             sum += d;
-        else
+        else if (i < sd->samples + sd->vertex_count)
             vertex_sum += d;
         if (uv)
             sd->uv[i] = c == NONE ? INFINITY : resurfi_uv_distance(sd->from, t, b, sd->to_mesh, c, cb);
@@ -149,7 +157,7 @@ void measure_free(simplifier *s)
 /* Runs a side's points on the call's threads; its max and mean (over the samples, else over the vertices). */
 static resurf_status run_side(simplifier *s, side *sd, double *out_max, double *out_mean)
 {
-    size_t total = sd->samples + sd->vertex_count;
+    size_t total = sd->samples + sd->vertex_count + sd->facets;
     size_t blocks = (total + BLOCK_SAMPLES - 1) / BLOCK_SAMPLES;
     sd->block_max = resurfi_alloc(s->alloc, blocks ? blocks : 1, 3 * sizeof(double));
     if (!sd->block_max)
@@ -189,10 +197,10 @@ resurf_status measure_level(simplifier *s, const resurf_mesh *m, resurf_simplify
                                        s->opt.thread_pool ? 1 : s->opt.threads, &level_bvh);
     size_t n = s->opt.measure_samples;
     side result = {m, level_area, level_area && level_area[m->triangle_count] > 0 ? n : 0, NULL, m->vertex_count,
-                   0, s->bvh, s->in, NULL, NULL, NULL, NULL};
+                   RESURFI_FACET_POINTS * m->triangle_count, 0, s->bvh, s->in, NULL, NULL, NULL, NULL};
     const double *in_area = s->measure.in_area_prefix;
     side input = {s->in, in_area, in_area && in_area[s->in->triangle_count] > 0 ? n : 0, s->measure.in_used,
-                  s->measure.in_used_count, 3, level_bvh, m, NULL, NULL, NULL, NULL};
+                  s->measure.in_used_count, 0, 3, level_bvh, m, NULL, NULL, NULL, NULL};
     if (st == RESURF_OK && result.samples && resurfi_has_uv0(s->in) && resurfi_has_uv0(m) &&
         !(uv = result.uv = resurfi_alloc(s->alloc, result.samples, sizeof *uv)))
         st = RESURF_ERR_OUT_OF_MEMORY;

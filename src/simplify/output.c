@@ -22,6 +22,8 @@ typedef struct output {
     vec3 *normal;         /* per u: S's normal at base (sag offset only) */
     double *sag_sum;      /* per u */
     double *m_depth;      /* per u: how far M's facets lie under S where v is (sag offset only) */
+    double *gap;          /* per output triangle: how far M lies above it on average, measured (sag offset only) */
+    double *gap_sum;      /* per u: the sum of its triangles' gaps */
     double *len;          /* per u: longest incident edge */
     uint32_t *sag_count;
     uint8_t *outcome;     /* per u: POST restoration left it (1) */
@@ -46,6 +48,8 @@ static void output_free(output *o, const resurf_allocator *alloc)
     resurfi_free(alloc, o->normal);
     resurfi_free(alloc, o->sag_sum);
     resurfi_free(alloc, o->m_depth);
+    resurfi_free(alloc, o->gap);
+    resurfi_free(alloc, o->gap_sum);
     resurfi_free(alloc, o->len);
     resurfi_free(alloc, o->sag_count);
     resurfi_free(alloc, o->outcome);
@@ -78,24 +82,6 @@ static int post_restore_block(void *ctx, size_t begin, size_t end, unsigned work
     return 0;
 }
 
-/* How far input triangle t lies under S on average: (1/24) Σ over its corners j and the other corners k of
- * −N_j·(p_k − p_j), N_j S's normal at corner j (docs/restoring.md §8, the sag offset). */
-static double facet_depth(const simplifier *s, uint32_t t)
-{
-    const uint32_t *ix = s->in->indices + 3 * (size_t)t;
-    vec3 p[3];
-    for (int k = 0; k < 3; ++k)
-        p[k] = v3_load(s->in->positions + 3 * (size_t)ix[k]);
-    double sum = 0;
-    for (int j = 0; j < 3; ++j) {
-        double bary[3] = {j == 0, j == 1, j == 2};
-        vec3 n = resurfi_restorer_normal(s->restorer, t, bary);
-        for (int d = 1; d < 3; ++d)
-            sum -= v3_dot(n, v3_sub(p[(j + d) % 3], p[j]));
-    }
-    return sum / 24.0;
-}
-
 static int normal_block(void *ctx, size_t begin, size_t end, unsigned worker)
 {
     (void)worker;
@@ -119,6 +105,50 @@ typedef struct chart_search {
     double best_d2;
     double bary[3];
 } chart_search;
+
+/* The point of M closest to p, found by walking from triangle `start` of M; p itself when none is found (*found 0). */
+static vec3 closest_on_input(const simplifier *s, vec3 p, uint32_t start, int *found)
+{
+    double bary[3], d2;
+    uint32_t t = resurfi_restorer_closest_walk(s->restorer, p, start, bary, &d2);
+    *found = t != NONE;
+    if (t == NONE)
+        return p;
+    const uint32_t *ix = s->in->indices + 3 * (size_t)t;
+    vec3 q = v3(0, 0, 0);
+    for (int k = 0; k < 3; ++k)
+        q = v3_madd(q, v3_load(s->in->positions + 3 * (size_t)ix[k]), bary[k]);
+    return q;
+}
+
+/* gap[i]: how far M lies above output triangle i (along its normal) on average, measured by the midpoint rule: the
+ * mean of the signed offsets from the midpoints of its edges to M's closest points (exact for a gap that is
+ * quadratic over the triangle, as a chord's sag under a smooth surface is). */
+static int gap_block(void *ctx, size_t begin, size_t end, unsigned worker)
+{
+    (void)worker;
+    output_job *j = ctx;
+    output *o = j->o;
+    for (size_t i = begin; i < end; ++i) {
+        uint32_t u[3];
+        for (int c = 0; c < 3; ++c)
+            u[c] = o->ov_u[o->corner_ov[3 * i + c]];
+        vec3 n = v3_normalize(v3_tri_cross(o->base[u[0]], o->base[u[1]], o->base[u[2]]));
+        double sum = 0;
+        int count = 0;
+        for (int c = 0; c < 3; ++c) {
+            vec3 mid = v3_scale(v3_add(o->base[u[c]], o->base[u[(c + 1) % 3]]), 0.5);
+            int found;
+            vec3 q = closest_on_input(j->s, mid, j->s->home[o->upos[u[c]]], &found);
+            if (found) {
+                sum += v3_dot(v3_sub(q, mid), n);
+                ++count;
+            }
+        }
+        o->gap[i] = count ? sum / count : 0;
+    }
+    return 0;
+}
 
 /* A chart of up to this many triangles is scanned for the closest of them rather than searched in the tree near
  * the vertex, whose reach (the distance to the closest triangle of any chart plus the vertex's longest edge) may
@@ -393,7 +423,8 @@ static void measure_edges(output *o)
  * chord's sag h²κ/8, the mean depth of the LOD's facets under S; M's facets lie under S by their own depth
  * (facet_depth), and the reported distances measure against M: the difference makes the LOD's facets straddle M.
  * Each side is measured along its own edges, so a LOD that kept M's spacing across the curvature (a cylinder's
- * first collapses are along its axis) is not offset (docs/restoring.md §8 has the figures). */
+ * first collapses are along its axis) is not offset. The model is then bounded by the measured gap (gap_block):
+ * at most twice it, never of the other sign (docs/restoring.md §8 has the figures). */
 static resurf_status place_output(simplifier *s, output *o)
 {
     size_t nu = o->nu;
@@ -433,12 +464,16 @@ static resurf_status place_output(simplifier *s, output *o)
         o->sag_sum = resurfi_calloc(s->alloc, nu, sizeof *o->sag_sum);
         o->sag_count = resurfi_calloc(s->alloc, nu, sizeof *o->sag_count);
         o->m_depth = resurfi_calloc(s->alloc, nu, sizeof *o->m_depth);
-        if (!o->normal || !o->sag_sum || !o->sag_count || !o->m_depth)
+        o->gap = resurfi_alloc(s->alloc, o->nt ? o->nt : 1, sizeof *o->gap);
+        o->gap_sum = resurfi_calloc(s->alloc, nu, sizeof *o->gap_sum);
+        if (!o->normal || !o->sag_sum || !o->sag_count || !o->m_depth || !o->gap || !o->gap_sum)
             return RESURF_ERR_OUT_OF_MEMORY;
         resurfi_pool_for(s->pool, nu, BLOCK_POSITIONS, normal_block, &job);
     }
     if (s->opt.restore == RESURF_RESTORE_POST && s->restorer)
         measure_edges(o);
+    if (offset)
+        resurfi_pool_for(s->pool, o->nt, BLOCK_POSITIONS, gap_block, &job);
     for (size_t i = 0; i < o->nt && offset; ++i) {
         uint32_t u[3];
         for (int c = 0; c < 3; ++c)
@@ -451,6 +486,7 @@ static resurf_status place_output(simplifier *s, output *o)
              * across the crease). */
             if (!(v3_dot(face, o->normal[u[c]]) >= s->feature_cos * v3_len(face)))
                 o->held[u[c]] |= HELD_OFFSET;
+            o->gap_sum[u[c]] += o->gap[i];
             for (int d = 1; d < 3; ++d) {
                 vec3 pw = o->base[u[(c + d) % 3]];
                 o->sag_sum[u[c]] -= v3_dot(o->normal[u[c]], v3_sub(pw, pv));
@@ -462,7 +498,13 @@ static resurf_status place_output(simplifier *s, output *o)
         o->final[u] = o->base[u];
         if (!offset || !o->sag_count[u] || o->held[u])
             continue; /* a corner or a crease vertex: the model of a smooth surface around it does not hold */
-        double sag = s->opt.sag_offset * (o->sag_sum[u] / (4.0 * o->sag_count[u]) - o->m_depth[u]);
+        double sag = o->sag_sum[u] / (4.0 * o->sag_count[u]) - o->m_depth[u];
+        /* The model holds where M is smooth at the LOD's scale; there it agrees with what M does around v. Where
+         * not (a scan's noise, a ridge sharper than its normals), it is bounded by that: of the measured gap's
+         * sign, at most twice it. */
+        double measured = o->gap_sum[u] / (o->sag_count[u] / 2.0);
+        double lo = measured < 0 ? 2 * measured : 0, hi = measured > 0 ? 2 * measured : 0;
+        sag = s->opt.sag_offset * (sag < lo ? lo : sag > hi ? hi : sag);
         double cap = 0.25 * o->len[u]; /* a fold or a spike, not a sag */
         sag = sag > cap ? cap : sag < -cap ? -cap : sag;
         o->final[u] = v3_madd(o->base[u], o->normal[u], sag);

@@ -74,7 +74,7 @@ resurf_simplify_options resurf_simplify_options_default(void)
     o.color_weight = 0.25;
     o.skin_weight = 1.4;
     o.morph_weight = 1;
-    o.measure_samples = 100000;
+    o.measure_samples = 20000;
     return o;
 }
 
