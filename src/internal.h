@@ -264,6 +264,12 @@ int resurfi_facet_point(const resurf_mesh *m, size_t k, vec3 *out);
  * mesh without triangles. */
 resurf_status resurfi_side_max(const resurf_allocator *alloc, const resurf_mesh *from, size_t samples, uint64_t seed,
                                int facet_points, const resurfi_bvh *to, unsigned threads, double *out_max);
+/* The same to the surface of the mesh `to`, through a tree over only its triangles near `from` (side_nearby.c): the
+ * same figure bit for bit, at a cost set by the triangles within `margin` of from's box (a guess of the answer; a
+ * wrong one costs a second run, never a wrong figure). */
+resurf_status resurfi_side_max_nearby(const resurf_allocator *alloc, const resurf_mesh *from, size_t samples,
+                                      uint64_t seed, int facet_points, const resurf_mesh *to, double margin,
+                                      unsigned threads, double *out_max);
 
 /* ---- vertex normals (normals.c) ------------------------------------------------------------------------------ */
 

@@ -8,6 +8,7 @@
  * Microsoft MSFT_lod extension. Draco quantization: a float attribute of range R stored in b bits is within
  * R / (2^b - 1) of its input after decoding; that bound is what the decode check enforces for positions. */
 #include <errno.h>
+#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -28,6 +29,7 @@ resurf_scene_save_options resurf_scene_save_options_default(void)
     o.color_bits = 8;
     o.generic_bits = 12;
     o.compression_level = 7;
+    o.threads = 0;
     o.embed_buffers = 0;
     o.layout = RESURF_LOD_MSFT_LOD;
     o.spacing_rel = 0.25;
@@ -75,6 +77,25 @@ typedef struct owned_block {
     const resurf_allocator *alloc;
 } owned_block;
 
+/* One Draco payload: its input, set by pack on the saving thread, and what encoding it, decoding it again and
+ * checking what came back gave (draco_make, which touches only its job: payloads are made side by side). */
+typedef struct draco_job {
+    int prepared, made;
+    const resurf_mesh *mesh;
+    size_t attr_count;
+    resurfi_draco_input_attribute in_attrs[32];
+    char names[32][64];
+    int components[32], integer[32];
+    resurfi_draco_input in;
+    int position_bits;
+    /* made: */
+    resurf_status status;   /* RESURF_OK, the encoder's failure, or RESURF_ERR_INTERNAL: it does not decode as meant */
+    char message[256];      /* the failure, after "PRIMITIVE level K: " */
+    resurfi_draco_output enc;
+    size_t points, faces;
+    double lo[3], hi[3];    /* the decoded positions' box */
+} draco_job;
+
 typedef struct save_ctx {
     const resurf_scene *s;
     const resurf_scene_save_options *o;
@@ -86,6 +107,9 @@ typedef struct save_ctx {
     resurfi_gltf_out_accessor *acc;
     size_t acc_count, acc_cap;
     packed *cache;          /* prim_count × RESURF_SCENE_MAX_LEVELS */
+    draco_job *jobs;        /* the payloads made ahead (encode_ahead) */
+    size_t *job_of;         /* prim_count × RESURF_SCENE_MAX_LEVELS: index into jobs + 1, or 0 */
+    int preparing;          /* pack only fills the Draco job of what it packs */
     int draco_used, verbatim_any;
     size_t level_bytes[RESURF_SCENE_MAX_LEVELS];
 } save_ctx;
@@ -125,6 +149,8 @@ static void free_owned(save_ctx *c)
     resurfi_free(c->alloc, c->owned);
     resurfi_free(c->alloc, c->acc);
     resurfi_free(c->alloc, c->cache);
+    resurfi_free(c->alloc, c->jobs);
+    resurfi_free(c->alloc, c->job_of);
 }
 
 static char *own_string(save_ctx *c, const char *s)
@@ -455,61 +481,42 @@ static resurf_status pack_targets(save_ctx *c, const resurfi_scene_prim *p, cons
     return RESURF_OK;
 }
 
-/* Draco: encodes, decodes again and checks what came back against what was meant. */
-static resurf_status pack_draco(save_ctx *c, const resurfi_scene_prim *p, size_t level, const resurf_mesh *m,
-                                const out_attr *attrs, size_t attr_count, unsigned char **values, int keep_order,
-                                packed *out)
+/* Encodes j's input, decodes the payload again and checks what came back against what was meant. */
+static void draco_make(draco_job *j)
 {
-    resurfi_draco_input_attribute in_attrs[32];
-    if (attr_count > 32)
-        return resurfi_fail(c->error, RESURF_ERR_UNSUPPORTED, c->path, 0, -1, "%s: more than 32 attributes for Draco",
-                            p->info.name);
-    for (size_t i = 0; i < attr_count; ++i) {
-        in_attrs[i].type = attrs[i].draco_type;
-        in_attrs[i].data_type = draco_data_type(attrs[i].component_type);
-        in_attrs[i].components = attrs[i].components;
-        in_attrs[i].normalized = attrs[i].normalized;
-        in_attrs[i].values = values[i];
-        in_attrs[i].quantization_bits = attrs[i].bits;
-    }
-    resurfi_draco_input in = {
-        .vertex_count = m->vertex_count,
-        .triangle_count = m->triangle_count,
-        .indices = m->indices,
-        .attribute_count = attr_count,
-        .attributes = in_attrs,
-        .compression_level = c->o->compression_level,
-        .keep_order = keep_order,
-    };
-    resurfi_draco_output enc;
+    const resurf_mesh *m = j->mesh;
     resurf_error derr;
-    resurf_status status = resurfi_draco_encode(&in, &enc, &derr);
-    if (status != RESURF_OK)
-        return resurfi_fail(c->error, status, c->path, 0, -1, "%s level %zu: %s", p->info.name, level, derr.message);
-    own_from(c, enc.data, NULL); /* malloc'ed by the Draco shim: the C heap */
-    if (!enc.data)
-        return oom(c);
+    j->made = 1;
+    j->status = resurfi_draco_encode(&j->in, &j->enc, &derr);
+    if (j->status != RESURF_OK) {
+        snprintf(j->message, sizeof j->message, "%s", derr.message);
+        return;
+    }
+    if (!j->enc.data)
+        return; /* out of memory, said by pack_draco */
     resurfi_draco_mesh *dm = NULL;
-    status = resurfi_draco_decode(enc.data, enc.size, &dm, &derr);
-    if (status != RESURF_OK)
-        return resurfi_fail(c->error, RESURF_ERR_INTERNAL, c->path, 0, -1,
-                            "%s level %zu: the Draco payload just written does not decode: %s", p->info.name, level,
-                            derr.message);
+    if (resurfi_draco_decode(j->enc.data, j->enc.size, &dm, &derr) != RESURF_OK) {
+        j->status = RESURF_ERR_INTERNAL;
+        snprintf(j->message, sizeof j->message, "the Draco payload just written does not decode: %.200s",
+                 derr.message);
+        return;
+    }
     char problem[160] = "";
-    if (dm->point_count != enc.encoded_points || dm->face_count != enc.encoded_faces || dm->point_count == 0 ||
+    if (dm->point_count != j->enc.encoded_points || dm->face_count != j->enc.encoded_faces || dm->point_count == 0 ||
         dm->face_count == 0)
         snprintf(problem, sizeof problem, "decodes to %zu points and %zu triangles, the encoder wrote %zu and %zu",
-                 dm->point_count, dm->face_count, enc.encoded_points, enc.encoded_faces);
+                 dm->point_count, dm->face_count, j->enc.encoded_points, j->enc.encoded_faces);
     const resurfi_draco_attribute *found[32] = {0};
-    for (size_t i = 0; i < attr_count && !problem[0]; ++i) {
+    for (size_t i = 0; i < j->attr_count && !problem[0]; ++i) {
         for (size_t k = 0; k < dm->attribute_count; ++k)
-            if (dm->attributes[k].unique_id == enc.unique_ids[i])
+            if (dm->attributes[k].unique_id == j->enc.unique_ids[i])
                 found[i] = &dm->attributes[k];
-        if (!found[i] || found[i]->components != attrs[i].components ||
-            found[i]->integer != (attrs[i].component_type != RESURFI_GLTF_FLOAT))
-            snprintf(problem, sizeof problem, "lost or changed attribute %.100s", attrs[i].name);
+        if (!found[i] || found[i]->components != j->components[i] || found[i]->integer != j->integer[i])
+            snprintf(problem, sizeof problem, "lost or changed attribute %.100s", j->names[i]);
     }
-    double lo[3], hi[3], dlo[3] = {INFINITY, INFINITY, INFINITY}, dhi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    double lo[3], hi[3], *dlo = j->lo, *dhi = j->hi;
+    for (int k = 0; k < 3; ++k)
+        dlo[k] = INFINITY, dhi[k] = -INFINITY;
     if (!problem[0]) {
         /* Positions: the decoded box lies within one quantization step of the input's box. */
         resurf_mesh_bounds(m, lo, hi);
@@ -517,7 +524,7 @@ static resurf_status pack_draco(save_ctx *c, const resurfi_scene_prim *p, size_t
             for (int k = 0; k < 3; ++k)
                 lo[k] = fmin(lo[k], (float)m->positions[3 * v + k]), hi[k] = fmax(hi[k], (float)m->positions[3 * v + k]);
         double range = fmax(hi[0] - lo[0], fmax(hi[1] - lo[1], hi[2] - lo[2]));
-        double step = range / (double)((1u << c->o->position_bits) - 1) + 1e-6 * range + 1e-30;
+        double step = range / (double)((1u << j->position_bits) - 1) + 1e-6 * range + 1e-30;
         for (size_t v = 0; v < dm->point_count; ++v)
             for (int k = 0; k < 3; ++k) {
                 double x = found[0]->values[3 * v + (size_t)k];
@@ -529,6 +536,7 @@ static resurf_status pack_draco(save_ctx *c, const resurfi_scene_prim *p, size_t
                                                   "quantization step (axis %d)", k);
         /* With morph targets the decoded points must be the mesh's vertices in their order (the targets'
          * accessors use it): point v within a quantization step of vertex v, and the same triangles. */
+        int keep_order = j->in.keep_order;
         if (keep_order && !problem[0] && (dm->point_count != m->vertex_count || dm->face_count != m->triangle_count))
             snprintf(problem, sizeof problem, "has %zu points and %zu triangles, not the %zu vertices and %zu "
                      "triangles its morph targets need", dm->point_count, dm->face_count, m->vertex_count,
@@ -544,11 +552,65 @@ static resurf_status pack_draco(save_ctx *c, const resurfi_scene_prim *p, size_t
                 snprintf(problem, sizeof problem, "changed the triangles (index %zu), which its morph targets need",
                          i);
     }
-    size_t points = dm->point_count, faces = dm->face_count;
+    j->points = dm->point_count, j->faces = dm->face_count;
     resurfi_draco_mesh_free(dm);
-    if (problem[0])
-        return resurfi_fail(c->error, RESURF_ERR_INTERNAL, c->path, 0, -1, "%s level %zu: the Draco payload %s",
-                            p->info.name, level, problem);
+    if (problem[0]) {
+        j->status = RESURF_ERR_INTERNAL;
+        snprintf(j->message, sizeof j->message, "the Draco payload %s", problem);
+    }
+}
+
+/* Draco: the payload made ahead (encode_ahead), else made now; then its accessors. While preparing, only the job's
+ * input is set. */
+static resurf_status pack_draco(save_ctx *c, const resurfi_scene_prim *p, size_t prim, size_t level,
+                                const resurf_mesh *m, const out_attr *attrs, size_t attr_count,
+                                unsigned char **values, int keep_order, packed *out)
+{
+    if (attr_count > 32)
+        return resurfi_fail(c->error, RESURF_ERR_UNSUPPORTED, c->path, 0, -1, "%s: more than 32 attributes for Draco",
+                            p->info.name);
+    size_t ahead = c->job_of ? c->job_of[prim * RESURF_SCENE_MAX_LEVELS + level] : 0;
+    draco_job now, *j = ahead ? &c->jobs[ahead - 1] : &now;
+    if (!j->made) {
+        memset(j, 0, sizeof *j);
+        j->mesh = m;
+        j->attr_count = attr_count;
+        j->position_bits = c->o->position_bits;
+        for (size_t i = 0; i < attr_count; ++i) {
+            j->in_attrs[i].type = attrs[i].draco_type;
+            j->in_attrs[i].data_type = draco_data_type(attrs[i].component_type);
+            j->in_attrs[i].components = attrs[i].components;
+            j->in_attrs[i].normalized = attrs[i].normalized;
+            j->in_attrs[i].values = values[i];
+            j->in_attrs[i].quantization_bits = attrs[i].bits;
+            memcpy(j->names[i], attrs[i].name, sizeof j->names[i]);
+            j->components[i] = attrs[i].components;
+            j->integer[i] = attrs[i].component_type != RESURFI_GLTF_FLOAT;
+        }
+        j->in = (resurfi_draco_input){
+            .vertex_count = m->vertex_count,
+            .triangle_count = m->triangle_count,
+            .indices = m->indices,
+            .attribute_count = attr_count,
+            .attributes = j->in_attrs,
+            .compression_level = c->o->compression_level,
+            .keep_order = keep_order,
+        };
+        j->prepared = 1;
+        if (c->preparing)
+            return RESURF_OK;
+        draco_make(j);
+        if (j->enc.data && !own_from(c, j->enc.data, NULL)) /* malloc'ed by the Draco shim: the C heap */
+            j->enc.data = NULL;
+    }
+    if (j->status != RESURF_OK)
+        return resurfi_fail(c->error, j->status, c->path, 0, -1, "%s level %zu: %s", p->info.name, level,
+                            j->message);
+    if (!j->enc.data)
+        return oom(c);
+    resurfi_draco_output enc = j->enc;
+    size_t points = j->points, faces = j->faces;
+    const double *dlo = j->lo, *dhi = j->hi;
 
     out->draco = enc.data;
     out->draco_size = enc.size;
@@ -618,14 +680,16 @@ static resurf_status pack(save_ctx *c, size_t prim, size_t level, packed **out)
         return status;
     unsigned char *values[sizeof attrs / sizeof *attrs];
     double min[4], max[4];
-    for (size_t i = 0; i < n; ++i)
+    size_t ahead = c->job_of ? c->job_of[prim * RESURF_SCENE_MAX_LEVELS + level] : 0;
+    int made = ahead && c->jobs[ahead - 1].made; /* its payload needs no values any more */
+    for (size_t i = 0; i < n && !made; ++i)
         if (!(values[i] = pack_attribute(c, &attrs[i], m->vertex_count, i == 0 ? min : NULL, i == 0 ? max : NULL)))
             return oom(c);
     int morphed = p->info.kind == RESURF_PRIMITIVE_MORPHED;
     resurf_status st = RESURF_OK;
     if (c->o->draco) {
-        st = pack_draco(c, p, level, m, attrs, n, values, morphed, pk);
-        return st == RESURF_OK && morphed ? pack_targets(c, p, m, pk) : st;
+        st = pack_draco(c, p, prim, level, m, attrs, n, values, morphed, pk);
+        return st == RESURF_OK && morphed && !c->preparing ? pack_targets(c, p, m, pk) : st;
     }
 
     pk->attributes = own(c, resurfi_alloc(c->alloc, n, sizeof *pk->attributes));
@@ -674,6 +738,115 @@ static resurf_status pack(save_ctx *c, size_t prim, size_t level, packed **out)
     pk->attribute_count = n;
     pk->bytes += ia.data_size;
     return morphed ? pack_targets(c, p, m, pk) : RESURF_OK;
+}
+
+/* ---- the Draco payloads, made ahead side by side ----------------------------------------------------------- */
+
+typedef struct ahead_run {
+    draco_job *jobs;
+    const size_t *order;
+    size_t count;
+    atomic_size_t made;
+    const resurf_progress *progress;
+    atomic_int cancelled;
+} ahead_run;
+
+/* One payload; the calling thread (worker 0) also asks the caller's progress, and a cancel stops the run. */
+static int make_block(void *ctx, size_t begin, size_t end, unsigned worker)
+{
+    ahead_run *r = ctx;
+    for (size_t i = begin; i < end; ++i)
+        draco_make(&r->jobs[r->order[i]]);
+    double f = (double)(atomic_fetch_add(&r->made, end - begin) + end - begin) / (double)r->count;
+    if (worker == 0 && resurfi_progress(r->progress, RESURF_STAGE_SAVE, 0.5 * f)) {
+        atomic_store(&r->cancelled, 1);
+        return 1;
+    }
+    return 0;
+}
+
+typedef struct job_size {
+    size_t triangles, job;
+} job_size;
+
+static int more_triangles_first(const void *a, const void *b)
+{
+    const job_size *x = a, *y = b;
+    if (x->triangles != y->triangles)
+        return x->triangles > y->triangles ? -1 : 1;
+    return (x->job > y->job) - (x->job < y->job);
+}
+
+/* Every Draco payload the call may write (each primitive at each level it shows, or at the one level asked for)
+ * made before the plan asks for them, on o->threads threads, the largest first: encoding and decoding again are
+ * most of a save, and each payload is one primitive's own work, so the bytes do not depend on the thread count.
+ * pack then takes them as they are made; what cannot be prepared here (an allocation, a primitive Draco cannot
+ * take) is left to pack, which says why in plan order, as without this pass. */
+static resurf_status encode_ahead(save_ctx *c)
+{
+    const resurf_scene *s = c->s;
+    unsigned threads = resurfi_thread_count(c->o->threads);
+    if (!c->o->draco || threads < 2)
+        return RESURF_OK;
+    size_t n = 0;
+    for (size_t p = 0; p < s->prim_count; ++p)
+        if (resurfi_scene_rewritten(&s->prims[p]))
+            n += c->o->level >= 0 ? 1 : s->prims[p].lod_count + 1;
+    if (n < 2)
+        return RESURF_OK;
+    c->jobs = resurfi_calloc(c->alloc, n, sizeof *c->jobs);
+    c->job_of = resurfi_calloc(c->alloc, s->prim_count * RESURF_SCENE_MAX_LEVELS, sizeof *c->job_of);
+    size_t *order = resurfi_alloc(c->alloc, n, sizeof *order);
+    job_size *sizes = resurfi_alloc(c->alloc, n, sizeof *sizes);
+    if (!c->jobs || !c->job_of || !order || !sizes) {
+        resurfi_free(c->alloc, c->jobs);
+        resurfi_free(c->alloc, c->job_of);
+        resurfi_free(c->alloc, order);
+        resurfi_free(c->alloc, sizes);
+        c->jobs = NULL, c->job_of = NULL;
+        return RESURF_OK;
+    }
+    /* pack fills each job's input; its failures are not this pass's to report. */
+    resurf_error *error = c->error, scratch;
+    c->error = &scratch;
+    c->preparing = 1;
+    size_t k = 0;
+    for (size_t p = 0; p < s->prim_count; ++p) {
+        const resurfi_scene_prim *prim = &s->prims[p];
+        if (!resurfi_scene_rewritten(prim))
+            continue;
+        size_t first = c->o->level >= 0 ? effective_level(prim, (size_t)c->o->level) : 0;
+        size_t last = c->o->level >= 0 ? first : prim->lod_count;
+        for (size_t level = first; level <= last; ++level) {
+            c->job_of[p * RESURF_SCENE_MAX_LEVELS + level] = ++k;
+            packed *pk;
+            (void)pack(c, p, level, &pk);
+        }
+    }
+    c->preparing = 0;
+    c->error = error;
+    memset(c->cache, 0, s->prim_count * RESURF_SCENE_MAX_LEVELS * sizeof *c->cache);
+    size_t prepared = 0;
+    for (size_t i = 0; i < k; ++i)
+        if (c->jobs[i].prepared)
+            sizes[prepared++] = (job_size){c->jobs[i].mesh->triangle_count, i};
+    qsort(sizes, prepared, sizeof *sizes, more_triangles_first);
+    for (size_t i = 0; i < prepared; ++i)
+        order[i] = sizes[i].job;
+    resurfi_free(c->alloc, sizes);
+    ahead_run run = {.jobs = c->jobs, .order = order, .count = prepared, .progress = &c->o->progress};
+    atomic_init(&run.made, 0);
+    atomic_init(&run.cancelled, 0);
+    resurfi_parallel_for(prepared, 1, threads, make_block, &run);
+    for (size_t i = 0; i < prepared; ++i) {
+        draco_job *j = &c->jobs[order[i]];
+        if (j->enc.data && !own_from(c, j->enc.data, NULL)) /* malloc'ed by the Draco shim: the C heap */
+            j->enc.data = NULL;
+    }
+    resurfi_free(c->alloc, order);
+    if (atomic_load(&run.cancelled))
+        return resurfi_fail(c->error, RESURF_ERR_CANCELLED, c->path, 0, -1, "cancelled by the progress callback");
+    return RESURF_OK;
 }
 
 /* ---- planning a document ------------------------------------------------------------------------------------- */
@@ -1097,11 +1270,13 @@ resurf_status resurf_scene_save(const resurf_scene *scene, const char *path, con
     c.cache = resurfi_alloc(c.alloc, scene->prim_count * RESURF_SCENE_MAX_LEVELS + 1, sizeof *c.cache);
     if (!c.cache)
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
+    resurf_status status = encode_ahead(&c);
     resurf_scene_save_report report;
     memset(&report, 0, sizeof report);
     report.levels = levels;
     pending_list *files = resurfi_calloc(c.alloc, 1, sizeof *files);
-    resurf_status status = files ? RESURF_OK : oom(&c);
+    if (status == RESURF_OK && !files)
+        status = oom(&c);
     resurfi_gltf_layout layout = o.layout == RESURF_LOD_SIDE_BY_SIDE ? RESURFI_GLTF_SIDE_BY_SIDE
                                                                      : RESURFI_GLTF_MSFT_LOD;
     for (size_t k = 0; k < (per_file ? levels : 1) && status == RESURF_OK; ++k) {

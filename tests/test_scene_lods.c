@@ -397,8 +397,8 @@ static char *write_eight_mesh_gltf(const char *dir)
 }
 
 /* Primitives simplified side by side (2 and 4 threads, one each) give what one thread gives, one primitive after
- * the other: the same levels bit for bit, the same reports, the same world errors and coverage; and a cancel
- * during the side-by-side run leaves the scene as it was. */
+ * the other: the same levels bit for bit, the same reports, the same world errors and coverage, the same bytes
+ * saved with Draco on as many threads; and a cancel during the side-by-side run leaves the scene as it was. */
 START_TEST(scene_lods_side_by_side_same_as_one_thread)
 {
     char *dir = tu_tempdir();
@@ -408,6 +408,8 @@ START_TEST(scene_lods_side_by_side_same_as_one_thread)
     resurf_scene_lod_report r1;
     resurf_simplify_report pr1[8 * 2];
     const unsigned threads[3] = {1, 2, 4};
+    char *file1 = NULL;
+    size_t size1 = 0;
     for (int t = 0; t < 3; ++t) {
         resurf_scene *s = load(path);
         ck_assert_uint_eq(resurf_scene_primitive_count(s), 8);
@@ -419,6 +421,32 @@ START_TEST(scene_lods_side_by_side_same_as_one_thread)
         resurf_error e;
         ck_assert_msg(resurf_scene_build_lods(s, ratios, 2, &so, NULL, &r, pr, &e) == RESURF_OK, "%s", e.message);
         ck_assert_uint_eq(r.primitives, 8);
+        /* Saved with Draco on as many threads (the payloads made side by side): the same bytes. */
+        resurf_scene_save_options save = resurf_scene_save_options_default();
+        save.draco = true;
+        save.threads = threads[t];
+        char *out = tu_path(dir, t == 0 ? "one.glb" : "many.glb");
+        ck_assert_msg(resurf_scene_save(s, out, &save, NULL, &e) == RESURF_OK, "%s", e.message);
+        size_t size = 0;
+        char *file = tu_read_file(out, &size);
+        ck_assert_ptr_nonnull(file);
+        free(out);
+        if (t > 0) {
+            ck_assert_uint_eq(size, size1);
+            ck_assert(memcmp(file, file1, size) == 0);
+            free(file);
+        } else {
+            file1 = file, size1 = size;
+        }
+        /* A cancel while the payloads are made: CANCELLED, no file, the progress rising until then. */
+        watch w = {0, 0, 1, 0.25, RESURF_STAGE_COUNT};
+        save.progress = (resurf_progress){watch_fn, &w};
+        char *cancelled = tu_path(dir, "cancelled.glb");
+        ck_assert_int_eq(resurf_scene_save(s, cancelled, &save, NULL, &e), RESURF_ERR_CANCELLED);
+        ck_assert_int_eq(e.status, RESURF_ERR_CANCELLED);
+        ck_assert(w.monotone && w.calls >= 1 && w.last >= 0.25);
+        ck_assert_int_ne(access(cancelled, F_OK), 0);
+        free(cancelled);
         if (t == 0) {
             one = s;
             r1 = r;
@@ -448,6 +476,7 @@ START_TEST(scene_lods_side_by_side_same_as_one_thread)
         resurf_scene_free(s);
     }
     resurf_scene_free(one);
+    free(file1);
 
     /* Cancelled halfway through the side-by-side run: CANCELLED, no levels set. */
     resurf_scene *s = load(path);

@@ -223,7 +223,7 @@ static void check_merge(resurfi_pool *pool, uint64_t seed, size_t list, size_t f
 START_TEST(queue_merge_equals_plain_merge)
 {
     const size_t lists[] = {0, 1, 2, 17, 1000, 30000};
-    const size_t freshes[] = {0, 1, 3, 999, 20000};
+    const size_t freshes[] = {0, 1, 3, 40, 300, 511, 512, 999, 20000}; /* merge sort below 512, radix above */
     const unsigned threads[] = {1, 2, 3};
     uint64_t seed = 1;
     for (size_t t = 0; t < sizeof threads / sizeof *threads; ++t) {

@@ -336,6 +336,8 @@ typedef struct resurf_scene_save_options {
                                   shorts when this is > 0 (Draco keeps integers exactly; quantized floats would not
                                   sum to 1), as floats when it is 0 */
     int compression_level;     /* Draco: 0 fastest .. 10 smallest; default 7 */
+    unsigned threads;          /* Draco: payloads encoded side by side on this many threads, 0 (default) = all
+                                  cores; the file is the same for any count */
     bool embed_buffers;        /* .gltf: true puts the binary data in a data: URI; default false writes NAME.bin
                                   beside it */
     resurf_lod_layout layout;  /* default RESURF_LOD_MSFT_LOD */

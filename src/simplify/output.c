@@ -150,6 +150,12 @@ static int gap_block(void *ctx, size_t begin, size_t end, unsigned worker)
     return 0;
 }
 
+/* A chart of up to this many triangles is scanned for the closest of them rather than searched in the tree near
+ * the vertex, whose reach (the distance to the closest triangle of any chart plus the vertex's longest edge) may
+ * take in most of the mesh at a coarse level: on 2CylinderEngine at 25% and 10%, 872 searches (charts of 4 to
+ * 3,700 triangles, reaches up to 0.93 of the primitive's diagonal) cost 470 M instructions, 7% of the call. */
+#define CHART_SCAN 4096
+
 static int chart_visit(void *ctx, uint32_t t, vec3 point, const double bary[3], double d2)
 {
     (void)point;
@@ -246,7 +252,22 @@ static uint32_t attribute_source(const simplifier *s, const output *o, uint32_t 
         return t;
     double reach = sqrt(d2) + o->len[u];
     chart_search cs = {s->charts.of_input_tri, chart, NONE, INFINITY, {0, 0, 0}};
-    resurfi_bvh_within(s->bvh, p, reach * reach, chart_visit, &cs);
+    uint32_t lo = s->charts.first[chart], hi = s->charts.first[chart + 1];
+    if (hi - lo <= CHART_SCAN) {
+        /* What the tree's search would find (bvh.c computes the same closest points and distances). */
+        const resurf_mesh *in = s->in;
+        for (uint32_t i = lo; i < hi; ++i) {
+            const uint32_t *f = in->indices + 3 * (size_t)s->charts.tris[i];
+            double b[3];
+            vec3 q = resurfi_closest_on_triangle(p, resurfi_position(in, f[0]), resurfi_position(in, f[1]),
+                                                 resurfi_position(in, f[2]), b);
+            double q2 = v3_dist2(p, q);
+            if (q2 <= reach * reach)
+                chart_visit(&cs, s->charts.tris[i], q, b, q2);
+        }
+    } else {
+        resurfi_bvh_within(s->bvh, p, reach * reach, chart_visit, &cs);
+    }
     if (cs.best == NONE)
         return t;
     memcpy(bary, cs.bary, sizeof cs.bary);

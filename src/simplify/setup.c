@@ -376,27 +376,25 @@ static const double same_normal_cos = 0.99984769515639127;
 
 /* A triangle's normal can be judged by when none of its angles exceeds 150° (the restorer's reliable_normal, see
  * docs/restoring.md §7): a flat sliver's normal is that of the surface near its far-away circumcentre. */
-static int well_shaped(const simplifier *s, uint32_t t, vec3 *normal)
+static shaped_normal well_shaped(const simplifier *s, uint32_t t)
 {
     vec3 p[3] = {s->P[TV(3 * t)].p, s->P[TV(3 * t + 1)].p, s->P[TV(3 * t + 2)].p};
     for (int k = 0; k < 3; ++k) {
         vec3 u = v3_sub(p[(k + 1) % 3], p[k]), v = v3_sub(p[(k + 2) % 3], p[k]);
         double uv = v3_dot(u, v), l2 = v3_len2(u) * v3_len2(v);
         if (!(l2 > 0) || (uv < 0 && uv * uv > SLIVER_COS2 * l2))
-            return 0;
+            return (shaped_normal){v3(0, 0, 0), 0};
     }
-    *normal = v3_tri_cross(p[0], p[1], p[2]);
-    return 1;
+    return (shaped_normal){v3_tri_cross(p[0], p[1], p[2]), 1};
 }
 
-/* The cosine of the angle between the normals of triangles ti and tj; 1 when one of them has no reliable normal. */
-static double edge_cos(const simplifier *s, uint32_t ti, uint32_t tj)
+/* The cosine of the angle between two triangles' normals; 1 when one of them has no reliable normal. */
+static double normals_cos(shaped_normal ni, shaped_normal nj)
 {
-    vec3 ni, nj;
-    if (!well_shaped(s, ti, &ni) || !well_shaped(s, tj, &nj))
+    if (!ni.ok || !nj.ok)
         return 1;
-    double l2 = v3_len2(ni) * v3_len2(nj);
-    return l2 > 0 ? v3_dot(ni, nj) / sqrt(l2) : 1;
+    double l2 = v3_len2(ni.n) * v3_len2(nj.n);
+    return l2 > 0 ? v3_dot(ni.n, nj.n) / sqrt(l2) : 1;
 }
 
 /* Do triangles ti and tj belong to different groups of the input (an OBJ usemtl/g border: another material)? */
@@ -409,7 +407,8 @@ static int group_border(const simplifier *s, uint32_t ti, uint32_t tj)
 /* Is edge (a, x), shared by triangles ti and tj, a feature edge: a border between two groups (materials), the
  * triangles' normals more than feature_angle_deg apart, or the input's normals split along it (a normal seam: its
  * wedges at an end carry normals more than about 1° apart)? */
-int feature_edge(const simplifier *s, uint32_t ti, uint32_t tj, uint32_t a, uint32_t x)
+/* feature_edge's tests but the angle: a border between groups, or a normal seam. */
+static int marked_feature(const simplifier *s, uint32_t ti, uint32_t tj, uint32_t a, uint32_t x)
 {
     if (group_border(s, ti, tj))
         return 1;
@@ -424,7 +423,13 @@ int feature_edge(const simplifier *s, uint32_t ti, uint32_t tj, uint32_t a, uint
         if (l2 > 0 && isfinite(l2) && d < same_normal_cos * sqrt(l2))
             return 1;
     }
-    return s->feature_cos > -1 && edge_cos(s, ti, tj) < s->feature_cos;
+    return 0;
+}
+
+int feature_edge(const simplifier *s, uint32_t ti, uint32_t tj, uint32_t a, uint32_t x)
+{
+    return marked_feature(s, ti, tj, a, x) ||
+           (s->feature_cos > -1 && normals_cos(well_shaped(s, ti), well_shaped(s, tj)) < s->feature_cos);
 }
 
 /* Does a border through a with edges to p and q turn by more than corner_angle_deg there? */
@@ -445,6 +450,16 @@ int analyse_position(simplifier *s, uint32_t a, scratch *sc, pos_flags *out_flag
     size_t n = fan_pairs(s, fan, sc);
     if (n == SIZE_MAX)
         return 0;
+    if (fan->count > sc->shaped_cap) {
+        shaped_normal *sh = resurfi_realloc(s->alloc, sc->shaped, fan->count, sizeof *sh);
+        if (!sh)
+            return 0;
+        sc->shaped = sh;
+        sc->shaped_cap = fan->count;
+    }
+    /* Each fan triangle's normal once: each of its two edges in the fan asks for it. */
+    for (size_t i = 0; i < fan->count; ++i)
+        sc->shaped[i] = well_shaped(s, fan->data[i] / 3);
     pos_flags f = 0;
     for (size_t i = 0; i < fan->count; ++i)
         sc->uf[i] = (uint32_t)i;
@@ -517,11 +532,11 @@ int analyse_position(simplifier *s, uint32_t a, scratch *sc, pos_flags *out_flag
             if (material && group_edges < 2)
                 group_end[group_edges] = x;
             group_edges += material;
-            if (feature_edge(s, ti, tj, a, x)) {
+            double turn_cos = normals_cos(sc->shaped[si / 2], sc->shaped[sj / 2]); /* feature_edge's, and more */
+            if (marked_feature(s, ti, tj, a, x) || (s->feature_cos > -1 && turn_cos < s->feature_cos))
                 ++features;
-            } else if (edge_cos(s, ti, tj) < s->smooth_cos) {
+            else if (turn_cos < s->smooth_cos)
                 rough = 1;
-            }
             if (out_q && (seam_here || seam_there || material)) {
                 /* Each side's triangle adds its own perpendicular plane, at half weight. */
                 double len2 = v3_dist2(pa, s->P[x].p);
@@ -623,6 +638,21 @@ static resurf_status find_charts(simplifier *s, scratch *sc)
                 s->charts.of_wedge[TW(3 * t + k)] = c;
     }
     resurfi_free(s->alloc, parent);
+    /* Each chart's input triangles (chart ids are working triangles), for the output's scan of a small chart. */
+    size_t nt = s->in->triangle_count;
+    s->charts.first = resurfi_calloc(s->alloc, s->tri_count + 2, sizeof *s->charts.first);
+    s->charts.tris = resurfi_alloc(s->alloc, nt + 1, sizeof *s->charts.tris);
+    if (!s->charts.first || !s->charts.tris)
+        return RESURF_ERR_OUT_OF_MEMORY;
+    uint32_t *first = s->charts.first;
+    for (size_t t = 0; t < nt; ++t)
+        if (s->charts.of_input_tri[t] != NONE)
+            first[s->charts.of_input_tri[t] + 2]++;
+    for (size_t c = 2; c < s->tri_count + 2; ++c)
+        first[c] += first[c - 1];
+    for (size_t t = 0; t < nt; ++t) /* first[c + 1] runs over chart c's slots, ending at its end */
+        if (s->charts.of_input_tri[t] != NONE)
+            s->charts.tris[first[s->charts.of_input_tri[t] + 1]++] = (uint32_t)t;
     return RESURF_OK;
 }
 

@@ -49,6 +49,7 @@
 static void scratch_free(scratch *s)
 {
     resurfi_free(s->alloc, s->fan.data);
+    resurfi_free(s->alloc, s->shaped);
     for (int i = 0; i < 2 * GATHER_GROUP; ++i)
         resurfi_free(s->alloc, s->group[i].data);
     resurfi_free(s->alloc, s->pairs);
@@ -129,6 +130,8 @@ static void simplifier_free(simplifier *s)
     resurfi_free(s->alloc, s->mark);
     resurfi_free(s->alloc, s->charts.of_input_tri);
     resurfi_free(s->alloc, s->charts.of_wedge);
+    resurfi_free(s->alloc, s->charts.first);
+    resurfi_free(s->alloc, s->charts.tris);
     resurfi_free(s->alloc, s->attr.data);
     resurfi_free(s->alloc, s->attr.skin);
     resurfi_free(s->alloc, s->wedge_root);

@@ -72,10 +72,19 @@ typedef struct fan_pair {
 
 enum { GATHER_GROUP = 4 }; /* candidates whose fans star_block gathers together */
 
+/* A triangle's normal for the angle between two triangles: its cross product when it is well shaped (ok = 1),
+ * else none (setup.c). */
+typedef struct shaped_normal {
+    vec3 n;
+    int ok;
+} shaped_normal;
+
 /* One worker's buffers for the parallel loops. */
 typedef struct scratch {
     const resurf_allocator *alloc; /* the call's */
     u32vec fan;
+    shaped_normal *shaped;         /* analyse_position: per fan triangle */
+    size_t shaped_cap;
     u32vec group[2 * GATHER_GROUP]; /* star_block: the fans of a group of candidates' ends */
     fan_pair *pairs;
     uint32_t *uf;
@@ -189,6 +198,8 @@ typedef struct schedule {
 typedef struct charts {
     uint32_t *of_input_tri;
     uint32_t *of_wedge;
+    uint32_t *first;        /* chart c's input triangles are tris[first[c] .. first[c + 1]), ascending */
+    uint32_t *tris;
 } charts;
 
 /* Attribute quadrics (attributes.c), one record of `stride` doubles per wedge (indexed by its input vertex id), or

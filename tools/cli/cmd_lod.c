@@ -343,6 +343,7 @@ int cmd_lod(int argc, char **argv)
     double save_seconds = 0;
     if (rc == CLI_OK && !cli_interrupted()) {
         so.progress = cli_progress();
+        so.threads = sim.threads;
         double save_start = cli_seconds();
         s = resurf_scene_save(scene, out, &so, &report, &error);
         save_seconds = cli_seconds() - save_start;
