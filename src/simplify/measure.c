@@ -17,6 +17,8 @@
  * block of BLOCK_SAMPLES writes its own max and sums, and those are combined in block order: the figures do not
  * depend on the thread count. */
 #include <math.h>
+#include <stdlib.h>
+#include <string.h>
 
 #include "simplify_internal.h"
 #include "../hash.h"
@@ -118,7 +120,41 @@ static double *area_prefix(const resurf_allocator *alloc, const resurf_mesh *m)
     return a;
 }
 
-/* The input's side, once per call: its cumulative areas and the vertices its triangles use. */
+typedef struct placed_vertex {
+    double p[3];
+    uint32_t v;
+} placed_vertex;
+
+static int by_place(const void *pa, const void *pb)
+{
+    const placed_vertex *a = pa, *b = pb;
+    for (int k = 0; k < 3; ++k)
+        if (a->p[k] != b->p[k])
+            return a->p[k] < b->p[k] ? -1 : 1;
+    return (a->v > b->v) - (a->v < b->v);
+}
+
+/* Keeps one of the vertices at each position (the lowest index), in the order of their places: copies of a position
+ * at a seam (split normals or texcoords) are one point of the surface, and CAD exports split most of theirs. */
+static void one_per_position(const resurf_allocator *alloc, const resurf_mesh *in, uint32_t *vertices, size_t *count)
+{
+    placed_vertex *pv = resurfi_alloc(alloc, *count ? *count : 1, sizeof *pv);
+    if (!pv)
+        return; /* measuring every copy gives the same figures, only slower */
+    for (size_t i = 0; i < *count; ++i) {
+        memcpy(pv[i].p, in->positions + 3 * (size_t)vertices[i], sizeof pv[i].p);
+        pv[i].v = vertices[i];
+    }
+    qsort(pv, *count, sizeof *pv, by_place);
+    size_t n = 0;
+    for (size_t i = 0; i < *count; ++i)
+        if (i == 0 || memcmp(pv[i].p, pv[i - 1].p, sizeof pv[i].p))
+            vertices[n++] = pv[i].v;
+    *count = n;
+    resurfi_free(alloc, pv);
+}
+
+/* The input's side, once per call: its cumulative areas and the vertices its triangles use, one per position. */
 static resurf_status measure_input(simplifier *s)
 {
     measure_state *ms = &s->measure;
@@ -144,6 +180,7 @@ static resurf_status measure_input(simplifier *s)
         if (used[v])
             ms->in_used[ms->in_used_count++] = (uint32_t)v;
     resurfi_free(s->alloc, used);
+    one_per_position(s->alloc, in, ms->in_used, &ms->in_used_count);
     return RESURF_OK;
 }
 
