@@ -135,6 +135,7 @@ static void simplifier_free(simplifier *s)
     simp_queue_free(&s->queue);
     resurfi_free(s->alloc, s->gen);
     resurfi_free(s->alloc, s->home);
+    curves_free(s);
     schedule_free(s);
     resurfi_restorer_free(s->restorer);
     resurfi_bvh_free(s->own_bvh);
