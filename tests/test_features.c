@@ -366,8 +366,7 @@ END_TEST
  * h²/8 under the circle, and a vertex left on one (the quadric's place on the segment, as before the rule) lies
  * about that far inside. Measured at 20k triangles, as fractions of that sag: median distance to the circle 8e-6 at
  * 25% and 1e-4 at 10% (before the rule 0.084 and 0.64), mean 0.025 and 0.14 (before 0.145 and 0.63); the few left
- * off are the ends of collapses the quadric places (a vertex with one feature edge, at a crease's jittered end) or
- * of collapses across the crease that the quadric places. */
+ * off are vertices that touch the rim without being crease vertices (one feature edge), which the quadric places. */
 static int cmp_double(const void *a, const void *b)
 {
     double x = *(const double *)a, y = *(const double *)b;
