@@ -174,10 +174,11 @@ int curve_place(const simplifier *s, uint32_t a, uint32_t b, vec3 p, vec3 *out, 
     double t = best_t;
     vec3 q = v3_add(pu, v3_scale(d, t));
     /* The cubic with the tangents at u and w, each of the chord's length, over the chord's point of the same
-     * parameter: H(t) − lerp(t) = h10 (m_u − d) + h11 (m_w − d). Zero, coordinate by coordinate, where the polyline
-     * is straight in that coordinate (a flat panel's crease keeps its planes exactly). */
+     * parameter: H(t) − lerp(t) = h10 (m_u − d) + h11 (m_w − d). Exactly zero in every coordinate that is constant along
+     * the polyline (an axis-aligned box's crease keeps its face planes bit for bit). */
     double len_d = v3_len(d);
-    vec3 mu = v3_sub(v3_scale(curve_tangent(s, u, d), len_d), d), mw = v3_sub(v3_scale(curve_tangent(s, w, d), len_d), d);
+    vec3 mu = v3_sub(v3_scale(curve_tangent(s, u, d), len_d), d);
+    vec3 mw = v3_sub(v3_scale(curve_tangent(s, w, d), len_d), d);
     double h10 = t * (1 - t) * (1 - t), h11 = -t * t * (1 - t);
     q = v3_add(q, v3_add(v3_scale(mu, h10), v3_scale(mw, h11)));
     if (!(v3_dist(q, p) <= CURVE_MOVE * v3_dist(s->P[a].p, s->P[b].p)))
