@@ -190,6 +190,7 @@ void plan_collapse(const simplifier *s, uint32_t a, uint32_t b, const u32vec *fa
         pl->pinned = reason_a != BLOCK_NONE;
         pl->p = pl->pinned ? pa : free_placement(s, &q, pa, pb, seam_edge);
     }
+    pl->curve = along_crease || n == 1 || ((fa | fb) & POS_CREASE) != 0;
     pl->attr_cost = attribute_cost(s, pl, a, b, pl->p);
     pl->cost = qeval(s, &q, pl->p) + pl->attr_cost;
 }
@@ -436,13 +437,19 @@ static int candidate_fans(simplifier *s, const pending *q, lane *L, uint32_t a, 
 }
 
 /* The vertex's place: the plan's, restored onto S with inline restoration (from pending q when it was restored
- * ahead of the same placement). */
+ * ahead of the same placement); along a crease or border, onto M's curve there (*at: its vertex of M next to it),
+ * never across it. */
 static vec3 restored_place(const simplifier *s, const pending *q, uint32_t a, uint32_t b, const plan *pl,
-                           int *restored, int *left, uint32_t *home)
+                           int *restored, int *left, uint32_t *home, uint32_t *at)
 {
     *restored = *left = 0;
-    *home = NONE;
-    if (s->opt.restore != RESURF_RESTORE_INLINE || !s->restorer || pl->pinned || pl->feature)
+    *home = *at = NONE;
+    if (s->opt.restore != RESURF_RESTORE_INLINE || !s->restorer || pl->pinned)
+        return pl->p;
+    vec3 on;
+    if (pl->curve && curve_place(s, a, b, pl->p, &on, at))
+        return on;
+    if (pl->feature)
         return pl->p;
     *restored = 1;
     if (q->restore && v3_dist2(q->p, pl->p) == 0) {
@@ -524,8 +531,8 @@ int try_candidate(simplifier *s, pending *q, lane *L, scratch *sc, int defer)
     resurfi_quadric qab = s->P[a].q;
     resurfi_quadric_add(&qab, &s->P[b].q);
     int restored, left;
-    uint32_t home;
-    vec3 p = restored_place(s, q, a, b, &pl, &restored, &left, &home);
+    uint32_t home, at;
+    vec3 p = restored_place(s, q, a, b, &pl, &restored, &left, &home, &at);
     double err = qab.w > 0 ? sqrt(qeval(s, &qab, p) / qab.w) : 0;
     if (err > s->max_error) {
         r->skipped_error++;
@@ -556,6 +563,7 @@ int try_candidate(simplifier *s, pending *q, lane *L, scratch *sc, int defer)
             err = e2_err;
             restored = left = 0;
             home = NONE;
+            at = s->curve_at ? s->curve_at[first ^ k ? b : a] : NONE;
             g = GEOMETRY_OK;
         }
     }
@@ -604,6 +612,8 @@ int try_candidate(simplifier *s, pending *q, lane *L, scratch *sc, int defer)
         return 0;
     if (home != NONE)
         s->home[keep] = home;
+    if (at != NONE)
+        s->curve_at[keep] = at;
     /* Planned now, while their fans are in the cache. keep's candidates first (they reach every neighbour), then
      * those of renewed neighbours to the rest; each edge between two renewed neighbours is planned by the later
      * one. */

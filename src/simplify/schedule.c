@@ -46,7 +46,7 @@ static int restore_chunk_block(void *ctx, size_t begin, size_t end, unsigned wor
             return 1;
         plan pl;
         plan_collapse(s, c.a, c.b, &sc->fan, &pl);
-        if (pl.block != BLOCK_NONE || pl.pinned || pl.feature)
+        if (pl.block != BLOCK_NONE || pl.pinned || pl.feature || pl.curve)
             continue;
         int left;
         q->p = pl.p;

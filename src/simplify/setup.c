@@ -398,7 +398,7 @@ static double normals_cos(shaped_normal ni, shaped_normal nj)
 }
 
 /* Do triangles ti and tj belong to different groups of the input (an OBJ usemtl/g border: another material)? */
-static int group_border(const simplifier *s, uint32_t ti, uint32_t tj)
+int group_border(const simplifier *s, uint32_t ti, uint32_t tj)
 {
     const uint32_t *g = s->in->triangle_groups;
     return g && g[s->src[ti]] != g[s->src[tj]];
@@ -762,6 +762,8 @@ resurf_status simplify_start(simplifier *s, scratch *scratch, resurf_error *erro
             return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
         for (size_t p = 0; p < s->pos_count; ++p) /* the input triangle of its first corner */
             s->home[p] = s->P[p].head != NONE ? s->src[s->P[p].head / 3] : NONE;
+        if (s->opt.restore == RESURF_RESTORE_INLINE && curves_start(s, &scratch[0]) != RESURF_OK)
+            return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
     }
     resurfi_free(s->alloc, s->remap);
     s->remap = NULL;

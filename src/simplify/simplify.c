@@ -26,6 +26,7 @@
  *   simplify_internal.h  the working mesh, the per-concern state the simplifier holds, the small inline helpers;
  *   setup.c              weld, wedges, fins, corner lists, per-position analysis, charts, the set-up's order;
  *   attributes.c         the attribute quadrics of the wedges: built, priced, merged;
+ *   curves.c             M's crease and border curves, and a collapse's place on them (restored along the curve);
  *   collapse.c           placement, cost, the vertex-kind rule (a table), applying a collapse, trying a candidate,
  *                        the pass loop;
  *   guards.h, guards.c   the guards of one collapse, and the contract of what a collapse in a parallel chunk may
@@ -138,6 +139,7 @@ static void simplifier_free(simplifier *s)
     simp_queue_free(&s->queue);
     resurfi_free(s->alloc, s->gen);
     resurfi_free(s->alloc, s->home);
+    curves_free(s);
     schedule_free(s);
     resurfi_restorer_free(s->restorer);
     resurfi_bvh_free(s->own_bvh);

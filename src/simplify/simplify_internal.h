@@ -99,6 +99,8 @@ typedef struct plan {
     int a_removable, b_removable;
     int pinned;              /* 1: the position is that of the surviving end, already where it should be */
     int feature;             /* 1: along a crease, on the segment: not restored (it would leave the crease) */
+    int curve;               /* 1: along a crease or border edge, or a crease vertex at an end: with inline
+                                restoration the vertex goes onto M's curve there (curves.c), never across it */
     uint32_t shared[2];      /* the triangles on the edge */
     int shared_count;
     vec3 p;
@@ -258,6 +260,10 @@ typedef struct simplifier {
     resurfi_bvh *own_bvh;       /* when there is no restorer */
     const resurfi_bvh *bvh;     /* over the input's triangles, input triangle ids */
     uint32_t *home;             /* inline restoration: per position, a triangle of the input near it */
+    uint32_t *curve_nb;         /* inline restoration: per position of M, its two neighbours along its crease or
+                                   border curve (NONE, NONE at a corner or where it is on none; curves.c) */
+    uint32_t *curve_at;         /* per position: the vertex of M's curve it lies at or next to, or NONE */
+    vec3 *curve_p;              /* per position of M: its place in M */
     charts charts;
     uint32_t *wedge_root; /* with attributes: per input vertex, the wedge it became or merged into (a union-find
                              forest: follow it to a live wedge; output.c finds the triangles of a seam's side) */
@@ -413,7 +419,14 @@ size_t fan_pairs(const simplifier *s, const u32vec *fan, scratch *sc);
 int analyse_position(simplifier *s, uint32_t a, scratch *sc, pos_flags *out_flags, resurfi_quadric *out_q,
                      uint32_t *out_up);
 int feature_edge(const simplifier *s, uint32_t ti, uint32_t tj, uint32_t ci, uint32_t cj);
+int group_border(const simplifier *s, uint32_t ti, uint32_t tj);
 resurf_status simplify_start(simplifier *s, scratch *scratch, resurf_error *error);
+
+/* curves.c: M's crease and border curves, and a collapse's place on them (curve_place: 0 when a and b are not on
+ * one curve of M within reach; else *out on it and *out_at the curve's vertex of M next to it) */
+resurf_status curves_start(simplifier *s, scratch *sc);
+void curves_free(simplifier *s);
+int curve_place(const simplifier *s, uint32_t a, uint32_t b, vec3 p, vec3 *out, uint32_t *out_at);
 
 /* attributes.c: the attribute quadrics of the wedges */
 resurf_status attributes_start(simplifier *s, scratch *scratch);
