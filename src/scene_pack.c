@@ -318,6 +318,37 @@ static resurf_status pack_targets(save_ctx *c, const resurfi_scene_prim *p, cons
     return RESURF_OK;
 }
 
+/* The accessor of attribute a over `count` vertices, without data (Draco's decoded attributes have none); the
+ * first attribute, POSITION, carries the box glTF requires. */
+static resurfi_gltf_out_accessor attribute_accessor(const out_attr *a, size_t count, int with_bounds,
+                                                    const double lo[3], const double hi[3])
+{
+    resurfi_gltf_out_accessor acc;
+    memset(&acc, 0, sizeof acc);
+    acc.component_type = a->component_type;
+    acc.normalized = a->normalized;
+    acc.components = a->components;
+    acc.count = count;
+    if (with_bounds) {
+        acc.has_bounds = 1;
+        for (int k = 0; k < 3; ++k)
+            acc.min[k] = lo[k], acc.max[k] = hi[k];
+    }
+    return acc;
+}
+
+/* Adds accessor acc to the plan as attribute `name` of a primitive. */
+static resurf_status add_attribute(save_ctx *c, const char *name, const resurfi_gltf_out_accessor *acc,
+                                   resurfi_gltf_named *out)
+{
+    const char *owned = save_own_string(c, name);
+    long long index = owned ? save_add_accessor(c, acc) : -1;
+    if (index < 0)
+        return RESURF_ERR_OUT_OF_MEMORY;
+    *out = (resurfi_gltf_named){owned, index};
+    return RESURF_OK;
+}
+
 /* Encodes j's input, decodes the payload again and checks what came back against what was meant. */
 static void draco_make(draco_job *j)
 {
@@ -456,23 +487,10 @@ static resurf_status pack_draco(save_ctx *c, const resurfi_scene_prim *p, size_t
     if (!out->attributes || !out->draco_ids)
         return save_oom(c);
     for (size_t i = 0; i < attr_count; ++i) {
-        resurfi_gltf_out_accessor a;
-        memset(&a, 0, sizeof a);
-        a.component_type = attrs[i].component_type;
-        a.normalized = attrs[i].normalized;
-        a.components = attrs[i].components;
-        a.count = points;
-        if (i == 0) {
-            a.has_bounds = 1;
-            for (int k = 0; k < 3; ++k)
-                a.min[k] = dlo[k], a.max[k] = dhi[k];
-        }
-        const char *name = save_own_string(c, attrs[i].name);
-        long long index = name ? save_add_accessor(c, &a) : -1;
-        if (index < 0)
+        resurfi_gltf_out_accessor a = attribute_accessor(&attrs[i], points, i == 0, dlo, dhi);
+        if (add_attribute(c, attrs[i].name, &a, &out->attributes[i]) != RESURF_OK)
             return save_oom(c);
-        out->attributes[i] = (resurfi_gltf_named){name, index};
-        out->draco_ids[i] = (resurfi_gltf_named){name, enc.unique_ids[i]};
+        out->draco_ids[i] = (resurfi_gltf_named){out->attributes[i].name, enc.unique_ids[i]};
     }
     resurfi_gltf_out_accessor ia;
     memset(&ia, 0, sizeof ia);
@@ -533,25 +551,12 @@ resurf_status save_pack(save_ctx *c, size_t prim, size_t level, packed **out)
     if (!pk->attributes)
         return save_oom(c);
     for (size_t i = 0; i < n; ++i) {
-        resurfi_gltf_out_accessor a;
-        memset(&a, 0, sizeof a);
-        a.component_type = attrs[i].component_type;
-        a.normalized = attrs[i].normalized;
-        a.components = attrs[i].components;
-        a.count = m->vertex_count;
+        resurfi_gltf_out_accessor a = attribute_accessor(&attrs[i], m->vertex_count, i == 0, min, max);
         a.data = values[i];
         a.data_size = m->vertex_count * (size_t)a.components * resurfi_gltf_component_size(a.component_type);
         a.target = RESURFI_GLTF_ARRAY_BUFFER;
-        if (i == 0) {
-            a.has_bounds = 1;
-            for (int k = 0; k < 3; ++k)
-                a.min[k] = min[k], a.max[k] = max[k];
-        }
-        const char *name = save_own_string(c, attrs[i].name);
-        long long index = name ? save_add_accessor(c, &a) : -1;
-        if (index < 0)
+        if (add_attribute(c, attrs[i].name, &a, &pk->attributes[i]) != RESURF_OK)
             return save_oom(c);
-        pk->attributes[i] = (resurfi_gltf_named){name, index};
         pk->bytes += a.data_size;
     }
     /* Unsigned short indices while they fit: 65535 itself is the primitive-restart value, never an index. */
