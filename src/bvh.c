@@ -2,8 +2,8 @@
  * the closest triangle of M, never a brute-force scan).
  *
  * Build: binned surface-area heuristic on triangle-box centroids (Wald 2007, "On fast construction of SAH-based
- * bounding volume hierarchies"), 16 bins on each axis, leaves of at most 4 triangles. The tree is a flat array of
- * 32-byte nodes with float boxes rounded outwards (a random query is bound by cache misses, and a sibling pair then
+ * bounding volume hierarchies"), 16 bins on each axis (one per triangle in smaller nodes), leaves of at most 4
+ * triangles. The tree is a flat array of 32-byte nodes with float boxes rounded outwards (a random query is bound by cache misses, and a sibling pair then
  * fills one cache line); the triangle corners are copied in float, in leaf order, so a leaf reads one contiguous
  * block. Distances stay exact: a float triangle is within `slack` of the true one, so one whose float distance
  * exceeds the best so far by more than that cannot win, and the few that might are measured again on the caller's
@@ -272,29 +272,34 @@ static void append_subtree(node_vec *dst, size_t slot, const node_vec *src)
 }
 
 /* Centroid bin of a primitive along an axis. */
-static inline int bin_of(const prim *p, int axis, float cmin, float scale)
+static inline int bin_of(const prim *p, int axis, float cmin, float scale, int bins)
 {
     float x = (p->lo[axis] + p->hi[axis] - cmin) * scale;
-    return !(x >= 1) ? 0 : x >= BIN_COUNT - 1 ? BIN_COUNT - 1 : (int)x; /* NaN-safe: no conversion out of range */
+    return !(x >= 1) ? 0 : x >= bins - 1 ? bins - 1 : (int)x; /* NaN-safe: no conversion out of range */
 }
+
+/* Bins for a node of `count` triangles: as many as triangles below BIN_COUNT. The fixed cost of the bins (their
+ * set-up and the two sweeps) dominates the small nodes near the leaves, which are most of the nodes, and a node
+ * with no more bins than triangles still has a boundary between most pairs of centroids. */
+static inline int bins_for(size_t count) { return count < BIN_COUNT ? (int)count : BIN_COUNT; }
 
 /* Picks the binned-SAH split: axis and last bin of the left side. Returns 0 when no bin boundary separates the
  * centroids (all in one bin on every axis). Ties go to the lower axis, then the lower bin: deterministic. */
-static int choose_split(const prim *prims, size_t begin, size_t end, const box *cbounds, int *out_axis,
+static int choose_split(const prim *prims, size_t begin, size_t end, const box *cbounds, int bin_count, int *out_axis,
                         int *out_bin, float scale[3])
 {
     box bins[3][BIN_COUNT];
     uint32_t counts[3][BIN_COUNT];
     for (int k = 0; k < 3; ++k) {
         float extent = cbounds->hi[k] - cbounds->lo[k];
-        scale[k] = extent > 0 ? (float)(BIN_COUNT * (1 - 1e-6) / extent) : 0;
-        for (int b = 0; b < BIN_COUNT; ++b)
+        scale[k] = extent > 0 ? (float)(bin_count * (1 - 1e-6) / extent) : 0;
+        for (int b = 0; b < bin_count; ++b)
             bins[k][b] = box_empty(), counts[k][b] = 0;
     }
     for (size_t i = begin; i < end; ++i) {
         const prim *p = &prims[i];
         for (int k = 0; k < 3; ++k) {
-            int b = bin_of(p, k, cbounds->lo[k], scale[k]);
+            int b = bin_of(p, k, cbounds->lo[k], scale[k], bin_count);
             box_grow(&bins[k][b], p->lo, p->hi);
             counts[k][b]++;
         }
@@ -308,14 +313,14 @@ static int choose_split(const prim *prims, size_t begin, size_t end, const box *
         double right_cost[BIN_COUNT];
         box acc = box_empty();
         size_t n = 0;
-        for (int b = BIN_COUNT - 1; b > 0; --b) {
+        for (int b = bin_count - 1; b > 0; --b) {
             box_grow(&acc, bins[k][b].lo, bins[k][b].hi);
             n += counts[k][b];
             right_cost[b - 1] = n ? box_half_area(&acc) * (double)n : -1;
         }
         acc = box_empty();
         n = 0;
-        for (int b = 0; b < BIN_COUNT - 1; ++b) {
+        for (int b = 0; b < bin_count - 1; ++b) {
             box_grow(&acc, bins[k][b].lo, bins[k][b].hi);
             n += counts[k][b];
             if (n == 0 || right_cost[b] < 0)
@@ -357,14 +362,15 @@ static int build_node(prim *prims, node_vec *vec, size_t slot, size_t begin, siz
     float scale[3];
     size_t mid;
     box lb, lc, rb, rc;
-    if (depth < SAH_DEPTH_LIMIT && choose_split(prims, begin, end, &cbounds, &axis, &split, scale)) {
+    int bins = bins_for(count);
+    if (depth < SAH_DEPTH_LIMIT && choose_split(prims, begin, end, &cbounds, bins, &axis, &split, scale)) {
         /* Partition in place, collecting each side's boxes on the way. */
         lb = box_empty(), lc = box_empty(), rb = box_empty(), rc = box_empty();
         size_t i = begin, j = end;
         while (i < j) {
             prim *p = &prims[i];
             float c[3] = {p->lo[0] + p->hi[0], p->lo[1] + p->hi[1], p->lo[2] + p->hi[2]};
-            if (bin_of(p, axis, cbounds.lo[axis], scale[axis]) <= split) {
+            if (bin_of(p, axis, cbounds.lo[axis], scale[axis], bins) <= split) {
                 box_grow(&lb, p->lo, p->hi), box_grow(&lc, c, c);
                 ++i;
             } else {
@@ -642,9 +648,20 @@ static inline int may_reach(const resurfi_bvh *bvh, uint32_t i, vec3 p, double l
     if (bvh->exact_only || !(limit2 < INFINITY))
         return 1;
     const float *c = bvh->corners + 9 * (size_t)i;
+    double reach = sqrt(limit2) + bvh->slack, reach2 = reach * reach;
+    /* First the float triangle's own box, a lower bound of its distance at a tenth of the cost: most of a leaf's
+     * triangles that cannot win stop here. */
+    double box2 = 0, q[3] = {p.x, p.y, p.z};
+    for (int k = 0; k < 3; ++k) {
+        float x = c[k], y = c[3 + k], z = c[6 + k];
+        double lo = x < y ? (x < z ? x : z) : (y < z ? y : z), hi = x > y ? (x > z ? x : z) : (y > z ? y : z);
+        double e = q[k] < lo ? lo - q[k] : q[k] > hi ? q[k] - hi : 0;
+        box2 += e * e;
+    }
+    if (box2 * (1 - 0x1p-40) > reach2)
+        return 0;
     vec3 a = v3(c[0], c[1], c[2]), b = v3(c[3], c[4], c[5]), d = v3(c[6], c[7], c[8]);
-    double reach = sqrt(limit2) + bvh->slack;
-    return v3_dist2(p, resurfi_closest_on_triangle(p, a, b, d, NULL)) * (1 - 0x1p-40) <= reach * reach;
+    return v3_dist2(p, resurfi_closest_on_triangle(p, a, b, d, NULL)) * (1 - 0x1p-40) <= reach2;
 }
 
 /* The exact closest point on leaf triangle i, from the caller's double positions. */
