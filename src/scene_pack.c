@@ -438,7 +438,7 @@ static resurf_status pack_draco(save_ctx *c, const resurfi_scene_prim *p, size_t
         return resurfi_fail(c->error, RESURF_ERR_UNSUPPORTED, c->path, 0, -1, "%s: more than 32 attributes for Draco",
                             p->info.name);
     size_t ahead = c->job_of ? c->job_of[prim * RESURF_SCENE_MAX_LEVELS + level] : 0;
-    draco_job now, *j = ahead ? &c->jobs[ahead - 1] : &now;
+    draco_job now = {0}, *j = ahead ? &c->jobs[ahead - 1] : &now; /* not made: a job of its own, made here */
     if (!j->made) {
         memset(j, 0, sizeof *j);
         j->mesh = m;

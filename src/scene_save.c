@@ -531,7 +531,7 @@ resurf_status resurf_scene_save(const resurf_scene *scene, const char *path, con
 
     save_ctx c = {.s = scene, .o = &o, .alloc = o.allocator ? o.allocator : &scene->alloc, .path = path,
                   .error = error};
-    c.cache = resurfi_alloc(c.alloc, scene->prim_count * RESURF_SCENE_MAX_LEVELS + 1, sizeof *c.cache);
+    c.cache = resurfi_calloc(c.alloc, scene->prim_count * RESURF_SCENE_MAX_LEVELS + 1, sizeof *c.cache);
     if (!c.cache)
         return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
     resurf_status status = save_encode_ahead(&c);
