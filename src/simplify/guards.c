@@ -158,28 +158,91 @@ int geometry_ok(const simplifier *s, const u32vec *fan_a, const u32vec *fan_b, u
  * move to p; 0 when both stay near. A one-sided Hausdorff bound that quadrics cannot see at a thin spike: its faces
  * lie nearly parallel to its axis, so moving the tip down the axis costs almost nothing, and collapse after
  * collapse shortens the spike. An end without triangles left (a fin's tip) has no surface to stay near. */
+/* The squared distance from `end` to the nearest of its fan's triangles after they move to p (INFINITY when none
+ * is left); the look ends at the first triangle within sqrt(stop2). */
+static double end_near2(const simplifier *s, const u32vec *fan, vec3 end, uint32_t a, uint32_t b, vec3 p,
+                        const plan *pl, double stop2)
+{
+    double near2 = INFINITY;
+    for (size_t i = 0; i < fan->count && !(near2 <= stop2); ++i) {
+        vec3 neu[3];
+        if (!moved_triangle(s, fan->data[i] / 3, a, b, p, pl, NULL, neu))
+            continue;
+        double d2 = v3_dist2(end, resurfi_closest_on_triangle(end, neu[0], neu[1], neu[2], NULL));
+        near2 = d2 < near2 ? d2 : near2;
+    }
+    return near2;
+}
+
 static double tip_excess(const simplifier *s, const u32vec *fan_a, const u32vec *fan_b, uint32_t a, uint32_t b,
                          vec3 p, const plan *pl, double err)
 {
     const u32vec *fans[2] = {fan_a, fan_b};
     double bound = TIP_GUARD * v3_dist(s->P[a].p, s->P[b].p);
     bound = fmax(bound, TIP_ERROR * err);
-    double excess = 0, bound2 = bound * bound;
+    double excess = 0;
     for (int side = 0; side < 2; ++side) {
-        vec3 end = s->P[side ? b : a].p;
-        double near2 = INFINITY;
         /* The first triangle within the bound settles this end (sqrt of a correctly rounded bound² is the bound). */
-        for (size_t i = 0; i < fans[side]->count && !(near2 <= bound2); ++i) {
-            vec3 neu[3];
-            if (!moved_triangle(s, fans[side]->data[i] / 3, a, b, p, pl, NULL, neu))
-                continue;
-            double d2 = v3_dist2(end, resurfi_closest_on_triangle(end, neu[0], neu[1], neu[2], NULL));
-            near2 = d2 < near2 ? d2 : near2;
-        }
+        double near2 = end_near2(s, fans[side], s->P[side ? b : a].p, a, b, p, pl, bound * bound);
         if (near2 < INFINITY && sqrt(near2) - bound > excess)
             excess = sqrt(near2) - bound;
     }
     return excess;
+}
+
+/* The reach of a collapse to p over M's corners: the largest distance from a corner of M's triangles t0 and t1 (NONE:
+ * none) to the triangles that replace the ends' own. Where M lies farther from the new fan than it did at another
+ * place, that place covered M better there: the part of the two-sided error the collapse can measure on M's side. */
+static double corners_reach(const simplifier *s, const u32vec *fan_a, const u32vec *fan_b, uint32_t a, uint32_t b,
+                            vec3 p, const plan *pl, uint32_t t0, uint32_t t1)
+{
+    double far2 = 0;
+    uint32_t ts[2] = {t0, t1};
+    for (int k = 0; k < 2; ++k) {
+        if (ts[k] == NONE)
+            continue;
+        for (int j = 0; j < 3; ++j) {
+            vec3 c = v3_load(s->in->positions + 3 * (size_t)s->in->indices[3 * (size_t)ts[k] + j]);
+            double near2 = end_near2(s, fan_a, c, a, b, p, pl, 0);
+            near2 = fmin(near2, end_near2(s, fan_b, c, a, b, p, pl, 0));
+            if (near2 < INFINITY && near2 > far2)
+                far2 = near2;
+        }
+    }
+    return sqrt(far2);
+}
+
+/* How far M lies above the triangles that replace the ends' own when they move to p, on average along their normals:
+ * the measured gap of the sag offset (gap_block in output.c, by the midpoint rule), walking M from `start`. */
+static double fan_gap(const simplifier *s, const u32vec *fan_a, const u32vec *fan_b, uint32_t a, uint32_t b, vec3 p,
+                      const plan *pl, uint32_t start)
+{
+    const u32vec *fans[2] = {fan_a, fan_b};
+    double sum = 0;
+    size_t count = 0;
+    for (int side = 0; side < 2; ++side)
+        for (size_t i = 0; i < fans[side]->count; ++i) {
+            vec3 neu[3];
+            uint32_t t = fans[side]->data[i] / 3;
+            if (!moved_triangle(s, t, a, b, p, pl, NULL, neu))
+                continue;
+            if (side == 1 && (TV(3 * t) == a || TV(3 * t + 1) == a || TV(3 * t + 2) == a))
+                continue; /* (counted with a's fan) */
+            vec3 n = v3_normalize(v3_tri_cross(neu[0], neu[1], neu[2]));
+            for (int c = 0; c < 3; ++c) {
+                vec3 mid = v3_scale(v3_add(neu[c], neu[(c + 1) % 3]), 0.5);
+                double bary[3], d2 = INFINITY;
+                uint32_t m = resurfi_restorer_closest_walk(s->restorer, mid, start, bary, &d2);
+                if (m == NONE)
+                    continue;
+                vec3 q = {0, 0, 0};
+                for (int k = 0; k < 3; ++k)
+                    q = v3_madd(q, v3_load(s->in->positions + 3 * (size_t)s->in->indices[3 * (size_t)m + k]), bary[k]);
+                sum += v3_dot(v3_sub(q, mid), n);
+                ++count;
+            }
+        }
+    return count ? sum / (double)count : 0;
 }
 
 /* The other side of the tip guard, for new edges longer than BRIDGE_RATIO × M's local edge length (late in a run):
@@ -322,6 +385,53 @@ vec3 restore_point(const simplifier *s, vec3 p, double scale, uint32_t home, int
         return p;
     }
     return q;
+}
+
+/* The reach gate: does restoring the collapse's place pl->p to q (restored on M's triangle q_home) keep the local
+ * two-sided error the collapse can measure? That error at a place x is the larger of x's distance to M and the reach
+ * of the new fan over M's corners next to pl->p and q (corners_reach). Where S is smooth the restored fan is the
+ * better one, or worse only by q's own height over M or by what the sag offset gives back (place_output in
+ * output.c: the chord-sag model over the fan, bounded by twice the measured gap, none where a triangle turns across
+ * a crease). Where not (a scan's tip: the bunny's ear at 10%, whose rim vertex was restored 0.07 inwards onto M and
+ * left M's tip 0.22 from the level instead of 0.20), the quadric's place covered M better and is kept
+ * (docs/restoring.md §8). */
+int restore_keeps_reach(const simplifier *s, const u32vec *fan_a, const u32vec *fan_b, uint32_t a, uint32_t b,
+                        const plan *pl, vec3 q, uint32_t q_home)
+{
+    double bary[3], p_d2 = INFINITY, q_d2 = INFINITY;
+    uint32_t tp = resurfi_restorer_closest_walk(s->restorer, pl->p, s->home[a], bary, &p_d2);
+    if (tp == NONE || resurfi_restorer_closest_walk(s->restorer, q, q_home, bary, &q_d2) == NONE)
+        return 1;
+    double rq = fmax(corners_reach(s, fan_a, fan_b, a, b, q, pl, tp, q_home), sqrt(q_d2));
+    double rp = fmax(corners_reach(s, fan_a, fan_b, a, b, pl->p, pl, tp, q_home), sqrt(p_d2));
+    double allow = sqrt(q_d2);
+    if (!(rq > rp + allow))
+        return 1;
+    vec3 n = resurfi_restorer_normal(s->restorer, q_home, bary);
+    const u32vec *fans[2] = {fan_a, fan_b};
+    double sag = 0;
+    size_t count = 0;
+    for (int side = 0; side < 2; ++side)
+        for (size_t i = 0; i < fans[side]->count; ++i) {
+            vec3 neu[3];
+            if (!moved_triangle(s, fans[side]->data[i] / 3, a, b, q, pl, NULL, neu))
+                continue;
+            vec3 face = v3_tri_cross(neu[0], neu[1], neu[2]);
+            if (!(v3_dot(face, n) >= s->feature_cos * v3_len(face)))
+                return 0; /* across a crease: no offset */
+            uint32_t xs[2];
+            corner_others(s, fans[side]->data[i], xs);
+            for (int k = 0; k < 2; ++k)
+                if (xs[k] != a && xs[k] != b) {
+                    sag -= v3_dot(n, v3_sub(s->P[xs[k]].p, q));
+                    ++count;
+                }
+        }
+    sag = count ? sag / (4.0 * (double)count) : 0;
+    if (!(sag > 0))
+        return 0;
+    sag = s->opt.sag_offset * fmin(sag, fmax(0, 2 * fan_gap(s, fan_a, fan_b, a, b, q, pl, q_home)));
+    return !(rq > rp + allow + sag);
 }
 
 /* How far beyond their bounds the tip, cover and bridge guards find the collapse's new triangles (0: within); `near`
