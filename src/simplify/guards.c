@@ -198,51 +198,30 @@ static double corners_reach(const simplifier *s, const u32vec *fan_a, const u32v
 {
     double far2 = 0;
     uint32_t ts[2] = {t0, t1};
+    const u32vec *fans[2] = {fan_a, fan_b};
     for (int k = 0; k < 2; ++k) {
         if (ts[k] == NONE)
             continue;
         for (int j = 0; j < 3; ++j) {
             vec3 c = v3_load(s->in->positions + 3 * (size_t)s->in->indices[3 * (size_t)ts[k] + j]);
-            double near2 = end_near2(s, fan_a, c, a, b, p, pl, 0);
-            near2 = fmin(near2, end_near2(s, fan_b, c, a, b, p, pl, 0));
-            if (near2 < INFINITY && near2 > far2)
+            double near2 = INFINITY, side = 0;
+            for (int f = 0; f < 2; ++f)
+                for (size_t i = 0; i < fans[f]->count; ++i) {
+                    vec3 neu[3];
+                    if (!moved_triangle(s, fans[f]->data[i] / 3, a, b, p, pl, NULL, neu))
+                        continue;
+                    vec3 x = resurfi_closest_on_triangle(c, neu[0], neu[1], neu[2], NULL);
+                    double d2 = v3_dist2(c, x);
+                    if (d2 < near2) {
+                        near2 = d2;
+                        side = v3_dot(v3_sub(c, x), v3_tri_cross(neu[0], neu[1], neu[2]));
+                    }
+                }
+            if (near2 < INFINITY && side > 0 && near2 > far2)
                 far2 = near2;
         }
     }
     return sqrt(far2);
-}
-
-/* How far M lies above the triangles that replace the ends' own when they move to p, on average along their normals:
- * the measured gap of the sag offset (gap_block in output.c, by the midpoint rule), walking M from `start`. */
-static double fan_gap(const simplifier *s, const u32vec *fan_a, const u32vec *fan_b, uint32_t a, uint32_t b, vec3 p,
-                      const plan *pl, uint32_t start)
-{
-    const u32vec *fans[2] = {fan_a, fan_b};
-    double sum = 0;
-    size_t count = 0;
-    for (int side = 0; side < 2; ++side)
-        for (size_t i = 0; i < fans[side]->count; ++i) {
-            vec3 neu[3];
-            uint32_t t = fans[side]->data[i] / 3;
-            if (!moved_triangle(s, t, a, b, p, pl, NULL, neu))
-                continue;
-            if (side == 1 && (TV(3 * t) == a || TV(3 * t + 1) == a || TV(3 * t + 2) == a))
-                continue; /* (counted with a's fan) */
-            vec3 n = v3_normalize(v3_tri_cross(neu[0], neu[1], neu[2]));
-            for (int c = 0; c < 3; ++c) {
-                vec3 mid = v3_scale(v3_add(neu[c], neu[(c + 1) % 3]), 0.5);
-                double bary[3], d2 = INFINITY;
-                uint32_t m = resurfi_restorer_closest_walk(s->restorer, mid, start, bary, &d2);
-                if (m == NONE)
-                    continue;
-                vec3 q = {0, 0, 0};
-                for (int k = 0; k < 3; ++k)
-                    q = v3_madd(q, v3_load(s->in->positions + 3 * (size_t)s->in->indices[3 * (size_t)m + k]), bary[k]);
-                sum += v3_dot(v3_sub(q, mid), n);
-                ++count;
-            }
-        }
-    return count ? sum / (double)count : 0;
 }
 
 /* The other side of the tip guard, for new edges longer than BRIDGE_RATIO × M's local edge length (late in a run):
@@ -387,51 +366,39 @@ vec3 restore_point(const simplifier *s, vec3 p, double scale, uint32_t home, int
     return q;
 }
 
-/* The reach gate: does restoring the collapse's place pl->p to q (restored on M's triangle q_home) keep the local
- * two-sided error the collapse can measure? That error at a place x is the larger of x's distance to M and the reach
- * of the new fan over M's corners next to pl->p and q (corners_reach). Where S is smooth the restored fan is the
- * better one, or worse only by q's own height over M or by what the sag offset gives back (place_output in
- * output.c: the chord-sag model over the fan, bounded by twice the measured gap, none where a triangle turns across
- * a crease). Where not (a scan's tip: the bunny's ear at 10%, whose rim vertex was restored 0.07 inwards onto M and
- * left M's tip 0.22 from the level instead of 0.20), the quadric's place covered M better and is kept
- * (docs/restoring.md §8). */
+/* The reach gate: may restoring the collapse's place pl->p to q (restored on M's triangle q_home) stand? Where one of
+ * the new fan's triangles turns from S's normal at q by more than feature_angle_deg, the fan is no smooth one (the
+ * chord-sag model, and so the sag offset of place_output, does not hold there either): a scan's tip or a thin
+ * rim, sharper than its normals. There the restored place is kept only if it does not raise the local two-sided
+ * error the collapse can measure, the larger of the place's distance to M and the reach of M's corners next to
+ * pl->p and q outside the new fan (corners_reach), by more than q's own height over M. The bunny's ear at 10%: its
+ * rim vertex, restored 0.07 inwards onto M, left M's tip 0.22 from the level instead of 0.20 (docs/restoring.md
+ * §8). Where the fan is smooth the restoration stands: the paper's case. */
 int restore_keeps_reach(const simplifier *s, const u32vec *fan_a, const u32vec *fan_b, uint32_t a, uint32_t b,
                         const plan *pl, vec3 q, uint32_t q_home)
 {
     double bary[3], p_d2 = INFINITY, q_d2 = INFINITY;
-    uint32_t tp = resurfi_restorer_closest_walk(s->restorer, pl->p, s->home[a], bary, &p_d2);
-    if (tp == NONE || resurfi_restorer_closest_walk(s->restorer, q, q_home, bary, &q_d2) == NONE)
-        return 1;
-    double rq = fmax(corners_reach(s, fan_a, fan_b, a, b, q, pl, tp, q_home), sqrt(q_d2));
-    double rp = fmax(corners_reach(s, fan_a, fan_b, a, b, pl->p, pl, tp, q_home), sqrt(p_d2));
-    double allow = sqrt(q_d2);
-    if (!(rq > rp + allow))
+    if (resurfi_restorer_closest_walk(s->restorer, q, q_home, bary, &q_d2) == NONE)
         return 1;
     vec3 n = resurfi_restorer_normal(s->restorer, q_home, bary);
     const u32vec *fans[2] = {fan_a, fan_b};
-    double sag = 0;
-    size_t count = 0;
-    for (int side = 0; side < 2; ++side)
-        for (size_t i = 0; i < fans[side]->count; ++i) {
+    int smooth = 1;
+    for (int side = 0; side < 2 && smooth; ++side)
+        for (size_t i = 0; i < fans[side]->count && smooth; ++i) {
             vec3 neu[3];
             if (!moved_triangle(s, fans[side]->data[i] / 3, a, b, q, pl, NULL, neu))
                 continue;
             vec3 face = v3_tri_cross(neu[0], neu[1], neu[2]);
-            if (!(v3_dot(face, n) >= s->feature_cos * v3_len(face)))
-                return 0; /* across a crease: no offset */
-            uint32_t xs[2];
-            corner_others(s, fans[side]->data[i], xs);
-            for (int k = 0; k < 2; ++k)
-                if (xs[k] != a && xs[k] != b) {
-                    sag -= v3_dot(n, v3_sub(s->P[xs[k]].p, q));
-                    ++count;
-                }
+            smooth = v3_dot(face, n) >= s->feature_cos * v3_len(face);
         }
-    sag = count ? sag / (4.0 * (double)count) : 0;
-    if (!(sag > 0))
-        return 0;
-    sag = s->opt.sag_offset * fmin(sag, fmax(0, 2 * fan_gap(s, fan_a, fan_b, a, b, q, pl, q_home)));
-    return !(rq > rp + allow + sag);
+    if (smooth)
+        return 1;
+    uint32_t tp = resurfi_restorer_closest_walk(s->restorer, pl->p, s->home[a], bary, &p_d2);
+    if (tp == NONE)
+        return 1;
+    double rq = fmax(corners_reach(s, fan_a, fan_b, a, b, q, pl, tp, q_home), sqrt(q_d2));
+    double rp = fmax(corners_reach(s, fan_a, fan_b, a, b, pl->p, pl, tp, q_home), sqrt(p_d2));
+    return !(rq > rp + sqrt(q_d2));
 }
 
 /* How far beyond their bounds the tip, cover and bridge guards find the collapse's new triangles (0: within); `near`
