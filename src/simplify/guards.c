@@ -8,6 +8,8 @@
  *                    defer a collapse at a penalised cost (excess_penalty);
  *   restore_point    the restored point's plausibility (a projection that moved too far is not taken), the
  *                    rise limit and the distance gate (nor one that lands farther from M than it started);
+ *   restore_keeps_reach  the reach gate (at a fan across a crease, a restored place that leaves M's corners
+ *                    farther outside the new fan than the quadric's place did is not taken);
  *   facet_depth      how far a triangle of M lies under S (the gate's allowance, the sag offset's model). */
 #include <float.h>
 #include <math.h>
