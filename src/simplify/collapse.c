@@ -493,6 +493,7 @@ static void block_ends(simplifier *s, lane *L, uint32_t a, uint32_t b)
     s->P[b].flags |= POS_BLOCKED;
 }
 
+
 /* Tries the candidate of pending q: planned again on the current mesh, checked, restored, applied. A candidate
  * that is done or refused leaves the list; one whose cost went up, or that the tip guard defers, goes back in with
  * its new cost. New candidates, counters and scratch go to lane L. With `defer` (a chunk applied in parallel) the
@@ -533,6 +534,11 @@ int try_candidate(simplifier *s, pending *q, lane *L, scratch *sc, int defer)
     int restored, left;
     uint32_t home, at;
     vec3 p = restored_place(s, q, a, b, &pl, &restored, &left, &home, &at);
+    if (restored && !left && !restore_keeps_reach(s, fa, fb, a, b, &pl, p, home)) {
+        p = pl.p; /* the reach gate: the quadric's place covers M better (guards.c) */
+        left = 1;
+        home = NONE;
+    }
     double err = qab.w > 0 ? sqrt(qeval(s, &qab, p) / qab.w) : 0;
     if (err > s->max_error) {
         r->skipped_error++;

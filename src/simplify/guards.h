@@ -58,6 +58,8 @@ double distance_excess(const simplifier *s, lane *L, const u32vec *fan_a, const 
                        uint32_t b, vec3 p, const plan *pl, double err, uint32_t near);
 double excess_penalty(const resurfi_quadric *q, double excess);
 double facet_depth(const simplifier *s, uint32_t t);
+int restore_keeps_reach(const simplifier *s, const u32vec *fan_a, const u32vec *fan_b, uint32_t a, uint32_t b,
+                        const plan *pl, vec3 q, uint32_t q_home);
 vec3 restore_point(const simplifier *s, vec3 p, double scale, uint32_t home, int *left, uint32_t *out_home);
 
 #endif
