@@ -150,6 +150,7 @@ START_TEST(scene_lods_equal_per_primitive_chains)
     resurf_scene_lod_options lo = resurf_scene_lod_options_default();
     lo.pixels = 2;
     lo.screen_height = 720;
+    lo.share_triangles = false; /* each chain its own (the shared budget has its own test) */
     resurf_scene_lod_report r;
     resurf_simplify_report pr[4 * 2];
     memset(pr, 0xFF, sizeof pr);
