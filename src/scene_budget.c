@@ -99,10 +99,10 @@ static int donor_first(const void *x, const void *y)
     return (a[1] > b[1]) - (a[1] < b[1]);
 }
 
-/* One step at level k: 1 done (the maximum fell), 0 nothing to do, or -1 with *st set. */
-static int step(resurfi_budget_prim *prims, size_t n, size_t k, size_t count, const size_t *allowed,
-                budget_change *changes,
-                size_t *donors, resurf_status *st, resurf_error *e)
+/* One step at level k toward the error second^(1 - reach) · top^reach (second: the largest but the worst's, top:
+ * the worst's): 1 done (the maximum fell), 0 not possible, or -1 with *st set. */
+static int step(resurfi_budget_prim *prims, size_t n, size_t k, size_t count, const size_t *allowed, double reach,
+                budget_change *changes, size_t *donors, resurf_status *st, resurf_error *e)
 {
     size_t worst = SIZE_MAX;
     double top = 0, second = 0;
@@ -117,17 +117,18 @@ static int step(resurfi_budget_prim *prims, size_t n, size_t k, size_t count, co
     resurfi_budget_prim *w = worst == SIZE_MAX ? NULL : &prims[worst];
     if (!w || !w->rerun || !(second > 0) || !(top > second) || *w->kept <= k)
         return 0;
+    double bound = pow(second, 1 - reach) * pow(top, reach); /* the scene's maximum after the step */
     /* 1. More triangles for the worst, below its level before. */
     size_t before = k ? w->chain[k - 1]->triangle_count : w->input->triangle_count;
     size_t t = w->chain[k]->triangle_count, used = 0;
     resurf_mesh *m = NULL;
     resurf_simplify_report rep;
-    size_t low = t; /* the most triangles known to leave the error above `second` */
+    size_t low = t; /* the most triangles known to leave the error above the bound */
     while (t + 1 < before) {
         t = 2 * t + 1 < before ? 2 * t + 1 : before - 1;
         if ((*st = rerun(w, k, t, &m, &rep, e)) != RESURF_OK)
             return -1;
-        if (report_error(w, &rep) <= second && m->triangle_count < before)
+        if (report_error(w, &rep) <= bound && m->triangle_count < before)
             break;
         resurf_mesh_free(m);
         m = NULL;
@@ -135,7 +136,6 @@ static int step(resurfi_budget_prim *prims, size_t n, size_t k, size_t count, co
     }
     if (!m)
         return 0;
-    double bound = second; /* the scene's maximum after the step */
     /* Doubling overshoots: a few halvings of the interval toward the fewest triangles that suffice. */
     for (int i = 0; i < BISECTIONS && t > low + 1; ++i) {
         size_t mid = low + (t - low) / 2;
@@ -208,10 +208,14 @@ resurf_status resurfi_scene_budget(resurfi_budget_prim *prims, size_t n, const d
         double target = floor(ratios[k] * (double)input);
         allowed[k] = (double)before > target ? before : (size_t)target;
     }
+    /* Toward the next error first; when the others cannot pay for that, part of the way. */
+    static const double reach[] = {0, 0.5, 0.8};
     for (size_t k = 0; k < count && st == RESURF_OK; ++k)
-        for (int s = 0; s < BUDGET_STEPS && st == RESURF_OK; ++s)
-            if (step(prims, n, k, count, allowed, changes, donors, &st, e) != 1)
-                break;
+        for (int s = 0, done = 1; s < BUDGET_STEPS && done == 1; ++s) {
+            done = 0;
+            for (size_t i = 0; i < sizeof reach / sizeof *reach && done == 0; ++i)
+                done = step(prims, n, k, count, allowed, reach[i], changes, donors, &st, e);
+        }
     resurfi_free(alloc, changes);
     resurfi_free(alloc, donors);
     return st;
