@@ -879,33 +879,6 @@ static int chain_block(void *ctx, size_t begin, size_t end, unsigned worker)
     return 0;
 }
 
-/* The scene's triangles spent where the error is (scene_budget.c), over the primitives that got chains. */
-static resurf_status spend_budget(chain_job *job, const resurf_simplify_options *base, resurf_error *error)
-{
-    const resurf_scene *scene = job->scene;
-    lod_work *w = job->w;
-    resurfi_budget_prim *b = resurfi_calloc(w->alloc, scene->prim_count + 1, sizeof *b);
-    if (!b)
-        return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory building levels of detail");
-    resurf_simplify_options one = *base;
-    one.progress.fn = NULL;
-    size_t n = 0;
-    for (size_t p = 0; p < scene->prim_count; ++p) {
-        if (!resurfi_scene_rewritten(&scene->prims[p]) || !w->chains[p])
-            continue;
-        resurfi_budget_prim *x = &b[n++];
-        x->scale = primitive_options(job, p, &one, &x->sim, x->bounds);
-        x->input = scene->prims[p].mesh;
-        x->chain = w->chains[p];
-        x->kept = &w->kept[p];
-        x->reports = job->reports + p * job->count;
-        x->rerun = !w->together[scene->prims[p].info.mesh];
-    }
-    resurf_status st = resurfi_scene_budget(b, n, job->ratios, job->count, w->alloc, error);
-    resurfi_free(w->alloc, b);
-    return st;
-}
-
 static resurf_status check_arguments(const double *ratios, size_t count, const resurf_simplify_options *sim,
                                      const resurf_scene_lod_options *o, resurf_error *error)
 {
@@ -1084,6 +1057,13 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
     }
     if (st == RESURF_OK && atomic_load(&job.cancelled))
         st = resurfi_error(error, RESURF_ERR_CANCELLED, "cancelled");
+    resurfi_budget_prim *budget = st == RESURF_OK && o.share_triangles && ratios
+                                      ? resurfi_calloc(alloc, prim_count + 1, sizeof *budget) : NULL;
+    resurf_simplify_options one = sim; /* the budget's runs report no progress */
+    size_t budgeted = 0;
+    one.progress.fn = NULL;
+    if (st == RESURF_OK && o.share_triangles && ratios && !budget)
+        st = resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory building levels of detail");
     for (size_t p = 0; st == RESURF_OK && p < prim_count; ++p) {
         const resurfi_scene_prim *prim = &scene->prims[p];
         if (!resurfi_scene_rewritten(prim))
@@ -1097,9 +1077,16 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
             report.level_unreduced[kept + 1]++;
         else if (why == 2)
             report.level_missed[kept + 1]++;
+        if (budget && w.chains[p]) { /* the scene's triangles spent where the error is (scene_budget.c) */
+            resurfi_budget_prim *x = &budget[budgeted++];
+            x->scale = primitive_options(&job, p, &one, &x->sim, x->bounds);
+            x->input = prim->mesh, x->chain = w.chains[p], x->kept = &w.kept[p];
+            x->reports = job.reports + p * count, x->rerun = !w.together[prim->info.mesh];
+        }
     }
-    if (st == RESURF_OK && o.share_triangles)
-        st = spend_budget(&job, &sim, error);
+    if (st == RESURF_OK && budget)
+        st = resurfi_scene_budget(budget, budgeted, ratios, count, alloc, error);
+    resurfi_free(alloc, budget);
     for (size_t p = 0; st == RESURF_OK && p < prim_count; ++p) {
         const resurfi_scene_prim *prim = &scene->prims[p];
         if (!resurfi_scene_rewritten(prim))
