@@ -165,8 +165,8 @@ static int step(resurfi_budget_prim *prims, size_t n, size_t k, size_t count, co
         resurfi_budget_prim *d = &prims[donors[2 * i + 1]];
         size_t now = shown_triangles(d, k), next = *d->kept > k + 1 ? d->chain[k + 1]->triangle_count : 0;
         size_t excess = total - allowed[k];
-        if (now <= excess || now - excess <= next)
-            continue;
+        if (now <= excess || now - excess <= next || shown_error(d, k) >= bound)
+            continue; /* fewer triangles would not stay within the bound */
         if ((*st = rerun(d, k, now - excess, &m, &rep, e)) != RESURF_OK) {
             undo(prims, k, changes, used);
             return -1;
