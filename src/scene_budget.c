@@ -51,16 +51,59 @@ static double shown_error(const resurfi_budget_prim *b, size_t k)
     return s ? report_error(b, &b->reports[s - 1]) : 0;
 }
 
+/* Runs already made at this level: a step that is undone and tried again with a larger reach, or a later step,
+ * asks for many of the same (primitive, count) runs, and each is a whole resurf_simplify call. The memo owns its
+ * meshes; callers get clones, so that what they keep or free stays theirs. */
+typedef struct budget_run {
+    const resurfi_budget_prim *prim;
+    size_t t;
+    resurf_mesh *mesh;
+    resurf_simplify_report report;
+} budget_run;
+
+typedef struct budget_memo {
+    budget_run *runs;
+    size_t count, capacity;
+    const resurf_allocator *alloc;
+} budget_memo;
+
+static void memo_clear(budget_memo *memo)
+{
+    for (size_t i = 0; i < memo->count; ++i)
+        resurf_mesh_free(memo->runs[i].mesh);
+    memo->count = 0;
+}
+
 /* Primitive b's level k (0-based) simplified again from its input to at most t triangles: *out and *rep. */
-static resurf_status rerun(const resurfi_budget_prim *b, size_t k, size_t t, resurf_mesh **out,
+static resurf_status rerun(budget_memo *memo, const resurfi_budget_prim *b, size_t k, size_t t, resurf_mesh **out,
                            resurf_simplify_report *rep, resurf_error *e)
 {
-    resurf_simplify_options o = b->sim;
-    o.target_ratio = 0;
-    o.target_triangles = t;
-    if (b->bounds[k] > 0)
-        o.max_error = o.max_error > 0 ? fmin(o.max_error, b->bounds[k]) : b->bounds[k];
-    return resurf_simplify(b->input, &o, out, rep, e);
+    budget_run *run = NULL;
+    for (size_t i = 0; i < memo->count && !run; ++i)
+        if (memo->runs[i].prim == b && memo->runs[i].t == t)
+            run = &memo->runs[i];
+    if (!run) {
+        if (memo->count == memo->capacity) {
+            size_t grown = memo->capacity ? 2 * memo->capacity : 16;
+            budget_run *runs = resurfi_realloc(memo->alloc, memo->runs, grown, sizeof *runs);
+            if (!runs)
+                return resurfi_error(e, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
+            memo->runs = runs, memo->capacity = grown;
+        }
+        resurf_simplify_options o = b->sim;
+        o.target_ratio = 0;
+        o.target_triangles = t;
+        if (b->bounds[k] > 0)
+            o.max_error = o.max_error > 0 ? fmin(o.max_error, b->bounds[k]) : b->bounds[k];
+        run = &memo->runs[memo->count];
+        run->prim = b, run->t = t, run->mesh = NULL;
+        resurf_status st = resurf_simplify(b->input, &o, &run->mesh, &run->report, e);
+        if (st != RESURF_OK)
+            return st;
+        memo->count++;
+    }
+    *rep = run->report;
+    return resurf_mesh_clone(run->mesh, out, e);
 }
 
 /* What one step changed, to undo it. */
@@ -106,7 +149,7 @@ static int donor_first(const void *x, const void *y)
 /* One step at level k toward the error second^(1 - reach) · top^reach (second: the largest but the worst's, top:
  * the worst's): 1 done (the maximum fell), 0 not possible, or -1 with *st set. */
 static int step(resurfi_budget_prim *prims, size_t n, size_t k, size_t count, const size_t *allowed, double reach,
-                budget_change *changes, size_t *donors, resurf_status *st, resurf_error *e)
+                budget_change *changes, size_t *donors, budget_memo *memo, resurf_status *st, resurf_error *e)
 {
     size_t worst = SIZE_MAX;
     double top = 0, second = 0;
@@ -130,7 +173,7 @@ static int step(resurfi_budget_prim *prims, size_t n, size_t k, size_t count, co
     size_t low = t; /* the most triangles known to leave the error above the bound */
     while (t + 1 < before) {
         t = 2 * t + 1 < before ? 2 * t + 1 : before - 1;
-        if ((*st = rerun(w, k, t, &m, &rep, e)) != RESURF_OK)
+        if ((*st = rerun(memo, w, k, t, &m, &rep, e)) != RESURF_OK)
             return -1;
         if (report_error(w, &rep) <= bound && m->triangle_count < before)
             break;
@@ -145,7 +188,7 @@ static int step(resurfi_budget_prim *prims, size_t n, size_t k, size_t count, co
         size_t mid = low + (t - low) / 2;
         resurf_mesh *m2 = NULL;
         resurf_simplify_report rep2;
-        if ((*st = rerun(w, k, mid, &m2, &rep2, e)) != RESURF_OK) {
+        if ((*st = rerun(memo, w, k, mid, &m2, &rep2, e)) != RESURF_OK) {
             resurf_mesh_free(m);
             return -1;
         }
@@ -171,7 +214,7 @@ static int step(resurfi_budget_prim *prims, size_t n, size_t k, size_t count, co
         size_t excess = total - allowed[k];
         if (now <= excess || now - excess <= next || shown_error(d, k) >= bound)
             continue; /* fewer triangles would not stay within the bound */
-        if ((*st = rerun(d, k, now - excess, &m, &rep, e)) != RESURF_OK) {
+        if ((*st = rerun(memo, d, k, now - excess, &m, &rep, e)) != RESURF_OK) {
             undo(prims, k, changes, used);
             return -1;
         }
@@ -214,12 +257,17 @@ resurf_status resurfi_scene_budget(resurfi_budget_prim *prims, size_t n, const d
     }
     /* Toward the next error first; when the others cannot pay for that, part of the way. */
     static const double reach[] = {0, 0.5};
-    for (size_t k = 0; k < count && st == RESURF_OK; ++k)
+    budget_memo memo = {NULL, 0, 0, alloc};
+    for (size_t k = 0; k < count && st == RESURF_OK; ++k) {
         for (int s = 0, done = 1; s < BUDGET_STEPS && done == 1; ++s) {
             done = 0;
             for (size_t i = 0; i < sizeof reach / sizeof *reach && done == 0; ++i)
-                done = step(prims, n, k, count, allowed, reach[i], changes, donors, &st, e);
+                done = step(prims, n, k, count, allowed, reach[i], changes, donors, &memo, &st, e);
         }
+        memo_clear(&memo); /* the next level's runs have other bounds */
+    }
+    memo_clear(&memo);
+    resurfi_free(alloc, memo.runs);
     resurfi_free(alloc, changes);
     resurfi_free(alloc, donors);
     return st;
