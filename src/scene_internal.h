@@ -98,6 +98,23 @@ typedef struct resurfi_scene_levels {
     const size_t *counts;
 } resurfi_scene_levels;
 
+/* One primitive as the scene's triangle budget sees it (scene_budget.c): its input and chain (levels kept: *kept),
+ * its reports, the options and per-level error bounds (its units) of one more run, and its mesh's world scale.
+ * rerun = 0 for primitives whose levels are counted but never made again (those simplified together). */
+typedef struct resurfi_budget_prim {
+    const resurf_mesh *input;
+    resurf_mesh **chain;              /* NULL: no levels */
+    size_t *kept;
+    resurf_simplify_report *reports;  /* one per level asked for */
+    resurf_simplify_options sim;      /* without targets, progress or bound */
+    double bounds[RESURF_SCENE_MAX_LEVELS - 1];
+    double scale;
+    int rerun;
+} resurfi_budget_prim;
+
+resurf_status resurfi_scene_budget(resurfi_budget_prim *prims, size_t n, const double *ratios, size_t count,
+                                   const resurf_allocator *alloc, resurf_error *e);
+
 /* Every node with a mesh that the default scene (else scene 0, else every root node) reaches, depth first; a scene
  * made from a mesh file (no nodes): each mesh once, untransformed. RESURF_ERR_OUT_OF_MEMORY is the only failure. */
 resurf_status resurfi_scene_gather(const resurf_scene *scene, const resurf_allocator *alloc,

@@ -25,6 +25,7 @@ resurf_scene_lod_options resurf_scene_lod_options_default(void)
     o.struct_size = sizeof o;
     o.set_screen_coverage = true;
     o.keep_shared_borders = true;
+    o.share_triangles = true;
     o.pixels = 1;
     o.screen_height = 1080;
     return o;
@@ -791,6 +792,22 @@ static resurf_status make_joint_chain(chain_job *job, size_t m, const resurf_sim
     return st;
 }
 
+/* The options of primitive p's runs (its locks and share of the samples) and its levels' bounds in its units. */
+static double primitive_options(const chain_job *job, size_t p, const resurf_simplify_options *base,
+                                resurf_simplify_options *sim, double *bounds)
+{
+    const resurfi_scene_prim *prim = &job->scene->prims[p];
+    const lod_work *w = job->w;
+    double scale = w->mesh_scale[prim->info.mesh] > 0 ? w->mesh_scale[prim->info.mesh] : 1;
+    for (size_t k = 0; k < job->count; ++k)
+        bounds[k] = world_bound(job->o, k, job->diagonal) / scale;
+    *sim = *base;
+    sim->vertex_lock = w->locks[p];
+    sim->measure_samples = primitive_samples(job->sample_budget, mesh_area(prim->mesh) * scale * scale,
+                                             job->scene_area);
+    return scale;
+}
+
 /* Primitive p's chain with options sim (threads and progress as the caller chose): w->chains[p] and its reports, or
  * status[p] and errors[p]. A primitive of a mesh simplified together makes the whole mesh's chains. */
 static resurf_status make_primitive_chain(chain_job *job, size_t p, const resurf_simplify_options *base)
@@ -801,15 +818,10 @@ static resurf_status make_primitive_chain(chain_job *job, size_t p, const resurf
     const resurfi_scene_prim *prim = &job->scene->prims[p];
     lod_work *w = job->w;
     size_t count = job->count;
-    resurf_simplify_options sim = *base;
+    resurf_simplify_options sim;
     double bounds[RESURF_SCENE_MAX_LEVELS - 1];
-    double scale = w->mesh_scale[prim->info.mesh] > 0 ? w->mesh_scale[prim->info.mesh] : 1;
-    for (size_t k = 0; k < count; ++k)
-        bounds[k] = world_bound(job->o, k, job->diagonal) / scale;
+    primitive_options(job, p, base, &sim, bounds);
     resurf_error *e = &job->errors[p];
-    sim.vertex_lock = w->locks[p];
-    sim.measure_samples = primitive_samples(job->sample_budget, mesh_area(prim->mesh) * scale * scale,
-                                            job->scene_area);
     resurf_mesh **chain = resurfi_calloc(w->alloc, count, sizeof *chain);
     resurf_status st = chain ? RESURF_OK : resurfi_error(e, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
     if (st == RESURF_OK)
@@ -1045,6 +1057,13 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
     }
     if (st == RESURF_OK && atomic_load(&job.cancelled))
         st = resurfi_error(error, RESURF_ERR_CANCELLED, "cancelled");
+    resurfi_budget_prim *budget = st == RESURF_OK && o.share_triangles && ratios
+                                      ? resurfi_calloc(alloc, prim_count + 1, sizeof *budget) : NULL;
+    resurf_simplify_options one = sim; /* the budget's runs report no progress */
+    size_t budgeted = 0;
+    one.progress.fn = NULL;
+    if (st == RESURF_OK && o.share_triangles && ratios && !budget)
+        st = resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory building levels of detail");
     for (size_t p = 0; st == RESURF_OK && p < prim_count; ++p) {
         const resurfi_scene_prim *prim = &scene->prims[p];
         if (!resurfi_scene_rewritten(prim))
@@ -1058,10 +1077,24 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
             report.level_unreduced[kept + 1]++;
         else if (why == 2)
             report.level_missed[kept + 1]++;
-        size_t *ml = &w.mesh_levels[prim->info.mesh];
+        if (budget && w.chains[p]) { /* the scene's triangles spent where the error is (scene_budget.c) */
+            resurfi_budget_prim *x = &budget[budgeted++];
+            x->scale = primitive_options(&job, p, &one, &x->sim, x->bounds);
+            x->input = prim->mesh, x->chain = w.chains[p], x->kept = &w.kept[p];
+            x->reports = job.reports + p * count, x->rerun = !w.together[prim->info.mesh];
+        }
+    }
+    if (st == RESURF_OK && budget)
+        st = resurfi_scene_budget(budget, budgeted, ratios, count, alloc, error);
+    resurfi_free(alloc, budget);
+    for (size_t p = 0; st == RESURF_OK && p < prim_count; ++p) {
+        const resurfi_scene_prim *prim = &scene->prims[p];
+        if (!resurfi_scene_rewritten(prim))
+            continue;
+        size_t kept = w.kept[p], *ml = &w.mesh_levels[prim->info.mesh];
         *ml = *ml > kept + 1 ? *ml : kept + 1;
         for (size_t k = 0; out_primitive_reports && k < count && k <= kept; ++k)
-            out_primitive_reports[p * count + k] = reports[k];
+            out_primitive_reports[p * count + k] = job.reports[p * count + k];
     }
     resurfi_free(alloc, order);
     resurfi_free(alloc, job.status);

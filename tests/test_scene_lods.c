@@ -150,6 +150,7 @@ START_TEST(scene_lods_equal_per_primitive_chains)
     resurf_scene_lod_options lo = resurf_scene_lod_options_default();
     lo.pixels = 2;
     lo.screen_height = 720;
+    lo.share_triangles = false; /* each chain its own (the shared budget has its own test) */
     resurf_scene_lod_report r;
     resurf_simplify_report pr[4 * 2];
     memset(pr, 0xFF, sizeof pr);
@@ -605,6 +606,93 @@ START_TEST(scene_lods_cli_max_triangles_and_errors)
 }
 END_TEST
 
+/* Two spheres side by side as two meshes: a fine one (about 4,000 triangles) and a coarse one (about 500), which
+ * cannot lose three quarters of its triangles without a large error. The truths: the scene's level keeps the
+ * coarse one's triangles where its error was the scene's (more of them than its own chain), the scene's total
+ * still meets the ratio, and a dense resurf_compare of the world meshes finds the scene's error smaller than with
+ * each primitive at its own ratio, and within 20% of the reported one. */
+static char *write_sphere_pair_gltf(const char *dir)
+{
+    resurf_mesh *a = shape_mesh(SHAPE_SPHERE, 4000, 0.3, 1, 0), *b = shape_mesh(SHAPE_SPHERE, 500, 0.3, 2, 0);
+    size_t a_bytes = 12 * a->vertex_count + 12 * a->triangle_count, b_bytes = 12 * b->vertex_count + 12 * b->triangle_count;
+    size_t total = a_bytes + b_bytes;
+    unsigned char *buf = malloc(total);
+    char acc_a[512], acc_b[512];
+    append_mesh(a, buf, 0, acc_a, sizeof acc_a, 0);
+    append_mesh(b, buf, a_bytes, acc_b, sizeof acc_b, 2);
+    char *b64 = malloc(total / 3 * 4 + 8);
+    base64(buf, total, b64);
+    char *json = tu_strf(
+        "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0,1]}],"
+        "\"nodes\":[{\"mesh\":0},{\"mesh\":1,\"translation\":[3,0,0]}],"
+        "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":1}]},"
+        "{\"primitives\":[{\"attributes\":{\"POSITION\":2},\"indices\":3}]}],"
+        "\"accessors\":[%s,%s],"
+        "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":%zu},"
+        "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu},{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu},"
+        "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu}],"
+        "\"buffers\":[{\"byteLength\":%zu,\"uri\":\"data:application/octet-stream;base64,%s\"}]}",
+        acc_a, acc_b, 12 * a->vertex_count, 12 * a->vertex_count, 12 * a->triangle_count, a_bytes,
+        12 * b->vertex_count, a_bytes + 12 * b->vertex_count, 12 * b->triangle_count, total, b64);
+    char *path = tu_path(dir, "pair.gltf");
+    ck_assert_int_eq(tu_write_file(path, json, strlen(json)), 0);
+    free(json);
+    free(b64);
+    free(buf);
+    resurf_mesh_free(a);
+    resurf_mesh_free(b);
+    return path;
+}
+
+START_TEST(scene_lods_triangles_go_where_the_error_is)
+{
+    char *dir = tu_tempdir();
+    char *path = write_sphere_pair_gltf(dir);
+    const double ratios[1] = {0.25};
+    resurf_simplify_options so = fast_options();
+    so.measure_samples = 20000;
+    double dense[2];
+    size_t coarse_tris[2], totals[2], input = 0;
+    resurf_scene_lod_report r[2];
+    for (int shared = 0; shared < 2; ++shared) {
+        resurf_scene *s = load(path);
+        resurf_scene_lod_options lo = resurf_scene_lod_options_default();
+        lo.share_triangles = shared;
+        resurf_error e;
+        ck_assert_msg(resurf_scene_build_lods(s, ratios, 1, &so, &lo, &r[shared], NULL, &e) == RESURF_OK, "%s",
+                      e.message);
+        input = r[shared].level_triangles[0];
+        totals[shared] = r[shared].level_triangles[1];
+        resurf_scene_primitive info;
+        ck_assert_int_eq(resurf_scene_primitive_info(s, 1, &info, NULL), RESURF_OK);
+        coarse_tris[shared] = info.lod_count ? s->prims[1].lods[0]->triangle_count
+                                             : resurf_scene_primitive_mesh(s, 1)->triangle_count;
+        resurf_mesh *w0 = NULL, *w1 = NULL;
+        ck_assert_int_eq(resurf_scene_world_mesh(s, 0, NULL, &w0, NULL), RESURF_OK);
+        ck_assert_int_eq(resurf_scene_world_mesh(s, 1, NULL, &w1, NULL), RESURF_OK);
+        resurf_compare_options co = resurf_compare_options_default();
+        co.samples = 200000;
+        resurf_compare_report mt;
+        ck_assert_int_eq(resurf_compare(w0, w1, &co, &mt, NULL, NULL), RESURF_OK);
+        dense[shared] = mt.hausdorff;
+        ck_assert_msg(fabs(r[shared].level_error[1] - mt.hausdorff) <= 0.2 * mt.hausdorff, "%d: %g, dense %g",
+                      shared, r[shared].level_error[1], mt.hausdorff);
+        resurf_mesh_free(w0);
+        resurf_mesh_free(w1);
+        resurf_scene_free(s);
+    }
+    /* The coarse sphere kept more, the scene still meets its ratio (or its count without sharing, were that
+     * more), and its error fell. */
+    ck_assert_uint_gt(coarse_tris[1], coarse_tris[0]);
+    size_t allowed = (size_t)floor(ratios[0] * (double)input);
+    ck_assert_uint_le(totals[1], totals[0] > allowed ? totals[0] : allowed);
+    ck_assert_msg(dense[1] < 0.8 * dense[0], "shared %g, alone %g", dense[1], dense[0]);
+    free(path);
+    tu_rmtree(dir);
+    free(dir);
+}
+END_TEST
+
 Suite *make_suite(void)
 {
     Suite *s = suite_create("scene_lods");
@@ -614,6 +702,7 @@ Suite *make_suite(void)
     tcase_add_test(tc, scene_lods_side_by_side_same_as_one_thread);
     tcase_add_test(tc, scene_lods_errors_named_and_scene_unchanged);
     tcase_add_test(tc, scene_lods_cli_max_triangles_and_errors);
+    tcase_add_test(tc, scene_lods_triangles_go_where_the_error_is);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -216,6 +216,12 @@ typedef struct resurf_scene_lod_options {
                                  fraction of the whole scene's work that never decreases (primitives weighted by
                                  their triangles) and ends at 1; a cancel returns RESURF_ERR_CANCELLED and leaves
                                  the scene as it was */
+    bool share_triangles;     /* true (default): with ratios, the scene's triangles go where the error is: per
+                                 level, the primitive of the largest measured world error is made again with more
+                                 triangles (down to the next largest error), taken back from the largest others
+                                 whose error stays under that, within the level's ratio of the scene's triangles
+                                 (or its count before, when that is more); see docs/reference.md. false: every
+                                 primitive keeps its own ratio */
 } resurf_scene_lod_options;
 
 RESURF_API resurf_scene_lod_options resurf_scene_lod_options_default(void);
