@@ -906,11 +906,9 @@ typedef struct resurf_simplify_options {
  * border_weight 1, normal_weight 0, texcoord_weight 0.25, color_weight 0.25, morph_weight 1, measure_samples 20000,
  * all cores.
  * Measured with tools/bench_simplify.c on the irregular analytic sphere, torus and cubic surface (20k triangles,
- * 10% and 2%): at sag_offset 1 the mean distance of the LOD's surface to the true surface is about 0.23–0.24,
- * 0.34–0.36 and 0.73–0.78 of meshoptimizer's (0.86–0.89 with the offset at 0). 1 is the chord-sag model's median
- * depth of the facets (4/3 − √3/(2π) ≈ 1.058 times an equilateral facet's mean depth h²κ/8, which minimises its mean
- * distance), less the input's own depth; a larger factor lowers the true-surface mean at 10% a little more and
- * raises the distance to the input (docs/restoring.md §8). Normal-change bounds from 40° to 90°
+ * 10% and 2%): the mean distance of the LOD's surface to the true surface is lowest at sag_offset 1 (about 0.24–0.26,
+ * 0.35–0.38 and 0.74–0.80 of meshoptimizer's; 0.86–0.89 with the offset at 0), as the chord-sag model predicts (the
+ * mean depth of an equilateral facet under a sphere equals its edges' sag h²κ/8). Normal-change bounds from 40° to 90°
  * gave the same figures. */
 RESURF_API resurf_simplify_options resurf_simplify_options_default(void);
 

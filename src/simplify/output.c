@@ -20,8 +20,7 @@ typedef struct output {
     vec3 *base;           /* per u: the position before the sag offset (on S with restoration) */
     vec3 *final;          /* per u: the output position */
     vec3 *normal;         /* per u: S's normal at base (sag offset only) */
-    double *sag_sum;      /* per u: Σ over its triangle corners of area × −n·(p_w − p_v) */
-    double *sag_area;     /* per u: Σ of those areas */
+    double *sag_sum;      /* per u */
     double *m_depth;      /* per u: how far M's facets lie under S where v is (sag offset only) */
     double *gap;          /* per output triangle: how far M lies above it on average, measured (sag offset only) */
     double *gap_sum;      /* per u: the sum of its triangles' gaps */
@@ -53,7 +52,6 @@ static void output_free(output *o, const resurf_allocator *alloc)
     resurfi_free(alloc, o->gap_sum);
     resurfi_free(alloc, o->len);
     resurfi_free(alloc, o->sag_count);
-    resurfi_free(alloc, o->sag_area);
     resurfi_free(alloc, o->outcome);
     resurfi_free(alloc, o->held);
     resurfi_free(alloc, o->side_tri);
@@ -419,17 +417,11 @@ static void measure_edges(output *o)
     }
 }
 
-/* The median of an equilateral facet's depth under a sphere over its mean, 4/3 − √3/(2π): the offset of its corners
- * that minimises its mean distance to S is its median depth, not its mean (docs/restoring.md §8). */
-#define SAG_MEDIAN (4.0 / 3.0 - 1.7320508075688772 / 6.283185307179586)
-
 /* Final positions: POST restoration, then the sag offset: each vertex moves along S's normal by sag_offset × (the
- * area-weighted mean over its incident triangle corners of −n·(p_w − p_v)/4, times SAG_MEDIAN, less the depth of M's
- * facets under S there). For a vertex on S and a neighbour w at chord length h where S bends by κ, −n·(p_w − p_v) ≈
- * h²κ/2, so the term is the chord's sag h²κ/8, the mean depth of the LOD's facets under S; the mean |distance| is
- * least at the median depth, SAG_MEDIAN times that; area weights because the larger facets are the deeper ones and
- * carry more of the mean. M's facets lie under S by their own depth (facet_depth), and the reported distances
- * measure against M: the difference makes the LOD's facets straddle M.
+ * mean over its incident triangle corners of −n·(p_w − p_v)/4, less the depth of M's facets under S there). For a
+ * vertex on S and a neighbour w at chord length h where S bends by κ, −n·(p_w − p_v) ≈ h²κ/2, so the term is the
+ * chord's sag h²κ/8, the mean depth of the LOD's facets under S; M's facets lie under S by their own depth
+ * (facet_depth), and the reported distances measure against M: the difference makes the LOD's facets straddle M.
  * Each side is measured along its own edges, so a LOD that kept M's spacing across the curvature (a cylinder's
  * first collapses are along its axis) is not offset. The model is then bounded by the measured gap (gap_block):
  * at most twice it, never of the other sign (docs/restoring.md §8 has the figures). */
@@ -471,11 +463,10 @@ static resurf_status place_output(simplifier *s, output *o)
         o->normal = resurfi_alloc(s->alloc, nu, sizeof *o->normal);
         o->sag_sum = resurfi_calloc(s->alloc, nu, sizeof *o->sag_sum);
         o->sag_count = resurfi_calloc(s->alloc, nu, sizeof *o->sag_count);
-        o->sag_area = resurfi_calloc(s->alloc, nu, sizeof *o->sag_area);
         o->m_depth = resurfi_calloc(s->alloc, nu, sizeof *o->m_depth);
         o->gap = resurfi_alloc(s->alloc, o->nt ? o->nt : 1, sizeof *o->gap);
         o->gap_sum = resurfi_calloc(s->alloc, nu, sizeof *o->gap_sum);
-        if (!o->normal || !o->sag_sum || !o->sag_count || !o->sag_area || !o->m_depth || !o->gap || !o->gap_sum)
+        if (!o->normal || !o->sag_sum || !o->sag_count || !o->m_depth || !o->gap || !o->gap_sum)
             return RESURF_ERR_OUT_OF_MEMORY;
         resurfi_pool_for(s->pool, nu, BLOCK_POSITIONS, normal_block, &job);
     }
@@ -488,7 +479,6 @@ static resurf_status place_output(simplifier *s, output *o)
         for (int c = 0; c < 3; ++c)
             u[c] = o->ov_u[o->corner_ov[3 * i + c]];
         vec3 face = v3_tri_cross(o->base[u[0]], o->base[u[1]], o->base[u[2]]);
-        double area = 0.5 * v3_len(face);
         for (int c = 0; c < 3; ++c) {
             vec3 pv = o->base[u[c]];
             /* Only where v's triangles are one smooth fan: one that turns from S's normal at v by more than
@@ -499,17 +489,16 @@ static resurf_status place_output(simplifier *s, output *o)
             o->gap_sum[u[c]] += o->gap[i];
             for (int d = 1; d < 3; ++d) {
                 vec3 pw = o->base[u[(c + d) % 3]];
-                o->sag_sum[u[c]] -= area * v3_dot(o->normal[u[c]], v3_sub(pw, pv));
-                o->sag_area[u[c]] += area;
+                o->sag_sum[u[c]] -= v3_dot(o->normal[u[c]], v3_sub(pw, pv));
                 o->sag_count[u[c]]++;
             }
         }
     }
     for (size_t u = 0; u < nu; ++u) {
         o->final[u] = o->base[u];
-        if (!offset || !o->sag_count[u] || !(o->sag_area[u] > 0) || o->held[u])
+        if (!offset || !o->sag_count[u] || o->held[u])
             continue; /* a corner or a crease vertex: the model of a smooth surface around it does not hold */
-        double sag = SAG_MEDIAN * o->sag_sum[u] / (4.0 * o->sag_area[u]) - o->m_depth[u];
+        double sag = o->sag_sum[u] / (4.0 * o->sag_count[u]) - o->m_depth[u];
         /* The model holds where M is smooth at the LOD's scale; there it agrees with what M does around v. Where
          * not (a scan's noise, a ridge sharper than its normals), it is bounded by that: of the measured gap's
          * sign, at most twice it. */
