@@ -10,7 +10,8 @@
 
 static const char usage[] =
     "usage: resurf lod IN -o OUT [--levels 0.5,0.25,0.1] [--errors E1,E2,...] [--error E | --error-rel E]\n"
-    "                 [--lock-border] [--draco|--no-draco] [--layout msft_lod|files|side-by-side] [--json] [options]\n\n"
+    "                 [--lock-border] [--no-share] [--draco|--no-draco] [--layout msft_lod|files|side-by-side]\n"
+    "                 [--json] [options]\n\n"
     "Builds levels of detail of every triangle primitive of IN (.gltf, .glb, .drc, or a mesh file as a one-mesh\n"
     "scene): each level keeps at most R x the triangles, is simplified from the previous level and restored onto\n"
     "the smooth surface of the ORIGINAL mesh. A mesh shown by several nodes is simplified once. Morph targets\n"
@@ -18,7 +19,9 @@ static const char usage[] =
     "Everything else of the scene (nodes, materials, textures, skins, animations, extensions) is kept. A level that\n"
     "has no fewer triangles than the one before, or misses its ratio (more than 1.5 x its target + 2 triangles),\n"
     "ends the primitive's chain (a warning says which guard blocked how many collapses); a primitive with fewer\n"
-    "levels shows its last one. Prints per level the triangles, the measured error in world space over the whole\n"
+    "levels shows its last one. With ratios, the scene's triangles then go where the error is: the primitive of\n"
+    "the largest world error gets more, taken back from the largest others, as long as the scene keeps its count.\n"
+    "Prints per level the triangles, the measured error in world space over the whole\n"
     "scene (two-sided Hausdorff distance to level 0, relative to the scene's bounding-box diagonal, and in scene\n"
     "units) and the bytes of geometry.\n\n"
     "  -o, --output OUT       .glb, .gltf or .drc (a .drc holds one mesh: use --layout files)\n"
@@ -29,6 +32,8 @@ static const char usage[] =
     "  --error E              every level also stops at this estimated error, in world units\n"
     "  --error-rel E          ... relative to the scene's world bounding-box diagonal\n"
     "  --lock-border          border vertices never move or disappear\n"
+    "  --no-share             every primitive at its own ratio (no triangles moved between them: faster on scenes\n"
+    "                         of many primitives, and the scene's error is its worst primitive's)\n"
     "  --draco, --no-draco    KHR_draco_mesh_compression on (default) or off\n"
     "  --layout L             msft_lod (default: MSFT_lod, one file), files (OUT's name + _lodK per level, level 0\n"
     "                         the full detail) or side-by-side (all levels visible next to each other)\n"
@@ -121,6 +126,7 @@ int cmd_lod(int argc, char **argv)
         {"error", required_argument, NULL, 'E'},
         {"error-rel", required_argument, NULL, 'R'},
         {"lock-border", no_argument, NULL, 'b'},
+        {"no-share", no_argument, NULL, 'S'},
         {"draco", no_argument, NULL, 'd'},
         {"no-draco", no_argument, NULL, 'D'},
         {"layout", required_argument, NULL, 'l'},
@@ -149,7 +155,7 @@ int cmd_lod(int argc, char **argv)
     size_t ratio_count = 3, error_count = 0;
     double errors[MAX_LEVELS], error_all = 0, error_rel_all = 0;
     int levels_given = 0;
-    int json = 0, allow_missing_images = 0;
+    int json = 0, allow_missing_images = 0, share = 1;
     resurf_preview_options po = resurf_preview_options_default();
     unsigned long n;
     resurf_scene_save_options so = resurf_scene_save_options_default();
@@ -178,6 +184,7 @@ int cmd_lod(int argc, char **argv)
             break;
         }
         case 'b': sim.lock_border = true; break;
+        case 'S': share = 0; break;
         case 'd': so.draco = true; break;
         case 'D': so.draco = false; break;
         case 'l':
@@ -297,6 +304,7 @@ int cmd_lod(int argc, char **argv)
     resurf_scene_lod_options lod = resurf_scene_lod_options_default();
     lod.pixels = pixels;
     lod.screen_height = height;
+    lod.share_triangles = share;
     lod.progress = cli_progress();
     lod.level_max_error_rel = rel_bounds;
     lod.level_max_error = abs_bounds;
