@@ -100,7 +100,9 @@ typedef struct resurfi_scene_levels {
 
 /* One primitive as the scene's triangle budget sees it (scene_budget.c): its input and chain (levels kept: *kept),
  * its reports, the options and per-level error bounds (its units) of one more run, and its mesh's world scale.
- * rerun = 0 for primitives whose levels are counted but never made again (those simplified together). */
+ * A mesh whose primitives are simplified together is one entry (parts > 0): input is its primitives joined (the
+ * caller's), chain, kept and reports are the budget's own joined levels, and part_chains[q], part_kept[q],
+ * part_reports + q * levels are its primitives', which the budget writes back. */
 typedef struct resurfi_budget_prim {
     const resurf_mesh *input;
     resurf_mesh **chain;              /* NULL: no levels */
@@ -109,7 +111,13 @@ typedef struct resurfi_budget_prim {
     resurf_simplify_options sim;      /* without targets, progress or bound */
     double bounds[RESURF_SCENE_MAX_LEVELS - 1];
     double scale;
-    int rerun;
+    size_t parts;
+    resurf_mesh ***part_chains;
+    size_t *part_kept;
+    resurf_simplify_report *part_reports;
+    resurf_mesh *joined, **made;      /* the caller's joined input; the budget's: its levels as first joined */
+    uint8_t *joined_lock;             /* the caller's */
+    size_t joined_kept;
 } resurfi_budget_prim;
 
 resurf_status resurfi_scene_budget(resurfi_budget_prim *prims, size_t n, const double *ratios, size_t count,

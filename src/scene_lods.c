@@ -670,28 +670,39 @@ static double chain_weight(const chain_job *job, size_t p)
 
 static resurf_status make_primitive_chain(chain_job *job, size_t p, const resurf_simplify_options *base);
 
-/* The locks of primitives first .. first + n - 1 (the positions they share with other meshes) over their joined
- * vertices, in the order resurfi_mesh_join_parts puts them: *out, or NULL when none is locked. */
-static resurf_status joined_locks(const chain_job *job, size_t first, size_t n, size_t vertices, uint8_t **out)
+/* Mesh m's primitives joined as groups of one mesh (*joined), the options of its runs (*lock: the positions its
+ * primitives share with other meshes, over the joined vertices, or NULL; its share of the samples) and its levels'
+ * bounds in its units; returns its scale. For its chain and the scene budget's runs of it. */
+static double joint_input(const chain_job *job, size_t m, const resurf_simplify_options *base, resurf_mesh **joined,
+                          uint8_t **lock, resurf_simplify_options *sim, double *bounds, resurf_status *st,
+                          resurf_error *e)
 {
+    const resurf_scene *scene = job->scene;
     const lod_work *w = job->w;
-    *out = NULL;
+    size_t first = scene->mesh_first[m], n = scene->mesh_first[m + 1] - first;
+    const resurf_mesh *parts[64];
+    const resurf_mesh **in = n <= 64 ? parts : resurfi_alloc(w->alloc, n, sizeof *in);
+    double area = 0, scale = w->mesh_scale[m] > 0 ? w->mesh_scale[m] : 1;
     int any = 0;
-    for (size_t q = 0; q < n; ++q)
-        any |= w->locks[first + q] != NULL;
-    if (!any)
-        return RESURF_OK;
-    uint8_t *lock = resurfi_calloc(w->alloc, vertices + 1, 1);
-    if (!lock)
-        return RESURF_ERR_OUT_OF_MEMORY;
-    for (size_t q = 0, v0 = 0; q < n; ++q) {
-        size_t nv = job->scene->prims[first + q].mesh->vertex_count;
-        if (w->locks[first + q])
-            memcpy(lock + v0, w->locks[first + q], nv);
-        v0 += nv;
-    }
-    *out = lock;
-    return RESURF_OK;
+    *joined = NULL, *lock = NULL;
+    *st = in ? RESURF_OK : resurfi_error(e, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
+    for (size_t q = 0; *st == RESURF_OK && q < n; ++q)
+        area += mesh_area(in[q] = scene->prims[first + q].mesh), any |= w->locks[first + q] != NULL;
+    if (*st == RESURF_OK)
+        *st = resurfi_mesh_join_parts(in, n, &in[0]->allocator, joined, e);
+    if (*st == RESURF_OK && any && !(*lock = resurfi_calloc(w->alloc, (*joined)->vertex_count + 1, 1)))
+        *st = resurfi_error(e, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
+    for (size_t q = 0, v0 = 0; *st == RESURF_OK && any && q < n; v0 += in[q++]->vertex_count)
+        if (w->locks[first + q]) /* in the order resurfi_mesh_join_parts puts the vertices */
+            memcpy(*lock + v0, w->locks[first + q], in[q]->vertex_count);
+    for (size_t k = 0; k < job->count; ++k)
+        bounds[k] = world_bound(job->o, k, job->diagonal) / scale;
+    *sim = *base;
+    sim->vertex_lock = *lock;
+    sim->measure_samples = primitive_samples(job->sample_budget, area * scale * scale, job->scene_area);
+    if (in != parts)
+        resurfi_free(w->alloc, in);
+    return scale;
 }
 
 /* The chains of mesh m's primitives, simplified together: the primitives joined as groups of one mesh, its chain,
@@ -704,35 +715,20 @@ static resurf_status make_joint_chain(chain_job *job, size_t m, const resurf_sim
     lod_work *w = job->w;
     size_t first = scene->mesh_first[m], n = scene->mesh_first[m + 1] - first, count = job->count;
     resurf_error *e = &job->errors[first];
-    const resurf_mesh *parts[64];
-    const resurf_mesh **in = n <= 64 ? parts : resurfi_alloc(w->alloc, n, sizeof *in);
     resurf_mesh *joined = NULL, **chain = resurfi_calloc(w->alloc, count, sizeof *chain);
     resurf_simplify_report *reports = resurfi_calloc(w->alloc, count, sizeof *reports);
-    resurf_status st = in && chain && reports ? RESURF_OK : resurfi_error(e, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
-    double area = 0, scale = w->mesh_scale[m] > 0 ? w->mesh_scale[m] : 1;
-    for (size_t q = 0; st == RESURF_OK && q < n; ++q) {
-        in[q] = scene->prims[first + q].mesh;
-        area += mesh_area(in[q]);
-    }
-    if (st == RESURF_OK)
-        st = resurfi_mesh_join_parts(in, n, &in[0]->allocator, &joined, e);
+    resurf_status st = chain && reports ? RESURF_OK : resurfi_error(e, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
     size_t kept = 0;
     int why = 0;
     uint8_t *joint_lock = NULL;
-    if (st == RESURF_OK) {
-        resurf_simplify_options sim = *base;
-        double bounds[RESURF_SCENE_MAX_LEVELS - 1];
-        for (size_t k = 0; k < count; ++k)
-            bounds[k] = world_bound(job->o, k, job->diagonal) / scale;
-        if (joined_locks(job, first, n, joined->vertex_count, &joint_lock) != RESURF_OK)
-            st = resurfi_error(e, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
-        sim.vertex_lock = joint_lock;
-        sim.measure_samples = primitive_samples(job->sample_budget, area * scale * scale, job->scene_area);
-        if (st == RESURF_OK)
-            st = make_chain(joined, job->ratios, count, bounds, &sim, chain, reports, e);
-        if (st == RESURF_OK)
-            kept = levels_that_help(joined, reports, job->ratios, count, &why);
-    }
+    resurf_simplify_options sim;
+    double bounds[RESURF_SCENE_MAX_LEVELS - 1];
+    if (st == RESURF_OK)
+        joint_input(job, m, base, &joined, &joint_lock, &sim, bounds, &st, e);
+    if (st == RESURF_OK)
+        st = make_chain(joined, job->ratios, count, bounds, &sim, chain, reports, e);
+    if (st == RESURF_OK)
+        kept = levels_that_help(joined, reports, job->ratios, count, &why);
     /* Split every level into the primitives: w->chains[first + q][k]. */
     for (size_t q = 0; st == RESURF_OK && q < n; ++q)
         if (!(w->chains[first + q] = resurfi_calloc(w->alloc, count, sizeof **w->chains)))
@@ -748,7 +744,7 @@ static resurf_status make_joint_chain(chain_job *job, size_t m, const resurf_sim
         st = resurfi_mesh_split_parts(chain[k], n, &chain[k]->allocator, level, e);
         for (size_t q = 0; st == RESURF_OK && q < n; ++q) {
             w->chains[first + q][k] = level[q];
-            emptied |= k < kept && level[q]->triangle_count == 0 && in[q]->triangle_count > 0;
+            emptied |= k < kept && level[q]->triangle_count == 0 && scene->prims[first + q].mesh->triangle_count > 0;
         }
     }
     for (size_t k = 0; k < count && chain; ++k)
@@ -764,7 +760,7 @@ static resurf_status make_joint_chain(chain_job *job, size_t m, const resurf_sim
             resurf_simplify_report *own = job->reports + (first + q) * count;
             memcpy(own, reports, count * sizeof *reports);
             for (size_t k = 0; k < count && w->chains[first + q][k]; ++k) {
-                own[k].input_triangles = in[q]->triangle_count;
+                own[k].input_triangles = scene->prims[first + q].mesh->triangle_count;
                 own[k].triangles = w->chains[first + q][k]->triangle_count;
                 own[k].vertices = w->chains[first + q][k]->vertex_count;
             }
@@ -779,8 +775,6 @@ static resurf_status make_joint_chain(chain_job *job, size_t m, const resurf_sim
         job->status[first + q] = st;
     }
     resurfi_free(w->alloc, reports);
-    if (in != parts)
-        resurfi_free(w->alloc, in);
     if (st == RESURF_OK && emptied) {
         /* Lock the shared borders instead, primitive by primitive. */
         w->together[m] = false;
@@ -1077,15 +1071,24 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
             report.level_unreduced[kept + 1]++;
         else if (why == 2)
             report.level_missed[kept + 1]++;
-        if (budget && w.chains[p]) { /* the scene's triangles spent where the error is (scene_budget.c) */
+        size_t m = prim->info.mesh, first = scene->mesh_first[m];
+        if (budget && w.chains[p] && w.together[m] && p == first) { /* the mesh is one entry */
+            resurfi_budget_prim *x = &budget[budgeted++];
+            x->scale = joint_input(&job, m, &one, &x->joined, &x->joined_lock, &x->sim, x->bounds, &st, error);
+            x->input = x->joined, x->parts = scene->mesh_first[m + 1] - first;
+            x->part_chains = &w.chains[first], x->part_kept = &w.kept[first];
+            x->part_reports = job.reports + first * count;
+        } else if (budget && w.chains[p] && !w.together[m]) { /* the scene's triangles spent where the error is */
             resurfi_budget_prim *x = &budget[budgeted++];
             x->scale = primitive_options(&job, p, &one, &x->sim, x->bounds);
             x->input = prim->mesh, x->chain = w.chains[p], x->kept = &w.kept[p];
-            x->reports = job.reports + p * count, x->rerun = !w.together[prim->info.mesh];
+            x->reports = job.reports + p * count;
         }
     }
     if (st == RESURF_OK && budget)
         st = resurfi_scene_budget(budget, budgeted, ratios, count, alloc, error);
+    for (size_t i = 0; i < budgeted; ++i)
+        resurf_mesh_free(budget[i].joined), resurfi_free(alloc, budget[i].joined_lock);
     resurfi_free(alloc, budget);
     for (size_t p = 0; st == RESURF_OK && p < prim_count; ++p) {
         const resurfi_scene_prim *prim = &scene->prims[p];

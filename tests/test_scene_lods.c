@@ -607,35 +607,57 @@ START_TEST(scene_lods_cli_max_triangles_and_errors)
 END_TEST
 
 /* Two spheres side by side as two meshes: a fine one (about 4,000 triangles) and a coarse one (about 500), which
- * cannot lose three quarters of its triangles without a large error. The truths: the scene's level keeps the
+ * cannot lose three quarters of its triangles without a large error; split = 1 makes the coarse one two primitives
+ * (its halves over one POSITION accessor), which are simplified together. The truths: the scene's level keeps the
  * coarse one's triangles where its error was the scene's (more of them than its own chain), the scene's total
  * still meets the ratio, and a dense resurf_compare of the world meshes finds the scene's error smaller than with
  * each primitive at its own ratio, and within 20% of the reported one. */
-static char *write_sphere_pair_gltf(const char *dir)
+static char *write_sphere_pair_gltf(const char *dir, int split)
 {
     resurf_mesh *a = shape_mesh(SHAPE_SPHERE, 4000, 0.3, 1, 0), *b = shape_mesh(SHAPE_SPHERE, 500, 0.3, 2, 0);
+    size_t upper = 0; /* b's triangles over z = 0 first */
+    for (size_t t = 0; split && t < b->triangle_count; ++t) {
+        double z = 0;
+        for (int k = 0; k < 3; ++k)
+            z += b->positions[3 * b->indices[3 * t + k] + 2];
+        if (z > 0) {
+            for (int k = 0; k < 3; ++k) {
+                uint32_t x = b->indices[3 * upper + k];
+                b->indices[3 * upper + k] = b->indices[3 * t + k], b->indices[3 * t + k] = x;
+            }
+            upper++;
+        }
+    }
     size_t a_bytes = 12 * a->vertex_count + 12 * a->triangle_count, b_bytes = 12 * b->vertex_count + 12 * b->triangle_count;
     size_t total = a_bytes + b_bytes;
     unsigned char *buf = malloc(total);
     char acc_a[512], acc_b[512];
     append_mesh(a, buf, 0, acc_a, sizeof acc_a, 0);
+    size_t nt = b->triangle_count;
+    b->triangle_count = split ? upper : nt; /* the first primitive's accessor: the upper half */
     append_mesh(b, buf, a_bytes, acc_b, sizeof acc_b, 2);
+    b->triangle_count = nt;
+    memcpy(buf + a_bytes + 12 * b->vertex_count, b->indices, 12 * nt);
     char *b64 = malloc(total / 3 * 4 + 8);
     base64(buf, total, b64);
+    char *halves = tu_strf(",{\"bufferView\":3,\"byteOffset\":%zu,\"componentType\":5125,\"count\":%zu,"
+                           "\"type\":\"SCALAR\"}", 12 * upper, 3 * (b->triangle_count - upper));
     char *json = tu_strf(
         "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0,1]}],"
         "\"nodes\":[{\"mesh\":0},{\"mesh\":1,\"translation\":[3,0,0]}],"
         "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":1}]},"
-        "{\"primitives\":[{\"attributes\":{\"POSITION\":2},\"indices\":3}]}],"
-        "\"accessors\":[%s,%s],"
+        "{\"primitives\":[{\"attributes\":{\"POSITION\":2},\"indices\":3}%s]}],"
+        "\"accessors\":[%s,%s%s],"
         "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":%zu},"
         "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu},{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu},"
         "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu}],"
         "\"buffers\":[{\"byteLength\":%zu,\"uri\":\"data:application/octet-stream;base64,%s\"}]}",
-        acc_a, acc_b, 12 * a->vertex_count, 12 * a->vertex_count, 12 * a->triangle_count, a_bytes,
+        split ? ",{\"attributes\":{\"POSITION\":2},\"indices\":4}" : "", acc_a, acc_b, split ? halves : "",
+        12 * a->vertex_count, 12 * a->vertex_count, 12 * a->triangle_count, a_bytes,
         12 * b->vertex_count, a_bytes + 12 * b->vertex_count, 12 * b->triangle_count, total, b64);
-    char *path = tu_path(dir, "pair.gltf");
+    char *path = tu_path(dir, split ? "halves.gltf" : "pair.gltf");
     ck_assert_int_eq(tu_write_file(path, json, strlen(json)), 0);
+    free(halves);
     free(json);
     free(b64);
     free(buf);
@@ -643,11 +665,11 @@ static char *write_sphere_pair_gltf(const char *dir)
     resurf_mesh_free(b);
     return path;
 }
-
 START_TEST(scene_lods_triangles_go_where_the_error_is)
 {
     char *dir = tu_tempdir();
-    char *path = write_sphere_pair_gltf(dir);
+    int split = _i; /* 1: the coarse sphere's halves are simplified together, one unit of the budget */
+    char *path = write_sphere_pair_gltf(dir, split);
     const double ratios[1] = {0.25};
     resurf_simplify_options so = fast_options();
     so.measure_samples = 20000;
@@ -663,10 +685,13 @@ START_TEST(scene_lods_triangles_go_where_the_error_is)
                       e.message);
         input = r[shared].level_triangles[0];
         totals[shared] = r[shared].level_triangles[1];
-        resurf_scene_primitive info;
-        ck_assert_int_eq(resurf_scene_primitive_info(s, 1, &info, NULL), RESURF_OK);
-        coarse_tris[shared] = info.lod_count ? s->prims[1].lods[0]->triangle_count
-                                             : resurf_scene_primitive_mesh(s, 1)->triangle_count;
+        coarse_tris[shared] = 0;
+        for (size_t p = 1; p < 2 + (size_t)split; ++p) {
+            resurf_scene_primitive info;
+            ck_assert_int_eq(resurf_scene_primitive_info(s, p, &info, NULL), RESURF_OK);
+            coarse_tris[shared] += info.lod_count ? s->prims[p].lods[0]->triangle_count
+                                                  : resurf_scene_primitive_mesh(s, p)->triangle_count;
+        }
         resurf_mesh *w0 = NULL, *w1 = NULL;
         ck_assert_int_eq(resurf_scene_world_mesh(s, 0, NULL, &w0, NULL), RESURF_OK);
         ck_assert_int_eq(resurf_scene_world_mesh(s, 1, NULL, &w1, NULL), RESURF_OK);
@@ -702,7 +727,7 @@ Suite *make_suite(void)
     tcase_add_test(tc, scene_lods_side_by_side_same_as_one_thread);
     tcase_add_test(tc, scene_lods_errors_named_and_scene_unchanged);
     tcase_add_test(tc, scene_lods_cli_max_triangles_and_errors);
-    tcase_add_test(tc, scene_lods_triangles_go_where_the_error_is);
+    tcase_add_loop_test(tc, scene_lods_triangles_go_where_the_error_is, 0, 2);
     suite_add_tcase(s, tc);
     return s;
 }
