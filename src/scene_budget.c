@@ -9,7 +9,7 @@
  *      no more than the bound B = second^(1 - r) top^r, second being the largest error of the others;
  *   2. the triangles it gained are taken back from the primitives of the most triangles whose error stays within B
  *      when simplified again to fewer (none goes to or under its next level; a level its chain had ended at may
- *      come back so);
+ *      come back so; at most DONOR_RUNS of them are tried);
  *   3. when they cannot all be taken back, within the larger of the level's ratio times the scene's triangles and
  *      the scene's count before (at this level and the later ones that show it), the step is undone; r = 0 is
  *      tried first, then r = 0.5 (0.8 as a third try changed nothing on 2CylinderEngine and cost 20% more time);
@@ -30,6 +30,9 @@
 /* Steps per level: each lowers the scene's maximum to the next primitive's error. */
 #define BUDGET_STEPS 8
 #define BISECTIONS 3
+/* Donor runs per step: a scene of hundreds of primitives must not try them all (2CylinderEngine's steps take at most
+ * 3). */
+#define DONOR_RUNS 8
 
 static size_t shown_triangles(const resurfi_budget_prim *b, size_t k)
 {
@@ -298,12 +301,13 @@ static int step(resurfi_budget_prim *prims, size_t n, size_t k, size_t count, co
             donors[2 * nd] = shown_triangles(&prims[p], k), donors[2 * nd + 1] = p, nd++;
     qsort(donors, nd, 2 * sizeof *donors, donor_first);
     size_t total = level_total(prims, n, k);
-    for (size_t i = 0; i < nd && total > allowed[k]; ++i) {
+    for (size_t i = 0, tried = 0; i < nd && total > allowed[k] && tried < DONOR_RUNS; ++i) {
         resurfi_budget_prim *d = &prims[donors[2 * i + 1]];
         size_t now = shown_triangles(d, k), next = *d->kept > k + 1 ? d->chain[k + 1]->triangle_count : 0;
         size_t excess = total - allowed[k];
         if (now <= excess || now - excess <= next || shown_error(d, k) >= bound)
             continue; /* fewer triangles would not stay within the bound */
+        tried++;
         if ((*st = rerun(memo, d, k, now - excess, &m, &rep, e)) != RESURF_OK) {
             undo(prims, k, changes, used);
             return -1;
