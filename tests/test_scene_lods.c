@@ -27,9 +27,10 @@ static void base64(const unsigned char *in, size_t n, char *out)
     out[o] = 0;
 }
 
-/* Appends a mesh's float positions and uint32 indices to buf; writes the two accessors' JSON into acc. */
+/* Appends a mesh's float positions and uint32 indices to buf; writes the two accessors' JSON into acc, the index
+ * accessor over its first `indexed` triangles. */
 static size_t append_mesh(const resurf_mesh *m, unsigned char *buf, size_t at, char *acc, size_t acc_size,
-                          int first_view)
+                          int first_view, size_t indexed)
 {
     float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (size_t i = 0; i < 3 * m->vertex_count; ++i) {
@@ -43,9 +44,41 @@ static size_t append_mesh(const resurf_mesh *m, unsigned char *buf, size_t at, c
     snprintf(acc, acc_size,
              "{\"bufferView\":%d,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC3\",\"min\":[%.9g,%.9g,%.9g],"
              "\"max\":[%.9g,%.9g,%.9g]},{\"bufferView\":%d,\"componentType\":5125,\"count\":%zu,\"type\":\"SCALAR\"}",
-             first_view, m->vertex_count, lo[0], lo[1], lo[2], hi[0], hi[1], hi[2], first_view + 1,
-             3 * m->triangle_count);
+             first_view, m->vertex_count, lo[0], lo[1], lo[2], hi[0], hi[1], hi[2], first_view + 1, 3 * indexed);
     return pos_bytes + idx_bytes;
+}
+
+/* A glTF of meshes a and b in one embedded buffer (a's positions and indices, then b's: bufferViews 0-3, accessors
+ * 0-3, b's index accessor over its first b_indexed triangles), with the caller's scene node list, nodes, meshes and
+ * further accessors (NULL: none). Returns the path (malloc'ed). */
+static char *write_pair_gltf(const char *dir, const char *name, const resurf_mesh *a, const resurf_mesh *b,
+                             size_t b_indexed, const char *scene_nodes, const char *nodes, const char *meshes,
+                             const char *more_accessors)
+{
+    size_t a_pos = 12 * a->vertex_count, a_idx = 12 * a->triangle_count;
+    size_t b_pos = 12 * b->vertex_count, b_idx = 12 * b->triangle_count;
+    size_t total = a_pos + a_idx + b_pos + b_idx;
+    unsigned char *buf = malloc(total);
+    char acc_a[512], acc_b[512];
+    append_mesh(a, buf, 0, acc_a, sizeof acc_a, 0, a->triangle_count);
+    append_mesh(b, buf, a_pos + a_idx, acc_b, sizeof acc_b, 2, b_indexed);
+    char *b64 = malloc(total / 3 * 4 + 8);
+    base64(buf, total, b64);
+    char *json = tu_strf(
+        "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[%s]}],\"nodes\":[%s],\"meshes\":[%s],"
+        "\"accessors\":[%s,%s%s%s],"
+        "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":%zu},"
+        "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu},{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu},"
+        "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu}],"
+        "\"buffers\":[{\"byteLength\":%zu,\"uri\":\"data:application/octet-stream;base64,%s\"}]}",
+        scene_nodes, nodes, meshes, acc_a, acc_b, more_accessors ? "," : "", more_accessors ? more_accessors : "",
+        a_pos, a_pos, a_idx, a_pos + a_idx, b_pos, a_pos + a_idx + b_pos, b_idx, total, b64);
+    char *path = tu_path(dir, name);
+    ck_assert_int_eq(tu_write_file(path, json, strlen(json)), 0);
+    free(json);
+    free(b64);
+    free(buf);
+    return path;
 }
 
 /* meshes[0]: a sphere (one triangle primitive); meshes[1]: a torus (a triangle primitive and a points primitive
@@ -54,33 +87,14 @@ static size_t append_mesh(const resurf_mesh *m, unsigned char *buf, size_t at, c
 static char *write_two_mesh_gltf(const char *dir, resurf_mesh **out_sphere, resurf_mesh **out_torus)
 {
     resurf_mesh *a = shape_mesh(SHAPE_SPHERE, 1200, 0.3, 1, 0), *b = shape_mesh(SHAPE_TORUS, 1600, 0.3, 2, 0);
-    size_t a_pos = 12 * a->vertex_count, a_idx = 12 * a->triangle_count;
-    size_t b_pos = 12 * b->vertex_count, b_idx = 12 * b->triangle_count;
-    size_t total = a_pos + a_idx + b_pos + b_idx;
-    unsigned char *buf = malloc(total);
-    char acc_a[512], acc_b[512];
-    append_mesh(a, buf, 0, acc_a, sizeof acc_a, 0);
-    append_mesh(b, buf, a_pos + a_idx, acc_b, sizeof acc_b, 2);
-    char *b64 = malloc(total / 3 * 4 + 8);
-    base64(buf, total, b64);
-    char *json = tu_strf(
-        "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0,1,2]}],"
-        "\"nodes\":[{\"mesh\":0},{\"mesh\":1,\"translation\":[3,0,0]},{\"mesh\":2,\"translation\":[0,3,0]}],"
-        "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":1}]},"
+    char *path = write_pair_gltf(
+        dir, "two.gltf", a, b, b->triangle_count, "0,1,2",
+        "{\"mesh\":0},{\"mesh\":1,\"translation\":[3,0,0]},{\"mesh\":2,\"translation\":[0,3,0]}",
+        "{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":1}]},"
         "{\"primitives\":[{\"attributes\":{\"POSITION\":2},\"indices\":3},{\"attributes\":{\"POSITION\":2},\"mode\":0}]},"
         "{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":1,\"targets\":[{\"POSITION\":0}]}],"
-        "\"weights\":[0]}],"
-        "\"accessors\":[%s,%s],"
-        "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":%zu},"
-        "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu},{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu},"
-        "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu}],"
-        "\"buffers\":[{\"byteLength\":%zu,\"uri\":\"data:application/octet-stream;base64,%s\"}]}",
-        acc_a, acc_b, a_pos, a_pos, a_idx, a_pos + a_idx, b_pos, a_pos + a_idx + b_pos, b_idx, total, b64);
-    char *path = tu_path(dir, "two.gltf");
-    ck_assert_int_eq(tu_write_file(path, json, strlen(json)), 0);
-    free(json);
-    free(b64);
-    free(buf);
+        "\"weights\":[0]}",
+        NULL);
     *out_sphere = a;
     *out_torus = b;
     return path;
@@ -360,13 +374,7 @@ END_TEST
 static char *write_eight_mesh_gltf(const char *dir)
 {
     resurf_mesh *a = shape_mesh(SHAPE_SPHERE, 1200, 0.3, 1, 0), *b = shape_mesh(SHAPE_TORUS, 1600, 0.3, 2, 0);
-    size_t a_pos = 12 * a->vertex_count, a_idx = 12 * a->triangle_count;
-    size_t b_pos = 12 * b->vertex_count, b_idx = 12 * b->triangle_count;
-    size_t total = a_pos + a_idx + b_pos + b_idx;
-    unsigned char *buf = malloc(total);
-    char acc_a[512], acc_b[512], nodes[1024] = "", meshes[2048] = "", list[64] = "";
-    append_mesh(a, buf, 0, acc_a, sizeof acc_a, 0);
-    append_mesh(b, buf, a_pos + a_idx, acc_b, sizeof acc_b, 2);
+    char nodes[1024] = "", meshes[2048] = "", list[64] = "";
     for (int k = 0; k < 8; ++k) {
         const char *sep = k ? "," : "";
         snprintf(nodes + strlen(nodes), sizeof nodes - strlen(nodes), "%s{\"mesh\":%d,\"translation\":[%d,0,0]}",
@@ -376,22 +384,7 @@ static char *write_eight_mesh_gltf(const char *dir)
                  2 * (k % 2) + 1);
         snprintf(list + strlen(list), sizeof list - strlen(list), "%s%d", sep, k);
     }
-    char *b64 = malloc(total / 3 * 4 + 8);
-    base64(buf, total, b64);
-    char *json = tu_strf(
-        "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[%s]}],\"nodes\":[%s],\"meshes\":[%s],"
-        "\"accessors\":[%s,%s],"
-        "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":%zu},"
-        "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu},{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu},"
-        "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu}],"
-        "\"buffers\":[{\"byteLength\":%zu,\"uri\":\"data:application/octet-stream;base64,%s\"}]}",
-        list, nodes, meshes, acc_a, acc_b, a_pos, a_pos, a_idx, a_pos + a_idx, b_pos, a_pos + a_idx + b_pos, b_idx,
-        total, b64);
-    char *path = tu_path(dir, "eight.gltf");
-    ck_assert_int_eq(tu_write_file(path, json, strlen(json)), 0);
-    free(json);
-    free(b64);
-    free(buf);
+    char *path = write_pair_gltf(dir, "eight.gltf", a, b, b->triangle_count, list, nodes, meshes, NULL);
     resurf_mesh_free(a);
     resurf_mesh_free(b);
     return path;
@@ -628,43 +621,22 @@ static char *write_sphere_pair_gltf(const char *dir, int split)
             upper++;
         }
     }
-    size_t a_bytes = 12 * a->vertex_count + 12 * a->triangle_count, b_bytes = 12 * b->vertex_count + 12 * b->triangle_count;
-    size_t total = a_bytes + b_bytes;
-    unsigned char *buf = malloc(total);
-    char acc_a[512], acc_b[512];
-    append_mesh(a, buf, 0, acc_a, sizeof acc_a, 0);
-    size_t nt = b->triangle_count;
-    b->triangle_count = split ? upper : nt; /* the first primitive's accessor: the upper half */
-    append_mesh(b, buf, a_bytes, acc_b, sizeof acc_b, 2);
-    b->triangle_count = nt;
-    memcpy(buf + a_bytes + 12 * b->vertex_count, b->indices, 12 * nt);
-    char *b64 = malloc(total / 3 * 4 + 8);
-    base64(buf, total, b64);
-    char *halves = tu_strf(",{\"bufferView\":3,\"byteOffset\":%zu,\"componentType\":5125,\"count\":%zu,"
+    char *halves = tu_strf("{\"bufferView\":3,\"byteOffset\":%zu,\"componentType\":5125,\"count\":%zu,"
                            "\"type\":\"SCALAR\"}", 12 * upper, 3 * (b->triangle_count - upper));
-    char *json = tu_strf(
-        "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0,1]}],"
-        "\"nodes\":[{\"mesh\":0},{\"mesh\":1,\"translation\":[3,0,0]}],"
-        "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":1}]},"
-        "{\"primitives\":[{\"attributes\":{\"POSITION\":2},\"indices\":3}%s]}],"
-        "\"accessors\":[%s,%s%s],"
-        "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":%zu},"
-        "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu},{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu},"
-        "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu}],"
-        "\"buffers\":[{\"byteLength\":%zu,\"uri\":\"data:application/octet-stream;base64,%s\"}]}",
-        split ? ",{\"attributes\":{\"POSITION\":2},\"indices\":4}" : "", acc_a, acc_b, split ? halves : "",
-        12 * a->vertex_count, 12 * a->vertex_count, 12 * a->triangle_count, a_bytes,
-        12 * b->vertex_count, a_bytes + 12 * b->vertex_count, 12 * b->triangle_count, total, b64);
-    char *path = tu_path(dir, split ? "halves.gltf" : "pair.gltf");
-    ck_assert_int_eq(tu_write_file(path, json, strlen(json)), 0);
+    char *meshes = tu_strf("{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":1}]},"
+                           "{\"primitives\":[{\"attributes\":{\"POSITION\":2},\"indices\":3}%s]}",
+                           split ? ",{\"attributes\":{\"POSITION\":2},\"indices\":4}" : "");
+    /* The first primitive's accessor: the upper half when split. */
+    char *path = write_pair_gltf(dir, split ? "halves.gltf" : "pair.gltf", a, b, split ? upper : b->triangle_count,
+                                 "0,1", "{\"mesh\":0},{\"mesh\":1,\"translation\":[3,0,0]}", meshes,
+                                 split ? halves : NULL);
+    free(meshes);
     free(halves);
-    free(json);
-    free(b64);
-    free(buf);
     resurf_mesh_free(a);
     resurf_mesh_free(b);
     return path;
 }
+
 START_TEST(scene_lods_triangles_go_where_the_error_is)
 {
     char *dir = tu_tempdir();
