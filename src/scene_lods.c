@@ -589,7 +589,7 @@ typedef struct lod_work {
     uint8_t **locks;              /* per primitive: its vertices shared with other primitives of its mesh, or NULL */
     bool *together;               /* per mesh: its primitives are simplified as one surface (simplified_together) */
     size_t *joint_kept;           /* per primitive of such a mesh: 1 + the levels of the mesh that help, 0 = not yet */
-    int *joint_why;               /* and why the chain ended there (levels_that_help) */
+    int *joint_why;               /* and why the chain ended there (levels_that_help); then every primitive's */
 } lod_work;
 
 static void lod_work_free(lod_work *w, size_t prim_count, size_t mesh_count, size_t count)
@@ -1067,10 +1067,7 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
         int why = w.joint_why[p];
         size_t kept = w.joint_kept[p] ? w.joint_kept[p] - 1 : levels_that_help(prim->mesh, reports, ratios, count, &why);
         w.kept[p] = kept;
-        if (why == 1)
-            report.level_unreduced[kept + 1]++;
-        else if (why == 2)
-            report.level_missed[kept + 1]++;
+        w.joint_why[p] = why; /* counted below, where the budget has settled where the chain ends */
         size_t m = prim->info.mesh, first = scene->mesh_first[m];
         if (budget && w.chains[p] && w.together[m] && p == first) { /* the mesh is one entry */
             resurfi_budget_prim *x = &budget[budgeted++];
@@ -1096,6 +1093,10 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
             continue;
         size_t kept = w.kept[p], *ml = &w.mesh_levels[prim->info.mesh];
         *ml = *ml > kept + 1 ? *ml : kept + 1;
+        if (kept < count && w.joint_why[p] == 1)
+            report.level_unreduced[kept + 1]++;
+        else if (kept < count && w.joint_why[p] == 2)
+            report.level_missed[kept + 1]++;
         for (size_t k = 0; out_primitive_reports && k < count && k <= kept; ++k)
             out_primitive_reports[p * count + k] = job.reports[p * count + k];
     }
