@@ -493,7 +493,6 @@ static void block_ends(simplifier *s, lane *L, uint32_t a, uint32_t b)
     s->P[b].flags |= POS_BLOCKED;
 }
 
-
 /* Tries the candidate of pending q: planned again on the current mesh, checked, restored, applied. A candidate
  * that is done or refused leaves the list; one whose cost went up, or that the tip guard defers, goes back in with
  * its new cost. New candidates, counters and scratch go to lane L. With `defer` (a chunk applied in parallel) the

@@ -160,32 +160,24 @@ int geometry_ok(const simplifier *s, const u32vec *fan_a, const u32vec *fan_b, u
  * move to p; 0 when both stay near. A one-sided Hausdorff bound that quadrics cannot see at a thin spike: its faces
  * lie nearly parallel to its axis, so moving the tip down the axis costs almost nothing, and collapse after
  * collapse shortens the spike. An end without triangles left (a fin's tip) has no surface to stay near. */
-/* The squared distance from `end` to the nearest of its fan's triangles after they move to p (INFINITY when none
- * is left); the look ends at the first triangle within sqrt(stop2). */
-static double end_near2(const simplifier *s, const u32vec *fan, vec3 end, uint32_t a, uint32_t b, vec3 p,
-                        const plan *pl, double stop2)
-{
-    double near2 = INFINITY;
-    for (size_t i = 0; i < fan->count && !(near2 <= stop2); ++i) {
-        vec3 neu[3];
-        if (!moved_triangle(s, fan->data[i] / 3, a, b, p, pl, NULL, neu))
-            continue;
-        double d2 = v3_dist2(end, resurfi_closest_on_triangle(end, neu[0], neu[1], neu[2], NULL));
-        near2 = d2 < near2 ? d2 : near2;
-    }
-    return near2;
-}
-
 static double tip_excess(const simplifier *s, const u32vec *fan_a, const u32vec *fan_b, uint32_t a, uint32_t b,
                          vec3 p, const plan *pl, double err)
 {
     const u32vec *fans[2] = {fan_a, fan_b};
     double bound = TIP_GUARD * v3_dist(s->P[a].p, s->P[b].p);
     bound = fmax(bound, TIP_ERROR * err);
-    double excess = 0;
+    double excess = 0, bound2 = bound * bound;
     for (int side = 0; side < 2; ++side) {
+        vec3 end = s->P[side ? b : a].p;
+        double near2 = INFINITY;
         /* The first triangle within the bound settles this end (sqrt of a correctly rounded bound² is the bound). */
-        double near2 = end_near2(s, fans[side], s->P[side ? b : a].p, a, b, p, pl, bound * bound);
+        for (size_t i = 0; i < fans[side]->count && !(near2 <= bound2); ++i) {
+            vec3 neu[3];
+            if (!moved_triangle(s, fans[side]->data[i] / 3, a, b, p, pl, NULL, neu))
+                continue;
+            double d2 = v3_dist2(end, resurfi_closest_on_triangle(end, neu[0], neu[1], neu[2], NULL));
+            near2 = d2 < near2 ? d2 : near2;
+        }
         if (near2 < INFINITY && sqrt(near2) - bound > excess)
             excess = sqrt(near2) - bound;
     }
