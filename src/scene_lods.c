@@ -670,6 +670,17 @@ static double chain_weight(const chain_job *job, size_t p)
 
 static resurf_status make_primitive_chain(chain_job *job, size_t p, const resurf_simplify_options *base);
 
+/* A run's options over a mesh of this scale and area (its locks, its share of the samples), its bounds in its units. */
+static void run_options(const chain_job *job, const resurf_simplify_options *base, double scale, double area,
+                        const uint8_t *lock, resurf_simplify_options *sim, double *bounds)
+{
+    for (size_t k = 0; k < job->count; ++k)
+        bounds[k] = world_bound(job->o, k, job->diagonal) / scale;
+    *sim = *base;
+    sim->vertex_lock = lock;
+    sim->measure_samples = primitive_samples(job->sample_budget, area * scale * scale, job->scene_area);
+}
+
 /* Mesh m's primitives joined as groups of one mesh (*joined), the options of its runs (*lock: the positions its
  * primitives share with other meshes, over the joined vertices, or NULL; its share of the samples) and its levels'
  * bounds in its units; returns its scale. For its chain and the scene budget's runs of it. */
@@ -695,11 +706,7 @@ static double joint_input(const chain_job *job, size_t m, const resurf_simplify_
     for (size_t q = 0, v0 = 0; *st == RESURF_OK && any && q < n; v0 += in[q++]->vertex_count)
         if (w->locks[first + q]) /* in the order resurfi_mesh_join_parts puts the vertices */
             memcpy(*lock + v0, w->locks[first + q], in[q]->vertex_count);
-    for (size_t k = 0; k < job->count; ++k)
-        bounds[k] = world_bound(job->o, k, job->diagonal) / scale;
-    *sim = *base;
-    sim->vertex_lock = *lock;
-    sim->measure_samples = primitive_samples(job->sample_budget, area * scale * scale, job->scene_area);
+    run_options(job, base, scale, area, *lock, sim, bounds);
     if (in != parts)
         resurfi_free(w->alloc, in);
     return scale;
@@ -791,14 +798,8 @@ static double primitive_options(const chain_job *job, size_t p, const resurf_sim
                                 resurf_simplify_options *sim, double *bounds)
 {
     const resurfi_scene_prim *prim = &job->scene->prims[p];
-    const lod_work *w = job->w;
-    double scale = w->mesh_scale[prim->info.mesh] > 0 ? w->mesh_scale[prim->info.mesh] : 1;
-    for (size_t k = 0; k < job->count; ++k)
-        bounds[k] = world_bound(job->o, k, job->diagonal) / scale;
-    *sim = *base;
-    sim->vertex_lock = w->locks[p];
-    sim->measure_samples = primitive_samples(job->sample_budget, mesh_area(prim->mesh) * scale * scale,
-                                             job->scene_area);
+    double scale = job->w->mesh_scale[prim->info.mesh] > 0 ? job->w->mesh_scale[prim->info.mesh] : 1;
+    run_options(job, base, scale, mesh_area(prim->mesh), job->w->locks[p], sim, bounds);
     return scale;
 }
 
@@ -1053,9 +1054,8 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
         st = resurfi_error(error, RESURF_ERR_CANCELLED, "cancelled");
     resurfi_budget_prim *budget = st == RESURF_OK && o.share_triangles && ratios
                                       ? resurfi_calloc(alloc, prim_count + 1, sizeof *budget) : NULL;
-    resurf_simplify_options one = sim; /* the budget's runs report no progress */
     size_t budgeted = 0;
-    one.progress.fn = NULL;
+    sim.progress.fn = NULL; /* the budget's runs report no progress */
     if (st == RESURF_OK && o.share_triangles && ratios && !budget)
         st = resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory building levels of detail");
     for (size_t p = 0; st == RESURF_OK && p < prim_count; ++p) {
@@ -1071,13 +1071,13 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
         size_t m = prim->info.mesh, first = scene->mesh_first[m];
         if (budget && w.chains[p] && w.together[m] && p == first) { /* the mesh is one entry */
             resurfi_budget_prim *x = &budget[budgeted++];
-            x->scale = joint_input(&job, m, &one, &x->joined, &x->joined_lock, &x->sim, x->bounds, &st, error);
+            x->scale = joint_input(&job, m, &sim, &x->joined, &x->joined_lock, &x->sim, x->bounds, &st, error);
             x->input = x->joined, x->parts = scene->mesh_first[m + 1] - first;
             x->part_chains = &w.chains[first], x->part_kept = &w.kept[first];
             x->part_reports = job.reports + first * count;
         } else if (budget && w.chains[p] && !w.together[m]) { /* the scene's triangles spent where the error is */
             resurfi_budget_prim *x = &budget[budgeted++];
-            x->scale = primitive_options(&job, p, &one, &x->sim, x->bounds);
+            x->scale = primitive_options(&job, p, &sim, &x->sim, x->bounds);
             x->input = prim->mesh, x->chain = w.chains[p], x->kept = &w.kept[p];
             x->reports = job.reports + p * count;
         }
