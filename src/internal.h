@@ -248,10 +248,23 @@ typedef struct resurfi_chain_end {
     int (*fn)(void *ctx, size_t level, size_t triangles, resurf_simplify_stop stop);
     void *ctx;
 } resurfi_chain_end;
+/* What a simplification builds over its input before the first collapse and only reads afterwards: the restorer
+ * over M and the tree over the input's triangles (the services over the original). Built once, they are lent to
+ * every call on that input with options of the same restoring (restore, restore_options; threads and allocator
+ * only say how they are built): a scene's levels made one by one and the scene budget's runs. The input must
+ * outlive them; a call that borrows them does not depend on whether it did. */
+typedef struct resurfi_simplify_services resurfi_simplify_services;
+resurf_status resurfi_simplify_services_build(const resurf_mesh *in, const resurf_simplify_options *options,
+                                              resurfi_simplify_services **out, resurf_error *error);
+void resurfi_simplify_services_free(resurfi_simplify_services *services); /* NULL is fine */
 resurf_status resurfi_simplify_lods_until(const resurf_mesh *in, const double *ratios, size_t count,
                                           const resurf_simplify_options *options, const resurfi_chain_end *ends,
-                                          resurf_mesh **out_levels, resurf_simplify_report *out_reports,
-                                          resurf_error *error);
+                                          const resurfi_simplify_services *services, resurf_mesh **out_levels,
+                                          resurf_simplify_report *out_reports, resurf_error *error);
+/* resurf_simplify with services built by resurfi_simplify_services_build for `in` (or NULL: its own). */
+resurf_status resurfi_simplify_lent(const resurf_mesh *in, const resurf_simplify_options *options,
+                                    const resurfi_simplify_services *services, resurf_mesh **out,
+                                    resurf_simplify_report *out_report, resurf_error *error);
 /* A simplified surface's facet points, RESURFI_FACET_POINTS per triangle: its centroid, then the midpoints of its
  * edges that run from a lower to a higher vertex index (an edge two triangles share is taken once). Where a coarse
  * facet leaves the surface it spans, it leaves it most at those: a chord's sag peaks at its middle, a facet's at its

@@ -73,6 +73,8 @@ typedef struct budget_memo {
     budget_run *runs;
     size_t count, capacity;
     const resurf_allocator *alloc;
+    const resurfi_budget_prim *prims;
+    resurfi_simplify_services **services; /* per primitive, built at its first run, kept for all levels */
 } budget_memo;
 
 static void memo_clear(budget_memo *memo)
@@ -103,9 +105,15 @@ static resurf_status rerun(budget_memo *memo, const resurfi_budget_prim *b, size
         o.target_triangles = t;
         if (b->bounds[k] > 0)
             o.max_error = o.max_error > 0 ? fmin(o.max_error, b->bounds[k]) : b->bounds[k];
+        resurfi_simplify_services **services = &memo->services[b - memo->prims];
+        if (!*services) {
+            resurf_status st = resurfi_simplify_services_build(b->input, &o, services, e);
+            if (st != RESURF_OK)
+                return st;
+        }
         run = &memo->runs[memo->count];
         run->prim = b, run->t = t, run->mesh = NULL;
-        resurf_status st = resurf_simplify(b->input, &o, &run->mesh, &run->report, e);
+        resurf_status st = resurfi_simplify_lent(b->input, &o, *services, &run->mesh, &run->report, e);
         if (st != RESURF_OK)
             return st;
         memo->count++;
@@ -343,7 +351,9 @@ resurf_status resurfi_scene_budget(resurfi_budget_prim *prims, size_t n, const d
         input += prims[p].input->triangle_count;
     budget_change *changes = resurfi_alloc(alloc, n + 1, sizeof *changes);
     size_t *donors = resurfi_alloc(alloc, 2 * n + 2, sizeof *donors);
-    resurf_status st = changes && donors ? RESURF_OK : resurfi_error(e, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
+    resurfi_simplify_services **services = resurfi_calloc(alloc, n + 1, sizeof *services);
+    resurf_status st = changes && donors && services ? RESURF_OK
+                                                     : resurfi_error(e, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
     if (st == RESURF_OK)
         st = units_open(prims, n, count, alloc, e);
     size_t allowed[RESURF_SCENE_MAX_LEVELS - 1];
@@ -354,7 +364,7 @@ resurf_status resurfi_scene_budget(resurfi_budget_prim *prims, size_t n, const d
     }
     /* Toward the next error first; when the others cannot pay for that, part of the way. */
     static const double reach[] = {0, 0.5};
-    budget_memo memo = {NULL, 0, 0, alloc};
+    budget_memo memo = {NULL, 0, 0, alloc, prims, services};
     for (size_t k = 0; k < count && st == RESURF_OK; ++k) {
         for (int s = 0, done = 1; s < BUDGET_STEPS && done == 1; ++s) {
             done = 0;
@@ -366,6 +376,9 @@ resurf_status resurfi_scene_budget(resurfi_budget_prim *prims, size_t n, const d
     memo_clear(&memo);
     st = units_close(prims, n, count, st, alloc, e);
     resurfi_free(alloc, memo.runs);
+    for (size_t p = 0; services && p < n; ++p)
+        resurfi_simplify_services_free(services[p]);
+    resurfi_free(alloc, services);
     resurfi_free(alloc, changes);
     resurfi_free(alloc, donors);
     return st;

@@ -198,26 +198,28 @@ static resurf_status make_chain(const resurf_mesh *in, const double *ratios, siz
         resurf_simplify_options o = level_options(sim, bounds[0]);
         chain_rule rule = {in->triangle_count, in->triangle_count, ratios};
         resurfi_chain_end end = {ends_chain, &rule};
-        return resurfi_simplify_lods_until(in, ratios, count, &o, &end, chain, reports, e);
+        return resurfi_simplify_lods_until(in, ratios, count, &o, &end, NULL, chain, reports, e);
     }
+    /* The services over the original once for all the levels. */
+    resurfi_simplify_services *services = NULL;
+    resurf_status st = resurfi_simplify_services_build(in, sim, &services, e);
     size_t before = in->triangle_count;
-    for (size_t k = 0; k < count; ++k) {
+    for (size_t k = 0; k < count && st == RESURF_OK; ++k) {
         resurf_simplify_options o = level_options(sim, bounds[k]);
         o.target_ratio = ratios ? ratios[k] : 0;
-        resurf_status st = resurf_simplify(in, &o, &chain[k], &reports[k], e);
-        if (st != RESURF_OK) {
-            for (size_t j = 0; j < k; ++j) {
-                resurf_mesh_free(chain[j]);
-                chain[j] = NULL;
-            }
-            return st;
-        }
+        if ((st = resurfi_simplify_lent(in, &o, services, &chain[k], &reports[k], e)) != RESURF_OK)
+            break;
         /* A level that ends the chain leaves the later ones unmade (they would not be kept). */
         if (level_ends_chain(in->triangle_count, before, reports[k].triangles, ratios, k, reports[k].stop))
             break;
         before = reports[k].triangles;
     }
-    return RESURF_OK;
+    resurfi_simplify_services_free(services);
+    for (size_t j = 0; j < count && st != RESURF_OK; ++j) {
+        resurf_mesh_free(chain[j]);
+        chain[j] = NULL;
+    }
+    return st;
 }
 
 /* A monotonic clock in seconds, for the report's phase times. */

@@ -96,7 +96,7 @@ int has_attributes(const resurf_mesh *m)
     return 0;
 }
 
-static resurf_status check_input(const resurf_mesh *in, resurf_error *error)
+resurf_status simplify_check_input(const resurf_mesh *in, resurf_error *error)
 {
     if (in->triangle_count && !in->indices)
         return resurfi_error(error, RESURF_ERR_INVALID_MESH, "the mesh has triangles but no indices");
@@ -665,7 +665,6 @@ typedef struct setup_job {
     simplifier *s;
     scratch *scratch;  /* one per worker */
     int build_restorer; /* still to be built */
-    resurf_restore_options restore_options;
     resurf_status restorer_status;
     resurf_error restorer_error;
 } setup_job;
@@ -674,9 +673,9 @@ static int build_restorer(setup_job *j)
 {
     simplifier *s = j->s;
     j->build_restorer = 0;
-    /* Without its tree: every restored point has a triangle of M nearby to walk from (home). */
-    j->restorer_status = resurfi_restorer_create_ex(s->in, &j->restore_options, 0, s->remap, s->pos_count,
-                                                    &s->restorer, &j->restorer_error);
+    j->restorer_status = services_build_restorer(s->in, &s->opt, s->alloc, s->remap, s->pos_count,
+                                                 &s->own_restorer, &j->restorer_error);
+    s->restorer = s->own_restorer;
     return j->restorer_status == RESURF_OK;
 }
 
@@ -703,7 +702,7 @@ static int setup_block(void *ctx, size_t begin, size_t end, unsigned worker)
  * charts, the first candidates and the scheduler's buffers. */
 resurf_status simplify_start(simplifier *s, scratch *scratch, resurf_error *error)
 {
-    resurf_status st = check_input(s->in, error);
+    resurf_status st = simplify_check_input(s->in, error);
     if (st != RESURF_OK)
         return st;
     double lo[3], hi[3];
@@ -726,20 +725,10 @@ resurf_status simplify_start(simplifier *s, scratch *scratch, resurf_error *erro
     if (s->tri_count == 0)
         return RESURF_OK;
     setup_job sj = {.s = s, .scratch = scratch, .restorer_status = RESURF_OK};
-    if (s->opt.restore != RESURF_RESTORE_NONE) {
-        resurf_restore_options ro =
-            s->opt.restore_options ? *s->opt.restore_options : resurf_restore_options_default();
-        /* AUTO is Max's normals here, not the jet fit: a LOD's distance to S is set by the chord sag, not by the
-         * restorer's last digits (the analytic benchmark's figures agree to 2%), and the fit costs about a second
-         * per million triangles. */
-        if (ro.normals == RESURF_NORMALS_AUTO)
-            ro.normals = RESURF_NORMALS_MAX;
-        ro.threads = 1;
-        ro.progress = (resurf_progress){NULL, NULL};
-        ro.allocator = s->alloc;
-        sj.restore_options = ro;
-        sj.build_restorer = 1;
-    }
+    if (s->opt.restore != RESURF_RESTORE_NONE && s->lent && s->lent->restorer)
+        s->restorer = s->lent->restorer;
+    else
+        sj.build_restorer = s->opt.restore != RESURF_RESTORE_NONE;
     if (resurfi_progress(&s->opt.progress, RESURF_STAGE_PREPARE, 0.5))
         return resurfi_error(error, RESURF_ERR_CANCELLED, "simplification cancelled");
     size_t blocks = (s->pos_count + BLOCK_POSITIONS - 1) / BLOCK_POSITIONS;
@@ -767,11 +756,10 @@ resurf_status simplify_start(simplifier *s, scratch *scratch, resurf_error *erro
     }
     resurfi_free(s->alloc, s->remap);
     s->remap = NULL;
-    if (has_attributes(s->in) || s->opt.measure_samples) { /* with a host pool, no thread of ours: one */
-        st = resurfi_bvh_build_threads(s->alloc, s->in->positions, s->in->vertex_count, s->in->indices,
-                                       s->in->triangle_count, s->opt.thread_pool ? 1 : s->opt.threads,
-                                       &s->own_bvh);
-        if (st != RESURF_OK)
+    if (services_need_bvh(s->in, &s->opt) && s->lent && s->lent->bvh) {
+        s->bvh = s->lent->bvh;
+    } else if (services_need_bvh(s->in, &s->opt)) {
+        if ((st = services_build_bvh(s->in, &s->opt, s->alloc, &s->own_bvh)) != RESURF_OK)
             return resurfi_error(error, st, "cannot build the input's BVH");
         s->bvh = s->own_bvh;
     }

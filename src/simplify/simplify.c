@@ -35,7 +35,9 @@
  *   schedule.c           passes, chunks, windows, stars, claims, lanes, prefetch: the only file of the collapse
  *                        loop that knows about threads;
  *   output.c             numbering, post restoration, sag offset, attributes;
- *   measure.c            the report's two-sided distances and UV error.
+ *   measure.c            the report's two-sided distances and UV error;
+ *   services.c           the services over M (restorer, tree over the input): built by the start, or once
+ *                        beforehand and lent to several calls on one input (resurfi_simplify_lent).
  *
  * Collapses work on welded positions. A triangle corner keeps its wedge (the id of an input attribute vertex); when
  * a position disappears, each corner takes the wedge of the surviving position on its side of any seam, which is
@@ -141,7 +143,7 @@ static void simplifier_free(simplifier *s)
     resurfi_free(s->alloc, s->home);
     curves_free(s);
     schedule_free(s);
-    resurfi_restorer_free(s->restorer);
+    resurfi_restorer_free(s->own_restorer);
     resurfi_bvh_free(s->own_bvh);
     measure_free(s);
     resurfi_pool_free(s->pool);
@@ -153,11 +155,12 @@ static void simplifier_free(simplifier *s)
 static resurf_status simplify_levels(const resurf_mesh *in, const resurf_simplify_options *options,
                                      const size_t *targets, size_t count, resurf_mesh **outs,
                                      resurf_simplify_report *reports, const resurfi_chain_end *ends,
-                                     resurf_error *error)
+                                     const resurfi_simplify_services *services, resurf_error *error)
 {
     simplifier s;
     memset(&s, 0, sizeof s);
     s.in = in;
+    s.lent = services;
     s.opt = options ? *options : resurf_simplify_options_default();
     s.threads = resurfi_thread_count(s.opt.threads);
     s.alloc = resurfi_allocator_of(s.opt.allocator, in);
@@ -221,6 +224,13 @@ static resurf_status simplify_levels(const resurf_mesh *in, const resurf_simplif
 resurf_status resurf_simplify(const resurf_mesh *in, const resurf_simplify_options *options, resurf_mesh **out,
                               resurf_simplify_report *out_report, resurf_error *error)
 {
+    return resurfi_simplify_lent(in, options, NULL, out, out_report, error);
+}
+
+resurf_status resurfi_simplify_lent(const resurf_mesh *in, const resurf_simplify_options *options,
+                                    const resurfi_simplify_services *services, resurf_mesh **out,
+                                    resurf_simplify_report *out_report, resurf_error *error)
+{
     resurfi_clear_error(error);
     if (!out)
         return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "out is NULL");
@@ -240,7 +250,9 @@ resurf_status resurf_simplify(const resurf_mesh *in, const resurf_simplify_optio
         target = r > target ? r : target;
     }
     resurf_simplify_report rep;
-    st = simplify_levels(in, &o, &target, 1, out, out_report ? &rep : NULL, NULL, error);
+    if (services && services->in != in)
+        return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "the services were built for another mesh");
+    st = simplify_levels(in, &o, &target, 1, out, out_report ? &rep : NULL, NULL, services, error);
     if (st == RESURF_OK && out_report)
         *out_report = rep;
     return st;
@@ -250,13 +262,13 @@ resurf_status resurf_simplify_lods(const resurf_mesh *in, const double *ratios, 
                                    const resurf_simplify_options *options, resurf_mesh **out_levels,
                                    resurf_simplify_report *out_reports, resurf_error *error)
 {
-    return resurfi_simplify_lods_until(in, ratios, count, options, NULL, out_levels, out_reports, error);
+    return resurfi_simplify_lods_until(in, ratios, count, options, NULL, NULL, out_levels, out_reports, error);
 }
 
 resurf_status resurfi_simplify_lods_until(const resurf_mesh *in, const double *ratios, size_t count,
                                           const resurf_simplify_options *options, const resurfi_chain_end *ends,
-                                          resurf_mesh **out_levels, resurf_simplify_report *out_reports,
-                                          resurf_error *error)
+                                          const resurfi_simplify_services *services, resurf_mesh **out_levels,
+                                          resurf_simplify_report *out_reports, resurf_error *error)
 {
     resurfi_clear_error(error);
     if (!out_levels || (count && !ratios))
@@ -280,7 +292,9 @@ resurf_status resurfi_simplify_lods_until(const resurf_mesh *in, const double *r
         }
         targets[i] = (size_t)floor(ratios[i] * (double)in->triangle_count * (1 + 1e-12));
     }
-    st = simplify_levels(in, options, targets, count, out_levels, out_reports, ends, error);
+    st = services && services->in != in
+             ? resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "the services were built for another mesh")
+             : simplify_levels(in, options, targets, count, out_levels, out_reports, ends, services, error);
     resurfi_free(alloc, targets);
     return st;
 }

@@ -256,9 +256,11 @@ typedef struct simplifier {
                           candidate. */
 
     /* the original M: for restoring, attributes and measuring */
-    resurfi_restorer *restorer;
-    resurfi_bvh *own_bvh;       /* when there is no restorer */
-    const resurfi_bvh *bvh;     /* over the input's triangles, input triangle ids */
+    const resurfi_simplify_services *lent; /* the services over M built before the call, or NULL */
+    const resurfi_restorer *restorer;      /* the lent one or own_restorer */
+    resurfi_restorer *own_restorer;
+    resurfi_bvh *own_bvh;
+    const resurfi_bvh *bvh;     /* over the input's triangles, input triangle ids: the lent one or own_bvh */
     uint32_t *home;             /* inline restoration: per position, a triangle of the input near it */
     uint32_t *curve_nb;         /* inline restoration: per position of M, its two neighbours along its crease or
                                    border curve (NONE, NONE at a corner or where it is on none; curves.c) */
@@ -421,6 +423,23 @@ int analyse_position(simplifier *s, uint32_t a, scratch *sc, pos_flags *out_flag
 int feature_edge(const simplifier *s, uint32_t ti, uint32_t tj, uint32_t ci, uint32_t cj);
 int group_border(const simplifier *s, uint32_t ti, uint32_t tj);
 resurf_status simplify_start(simplifier *s, scratch *scratch, resurf_error *error);
+/* The input's indices, positions, counts and groups checked (the start's first step). */
+resurf_status simplify_check_input(const resurf_mesh *in, resurf_error *error);
+/* The services over M (services.c): what they hold, and the restoring options a call builds its restorer with. */
+struct resurfi_simplify_services {
+    resurfi_restorer *restorer; /* NULL without restoration */
+    resurfi_bvh *bvh;
+    const resurf_mesh *in;      /* the input they were built for */
+    resurf_allocator alloc;     /* a copy of the build's allocator */
+};
+resurf_restore_options services_restore_options(const resurf_simplify_options *o, const resurf_allocator *alloc);
+resurf_status services_build_restorer(const resurf_mesh *in, const resurf_simplify_options *o,
+                                      const resurf_allocator *alloc, const uint32_t *remap, size_t positions,
+                                      resurfi_restorer **out, resurf_error *error);
+resurf_status services_build_bvh(const resurf_mesh *in, const resurf_simplify_options *o,
+                                 const resurf_allocator *alloc, resurfi_bvh **out);
+/* Does the call need the tree over the input (attributes to interpolate, or a report to measure)? */
+int services_need_bvh(const resurf_mesh *in, const resurf_simplify_options *o);
 
 /* curves.c: M's crease and border curves, and a collapse's place on them (curve_place: 0 when a and b are not on
  * one curve of M within reach; else *out on it and *out_at the curve's vertex of M next to it) */

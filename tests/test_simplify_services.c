@@ -1,0 +1,118 @@
+/* src/simplify/services.c, the services over the original built once and lent to several simplifications: a call
+ * that borrows them makes the same level and the same report, bit for bit, as one that builds its own, in every
+ * restoring mode, with and without attributes, with or without a measured report; services built for one mesh
+ * are refused for another; bad input fails the build with the simplifier's own error. */
+#include <string.h>
+
+#include "internal.h"
+#include "testutil.h"
+
+static int same_mesh(const resurf_mesh *a, const resurf_mesh *b)
+{
+    if (a->vertex_count != b->vertex_count || a->triangle_count != b->triangle_count ||
+        !a->normals != !b->normals)
+        return 0;
+    if (memcmp(a->positions, b->positions, 3 * a->vertex_count * sizeof *a->positions) ||
+        memcmp(a->indices, b->indices, 3 * a->triangle_count * sizeof *a->indices))
+        return 0;
+    return !a->normals || !memcmp(a->normals, b->normals, 3 * a->vertex_count * sizeof *a->normals);
+}
+
+/* Distances are NaN when nothing was measured: compared as bits. */
+static int same_report(const resurf_simplify_report *a, const resurf_simplify_report *b)
+{
+    return a->triangles == b->triangles && a->vertices == b->vertices && a->collapses == b->collapses &&
+           !memcmp(&a->result_to_input_max, &b->result_to_input_max, sizeof(double)) &&
+           !memcmp(&a->input_to_result_max, &b->input_to_result_max, sizeof(double)) &&
+           !memcmp(&a->result_to_input_mean, &b->result_to_input_mean, sizeof(double)) &&
+           !memcmp(&a->input_to_result_mean, &b->input_to_result_mean, sizeof(double));
+}
+
+/* Simplified to each target twice, with the services lent (built with `built`) and without. */
+static void check_lent(const resurf_mesh *in, const resurf_simplify_options *built, resurf_simplify_options o)
+{
+    resurfi_simplify_services *sv = NULL;
+    resurf_error e;
+    ck_assert_int_eq(resurfi_simplify_services_build(in, built, &sv, &e), RESURF_OK);
+    static const double ratios[] = {0.5, 0.2, 0.05};
+    for (size_t k = 0; k < sizeof ratios / sizeof *ratios; ++k) {
+        o.target_ratio = ratios[k];
+        resurf_mesh *own = NULL, *lent = NULL;
+        resurf_simplify_report ro, rl;
+        ck_assert_int_eq(resurf_simplify(in, &o, &own, &ro, &e), RESURF_OK);
+        ck_assert_int_eq(resurfi_simplify_lent(in, &o, sv, &lent, &rl, &e), RESURF_OK);
+        ck_assert_msg(same_mesh(own, lent), "ratio %g: the lent services changed the level", ratios[k]);
+        ck_assert_msg(same_report(&ro, &rl), "ratio %g: the lent services changed the report", ratios[k]);
+        ck_assert_uint_lt(own->triangle_count, in->triangle_count);
+        resurf_mesh_free(own);
+        resurf_mesh_free(lent);
+    }
+    resurfi_simplify_services_free(sv);
+}
+
+START_TEST(lent_services_change_nothing)
+{
+    resurf_mesh *sphere = shape_mesh(SHAPE_SPHERE, 4000, 0.2, 7, 0);
+    resurf_mesh *torus = shape_mesh(SHAPE_TORUS, 4000, 0.2, 3, 1); /* with normals: attributes to interpolate */
+    resurf_mesh *cube = shape_mesh(SHAPE_CUBE, 3000, 0, 1, 0);     /* creases and corners: the curves */
+    ck_assert(sphere && torus && cube);
+    static const resurf_restore_mode modes[] = {RESURF_RESTORE_INLINE, RESURF_RESTORE_POST, RESURF_RESTORE_NONE};
+    for (size_t m = 0; m < sizeof modes / sizeof *modes; ++m) {
+        resurf_simplify_options o = resurf_simplify_options_default();
+        o.restore = modes[m];
+        check_lent(sphere, &o, o);
+        check_lent(torus, &o, o);
+        check_lent(cube, &o, o);
+    }
+    /* Built on several threads and without a report to measure, lent to a one-thread call that measures: the tree
+     * the call needs and the services lack, it builds. */
+    resurf_simplify_options built = resurf_simplify_options_default(), call = built;
+    built.threads = 2;
+    built.measure_samples = 0;
+    call.threads = 1;
+    check_lent(sphere, &built, call);
+    resurf_mesh_free(sphere);
+    resurf_mesh_free(torus);
+    resurf_mesh_free(cube);
+}
+END_TEST
+
+START_TEST(services_belong_to_their_mesh)
+{
+    resurf_mesh *a = shape_mesh(SHAPE_SPHERE, 500, 0, 1, 0), *b = shape_mesh(SHAPE_SPHERE, 500, 0, 1, 0);
+    resurfi_simplify_services *sv = NULL;
+    resurf_error e;
+    ck_assert_int_eq(resurfi_simplify_services_build(a, NULL, &sv, &e), RESURF_OK);
+    resurf_simplify_options o = resurf_simplify_options_default();
+    o.target_ratio = 0.5;
+    resurf_mesh *out = NULL;
+    ck_assert_int_eq(resurfi_simplify_lent(b, &o, sv, &out, NULL, &e), RESURF_ERR_INVALID_ARGUMENT);
+    ck_assert_ptr_null(out);
+    double ratios[] = {0.5};
+    resurf_mesh *levels[1] = {NULL};
+    ck_assert_int_eq(resurfi_simplify_lods_until(b, ratios, 1, &o, NULL, sv, levels, NULL, &e),
+                     RESURF_ERR_INVALID_ARGUMENT);
+    ck_assert_ptr_null(levels[0]);
+    resurfi_simplify_services_free(sv);
+    resurfi_simplify_services_free(NULL);
+    /* A triangle that names a vertex the mesh does not have: the simplifier's own check. */
+    b->indices[4] = (uint32_t)b->vertex_count;
+    ck_assert_int_eq(resurfi_simplify_services_build(b, NULL, &sv, &e), RESURF_ERR_INVALID_MESH);
+    ck_assert_ptr_null(sv);
+    ck_assert(strstr(e.message, "refers to vertex") != NULL);
+    resurf_mesh_free(a);
+    resurf_mesh_free(b);
+}
+END_TEST
+
+Suite *make_suite(void)
+{
+    Suite *s = suite_create("simplify_services");
+    TCase *tc = tcase_create("core");
+    tcase_add_test(tc, lent_services_change_nothing);
+    tcase_add_test(tc, services_belong_to_their_mesh);
+    suite_add_tcase(s, tc);
+    return s;
+}
+
+RESURF_TEST_MAIN()
