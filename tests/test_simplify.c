@@ -950,8 +950,9 @@ END_TEST
 /* The Stanford bunny (tests/data/bunny.obj, 3,674 triangles, a coarse scan): at an ear's rim the quadric's place
  * lies 0.07 outside M and restoring it onto M pulls the rim in, so M's ear tip ends farther from the level than
  * from `none`'s (two-sided Hausdorff distance over `none`'s without the reach gate 1.09 at 25%, 1.13 at 10%; with
- * it 1.00 and 1.005, by resurf_compare). Asserted against the independent two-sided measure: the default at most
- * 1.02 times `none` in Hausdorff distance, and not above it in mean distance. */
+ * it 1.00 and 1.005, by resurf_compare; with the sag offset also at such a fan's vertices, 0.998 and 0.9994).
+ * Asserted against the independent two-sided measure: the default not above `none` in Hausdorff distance nor in
+ * mean distance (issue 19's target). */
 START_TEST(simplify_restored_scan_covers_its_tips)
 {
     resurf_mesh *m = NULL;
@@ -970,7 +971,7 @@ START_TEST(simplify_restored_scan_covers_its_tips)
             ck_assert_int_eq(resurf_compare(m, out, NULL, &d[mode], NULL, NULL), RESURF_OK);
             resurf_mesh_free(out);
         }
-        ck_assert_msg(d[1].hausdorff <= 1.02 * d[0].hausdorff, "ratio %g: Hausdorff %.4g x none's", ratios[i],
+        ck_assert_msg(d[1].hausdorff <= d[0].hausdorff, "ratio %g: Hausdorff %.4g x none's", ratios[i],
                       d[1].hausdorff / d[0].hausdorff);
         ck_assert_msg(d[1].mean <= d[0].mean, "ratio %g: mean %.4g x none's", ratios[i], d[1].mean / d[0].mean);
     }

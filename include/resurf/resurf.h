@@ -803,9 +803,10 @@ typedef struct resurf_simplify_options {
                                      far the input lies above its triangles on average (measured from their edges'
                                      midpoints to the input's closest points) so that the facets straddle the
                                      input's surface, which the report measures against. Not at a vertex touching
-                                     a crease or corner, nor at one whose triangles are not one smooth fan (a face
-                                     more than feature_angle_deg from S's normal there): the chord-sag model holds
-                                     on smooth surfaces only. 0 = vertices exactly on S; range [0, 4]; default 1 */
+                                     a crease or corner (the chord-sag model holds on smooth surfaces only), and
+                                     never more than twice the gap measured between the vertex's triangles and the
+                                     input, nor of the other sign. 0 = vertices exactly on S; range [0, 4];
+                                     default 1 */
 
     /* Guards. A candidate collapse that breaks one is skipped and counted in the report. The link condition (no
      * non-manifold result) and attribute seams (a seam vertex collapses only along its seam) always apply; vertices

@@ -362,8 +362,7 @@ vec3 restore_point(const simplifier *s, vec3 p, double scale, uint32_t home, int
 
 /* The reach gate: may restoring the collapse's place pl->p to q (restored on M's triangle q_home) stand? Where one of
  * the new fan's triangles turns from S's normal at q by more than feature_angle_deg, the fan is no smooth one (the
- * chord-sag model, and so the sag offset of place_output, does not hold there either): a scan's tip or a thin
- * rim, sharper than its normals. There the restored place is kept only if it does not raise the local two-sided
+ * chord-sag model does not hold there either): a scan's tip or a thin rim, sharper than its normals. There the restored place is kept only if it does not raise the local two-sided
  * error the collapse can measure, the larger of the place's distance to M and the reach of M's corners next to
  * pl->p and q outside the new fan (corners_reach), by more than q's own height over M. The bunny's ear at 10%: its
  * rim vertex, restored 0.07 inwards onto M, left M's tip 0.22 from the level instead of 0.20 (docs/restoring.md

@@ -478,14 +478,8 @@ static resurf_status place_output(simplifier *s, output *o)
         uint32_t u[3];
         for (int c = 0; c < 3; ++c)
             u[c] = o->ov_u[o->corner_ov[3 * i + c]];
-        vec3 face = v3_tri_cross(o->base[u[0]], o->base[u[1]], o->base[u[2]]);
         for (int c = 0; c < 3; ++c) {
             vec3 pv = o->base[u[c]];
-            /* Only where v's triangles are one smooth fan: one that turns from S's normal at v by more than
-             * feature_angle_deg lies across a crease, where the chord-sag model does not hold (it would push v out
-             * across the crease). */
-            if (!(v3_dot(face, o->normal[u[c]]) >= s->feature_cos * v3_len(face)))
-                o->held[u[c]] |= HELD_OFFSET;
             o->gap_sum[u[c]] += o->gap[i];
             for (int d = 1; d < 3; ++d) {
                 vec3 pw = o->base[u[(c + d) % 3]];
