@@ -1,7 +1,7 @@
 /* Meshes of one layout as the parts of one mesh, and back: the parts joined side by side with each triangle's part
  * as its group (so the simplifier sees one surface whose part borders are creases, src/simplify/setup.c), and a
  * joined mesh split by group into meshes of its own layout again. A scene simplifies a mesh's primitives together
- * this way (src/scene_lods.c): measured by tools/bench-borders, it keeps the borders closed at a lower error than
+ * this way (src/scene_joint.c): measured by tools/bench-borders, it keeps the borders closed at a lower error than
  * locking them. */
 #include <string.h>
 

@@ -14,7 +14,7 @@
  *      the scene's count before (at this level and the later ones that show it), the step is undone; r = 0 is
  *      tried first, then r = 0.5 (0.8 as a third try changed nothing on 2CylinderEngine and cost 20% more time);
  *      when neither works the level is done, else the step repeats (at most BUDGET_STEPS times).
- * A mesh whose primitives are simplified together (scene_lods.c) is one unit here: its input is the primitives
+ * A mesh whose primitives are simplified together (scene_joint.c) is one unit here: its input is the primitives
  * joined (with the joined locks and sample share of its chain), a run simplifies that to a count and is split back
  * into the primitives, and its triangles and error are the sum and the mesh's; a run that would leave one of them
  * without triangles is not taken. (Counted but never made again, such a mesh set 2CylinderEngine's 10% level at

@@ -6,7 +6,11 @@
  *
  * The call is all or nothing: the chains of every primitive and the coverage arrays are made first, and only when
  * all of them exist (no error, no cancel, no allocation left to fail) are they moved into the scene, which
- * therefore never holds levels of only some primitives. */
+ * therefore never holds levels of only some primitives.
+ *
+ * Here: the entry and the chain of each primitive. Apart (scene_lods_internal.h): the shared borders
+ * (scene_borders.c), the chains of a mesh whose primitives are simplified together (scene_joint.c), the world errors
+ * of the levels (scene_lod_errors.c) and the scene's triangle budget (scene_budget.c). */
 #include <math.h>
 #include <pthread.h>
 #include <stdatomic.h>
@@ -14,9 +18,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "hash.h"
-#include "union_find.h"
-#include "scene_internal.h"
+#include "scene_lods_internal.h"
 
 resurf_scene_lod_options resurf_scene_lod_options_default(void)
 {
@@ -107,18 +109,6 @@ static void free_chains(const resurf_allocator *alloc, resurf_mesh ***chains, si
 #define MISS_SLACK 1.5
 #define MISS_TRIANGLES 2
 
-/* The largest scale of a world matrix (column-major; NULL = identity): its longest column, which is exact for the
- * translation · rotation · scale products of glTF node transforms. */
-static double matrix_scale(const double *a)
-{
-    if (!a)
-        return 1;
-    double best = 0;
-    for (int c = 0; c < 3; ++c)
-        best = fmax(best, sqrt(a[4 * c] * a[4 * c] + a[4 * c + 1] * a[4 * c + 1] + a[4 * c + 2] * a[4 * c + 2]));
-    return best > 0 ? best : 1;
-}
-
 /* Level k's error bound in world units from the options (0 = none). */
 static double world_bound(const resurf_scene_lod_options *o, size_t k, double diagonal)
 {
@@ -155,8 +145,8 @@ static int level_ends_chain(size_t input, size_t before, size_t t, const double 
 
 /* How many levels of a chain help, from their reports; *why: 0 all of them, else level_ends_chain's answer for the
  * first that does not. */
-static size_t levels_that_help(const resurf_mesh *in, const resurf_simplify_report *rep, const double *ratios,
-                               size_t count, int *why)
+size_t resurfi_levels_that_help(const resurf_mesh *in, const resurf_simplify_report *rep, const double *ratios,
+                                size_t count, int *why)
 {
     size_t before = in->triangle_count;
     *why = 0;
@@ -187,9 +177,9 @@ static int ends_chain(void *ctx, size_t k, size_t triangles, resurf_simplify_sto
 /* One primitive's chain: one resurf_simplify_lods run when every level has the same bound and a ratio, else one
  * resurf_simplify run per level from the original (a bound that grows from level to level cannot be one run: a
  * candidate skipped for its error leaves the queue). */
-static resurf_status make_chain(const resurf_mesh *in, const double *ratios, size_t count, const double *bounds,
-                                const resurf_simplify_options *sim, resurf_mesh **chain,
-                                resurf_simplify_report *reports, resurf_error *e)
+resurf_status resurfi_make_chain(const resurf_mesh *in, const double *ratios, size_t count, const double *bounds,
+                                 const resurf_simplify_options *sim, resurf_mesh **chain,
+                                 resurf_simplify_report *reports, resurf_error *e)
 {
     int one_run = ratios != NULL;
     for (size_t k = 1; k < count; ++k)
@@ -230,7 +220,7 @@ static double seconds_now(void)
 }
 
 /* The area of a mesh's triangles, in its own units. */
-static double mesh_area(const resurf_mesh *m)
+double resurfi_mesh_area(const resurf_mesh *m)
 {
     double a = 0;
     for (size_t t = 0; t < m->triangle_count; ++t) {
@@ -256,345 +246,7 @@ static size_t primitive_samples(size_t budget, double world_area, double scene_a
     return n < (double)budget ? (size_t)n : budget;
 }
 
-/* ---- shared borders ---- */
-
-/* A position as a key: its three coordinates' bits (-0 as +0, so that equal coordinates are equal keys). */
-typedef struct pos_key {
-    uint64_t bits[3];
-} pos_key;
-
-static pos_key key_of(const double *p)
-{
-    pos_key k;
-    for (int c = 0; c < 3; ++c) {
-        double v = p[c] == 0 ? 0.0 : p[c];
-        memcpy(&k.bits[c], &v, sizeof v);
-    }
-    return k;
-}
-
-static uint64_t key_hash(const pos_key *k)
-{
-    return resurfi_mix64(k->bits[0] ^ resurfi_mix64(k->bits[1] ^ resurfi_mix64(k->bits[2])));
-}
-
-/* One slot of the table of a mesh's positions: the first primitive that uses it, and whether another does too. */
-typedef struct pos_slot {
-    pos_key key;
-    size_t prim;            /* SIZE_MAX: empty */
-    int shared;
-} pos_slot;
-
-/* The positions that primitives of different owners use, bit for bit (prims[i] has owner[i], in 0..n-1). With
- * locks, the vertices of each rewritten primitive at such a position are locked: added to locks[p], which is
- * allocated when NULL. With connected, whether shared positions link all owners into one set. Only vertices that
- * triangles use count. */
-static resurf_status lock_shared(const resurf_scene *scene, const size_t *prims, const size_t *owner, size_t n,
-                                 const resurf_allocator *alloc, uint8_t **locks, bool *connected)
-{
-    size_t total = 0;
-    for (size_t i = 0; i < n; ++i)
-        total += scene->prims[prims[i]].mesh->vertex_count;
-    if (connected)
-        *connected = false;
-    if (n < 2 || total == 0)
-        return RESURF_OK;
-    size_t cap = 16;
-    while (cap < 2 * total)
-        cap *= 2;
-    pos_slot *table = resurfi_alloc(alloc, cap, sizeof *table);
-    uint32_t *set = resurfi_alloc(alloc, n, sizeof *set); /* union-find over the owners */
-    if (!table || !set) {
-        resurfi_free(alloc, table);
-        resurfi_free(alloc, set);
-        return RESURF_ERR_OUT_OF_MEMORY;
-    }
-    for (size_t i = 0; i < n; ++i)
-        set[i] = (uint32_t)i;
-    for (size_t i = 0; i < cap; ++i)
-        table[i].prim = SIZE_MAX;
-    /* Pass 1: which positions more than one owner uses; pass 2: the locks of each rewritten primitive. */
-    resurf_status st = RESURF_OK;
-    for (int pass = 0; pass < (locks ? 2 : 1) && st == RESURF_OK; ++pass) {
-        for (size_t x = 0; x < n && st == RESURF_OK; ++x) {
-            size_t p = prims[x];
-            const resurf_mesh *mesh = scene->prims[p].mesh;
-            if (pass == 1 && !resurfi_scene_rewritten(&scene->prims[p]))
-                continue;
-            uint8_t *lock = pass == 1 ? locks[p] : NULL, *made = NULL;
-            size_t locked = 0;
-            if (pass == 1 && !lock && !(lock = made = resurfi_calloc(alloc, mesh->vertex_count + 1, 1))) {
-                st = RESURF_ERR_OUT_OF_MEMORY;
-                break;
-            }
-            for (size_t t = 0; t < 3 * mesh->triangle_count; ++t) {
-                uint32_t v = mesh->indices[t];
-                pos_key k = key_of(mesh->positions + 3 * (size_t)v);
-                size_t i = (size_t)key_hash(&k) & (cap - 1);
-                while (table[i].prim != SIZE_MAX && memcmp(&table[i].key, &k, sizeof k))
-                    i = (i + 1) & (cap - 1);
-                if (pass == 0) {
-                    if (table[i].prim == SIZE_MAX)
-                        table[i] = (pos_slot){k, owner[x], 0};
-                    else if (table[i].prim != owner[x]) {
-                        table[i].shared = 1;
-                        resurfi_uf_union(set, (uint32_t)table[i].prim, (uint32_t)owner[x]);
-                    }
-                } else if (table[i].shared && !lock[v]) {
-                    lock[v] = 1;
-                    locked++;
-                }
-            }
-            if (made && locked)
-                locks[p] = made;
-            else
-                resurfi_free(alloc, made);
-        }
-    }
-    if (connected) {
-        *connected = true;
-        for (size_t x = 0; x < n; ++x)
-            if (resurfi_uf_find(set, (uint32_t)owner[x]) != resurfi_uf_find(set, 0))
-                *connected = false;
-    }
-    resurfi_free(alloc, table);
-    resurfi_free(alloc, set);
-    return st;
-}
-
-/* Mesh m's primitives (those with a mesh) for lock_shared, each its own owner: locks the positions they share (a
- * morphed one included), so that no level opens a crack between them; or, with locks NULL, only *connected. */
-static resurf_status shared_positions(const resurf_scene *scene, size_t m, const resurf_allocator *alloc,
-                                      uint8_t **locks, bool *connected)
-{
-    size_t first = scene->mesh_first[m], last = scene->mesh_first[m + 1], n = 0;
-    size_t *prims = resurfi_alloc(alloc, last - first + 1, sizeof *prims);
-    size_t *owner = resurfi_alloc(alloc, last - first + 1, sizeof *owner);
-    resurf_status st = prims && owner ? RESURF_OK : RESURF_ERR_OUT_OF_MEMORY;
-    for (size_t p = first; st == RESURF_OK && p < last; ++p)
-        if (scene->prims[p].mesh)
-            prims[n] = p, owner[n] = n, n++;
-    if (st == RESURF_OK)
-        st = lock_shared(scene, prims, owner, n, alloc, locks, connected);
-    else if (connected)
-        *connected = false;
-    resurfi_free(alloc, prims);
-    resurfi_free(alloc, owner);
-    return st;
-}
-
-/* An instance's world matrix for comparing (NULL is the identity). */
-static const double *world_of(const resurfi_scene_instance *it)
-{
-    static const double identity[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
-    return it->world ? it->world : identity;
-}
-
-static int by_world_then_mesh(const void *a, const void *b)
-{
-    const resurfi_scene_instance *x = a, *y = b;
-    int c = memcmp(world_of(x), world_of(y), 16 * sizeof(double));
-    return c ? c : (x->mesh > y->mesh) - (x->mesh < y->mesh);
-}
-
-/* Different meshes shown by nodes of one world matrix (the parts an exporter split an object into, side by side
- * under one parent): the positions they share, bit for bit, are locked in each, so that no level opens a crack
- * between them either. */
-static resurf_status shared_between_meshes(const resurf_scene *scene, const resurfi_scene_instances *list,
-                                           const resurf_allocator *alloc, uint8_t **locks)
-{
-    if (list->count < 2)
-        return RESURF_OK;
-    resurfi_scene_instance *sorted = resurfi_alloc(alloc, list->count, sizeof *sorted);
-    size_t *prims = resurfi_alloc(alloc, scene->prim_count + 1, sizeof *prims);
-    size_t *owner = resurfi_alloc(alloc, scene->prim_count + 1, sizeof *owner);
-    resurf_status st = sorted && prims && owner ? RESURF_OK : RESURF_ERR_OUT_OF_MEMORY;
-    if (st == RESURF_OK) {
-        memcpy(sorted, list->items, list->count * sizeof *sorted);
-        qsort(sorted, list->count, sizeof *sorted, by_world_then_mesh);
-    }
-    for (size_t a = 0, b; st == RESURF_OK && a < list->count; a = b) {
-        /* sorted[a .. b) share one world matrix; their distinct meshes are the owners */
-        size_t n = 0, owners = 0;
-        for (b = a; b < list->count && !memcmp(world_of(&sorted[a]), world_of(&sorted[b]), 16 * sizeof(double));
-             ++b) {
-            if (b > a && sorted[b].mesh == sorted[b - 1].mesh)
-                continue;
-            size_t m = sorted[b].mesh;
-            for (size_t p = scene->mesh_first[m]; p < scene->mesh_first[m + 1]; ++p)
-                if (scene->prims[p].mesh)
-                    prims[n] = p, owner[n] = owners, n++;
-            owners++;
-        }
-        if (owners >= 2)
-            st = lock_shared(scene, prims, owner, n, alloc, locks, NULL);
-    }
-    resurfi_free(alloc, sorted);
-    resurfi_free(alloc, prims);
-    resurfi_free(alloc, owner);
-    return st;
-}
-
-/* Two-sided distances between level `level` of the instances in list and `full` (level 0 of the same instances),
- * in world units. A level without triangles is not measurable: *out gets NaN. */
-static resurf_status measure_level(const resurf_scene *scene, const resurfi_scene_instances *list,
-                                   const resurf_mesh *full, size_t level, const resurfi_scene_levels *levels,
-                                   const resurf_compare_options *co, resurf_compare_report *out, resurf_error *error)
-{
-    resurf_mesh *w = NULL;
-    resurf_status st = resurfi_scene_flatten(scene, list, level, levels, co->allocator, &w, error);
-    if (st != RESURF_OK)
-        return st;
-    if (w->triangle_count == 0 || full->triangle_count == 0) {
-        out->hausdorff = out->mean = out->test_to_ref_max = out->ref_to_test_max = NAN;
-        out->diagonal = resurf_mesh_bounds(full, NULL, NULL);
-        resurf_mesh_free(w);
-        return RESURF_OK;
-    }
-    st = resurf_compare(full, w, co, out, NULL, error);
-    resurf_mesh_free(w);
-    return st;
-}
-
-/* ---- the world errors composed from the primitives' own ---- */
-
-/* Whether the world matrix a (column-major; NULL = identity) is a similarity, a rotation and a uniform scale and a
- * move, under which every distance is its scale (*scale) times the one in the primitive's units (to 1e-5). */
-static int is_similarity(const double *a, double *scale)
-{
-    *scale = matrix_scale(a);
-    if (!a)
-        return 1;
-    vec3 c[3] = {v3(a[0], a[1], a[2]), v3(a[4], a[5], a[6]), v3(a[8], a[9], a[10])};
-    double s2 = *scale * *scale, tol = 1e-5 * s2; /* float matrices of a file, multiplied down a hierarchy */
-    for (int i = 0; i < 3; ++i)
-        for (int j = i; j < 3; ++j)
-            if (fabs(v3_dot(c[i], c[j]) - (i == j ? s2 : 0)) > tol)
-                return 0;
-    return 1;
-}
-
-/* What the composition reads: the chains as they will be set, the primitives' reports, and their levels' areas. */
-typedef struct lod_levels_view {
-    resurf_mesh *const *const *chains; /* per primitive: its levels, or NULL */
-    const size_t *kept;                /* per primitive: the levels that help */
-    const resurf_simplify_report *reports;
-    const double *areas;
-    size_t count;                      /* levels asked for */
-} lod_levels_view;
-
-/* Level k's figures in world units over some instances: one-sided maxima and area-weighted means of each side. */
-typedef struct world_errors {
-    double to_full, from_full;      /* the level's surface to level 0's, and level 0's to the level's: maxima */
-    double to_sum, to_area;         /* the level's side: sum of mean × area, and the area */
-    double from_sum, from_area;     /* level 0's side */
-} world_errors;
-
-/* Adds what instance `item` shows at level k to *e from its primitives' own two-sided reports (reports[p × count
- * + j] for level j + 1 of primitive p; areas[p × (count + 1) + j] the area of primitive p's level j, 0 = full
- * detail): a primitive at full detail adds nothing but its area. 0 when the reports cannot say it: the transform is
- * not a similarity, or a shown level was not measured. The maxima bound the whole scene's from above (a point's
- * distance to all of level 0 is at most its distance to its own primitive's) and equal it where no other
- * primitive lies nearer than the error; the means are those of area-uniform samples, as resurf_compare's. */
-static int add_instance(const resurf_scene *scene, const lod_levels_view *v, const resurfi_scene_instance *item,
-                        size_t k, world_errors *e)
-{
-    double s;
-    if (!is_similarity(item->world, &s))
-        return 0;
-    for (size_t p = scene->mesh_first[item->mesh]; p < scene->mesh_first[item->mesh + 1]; ++p) {
-        if (!scene->prims[p].mesh)
-            continue;
-        size_t shown = v->chains[p] ? (k < v->kept[p] ? k : v->kept[p]) : 0;
-        double full_area = s * s * v->areas[p * (v->count + 1)];
-        double level_area = s * s * v->areas[p * (v->count + 1) + shown];
-        e->from_area += full_area;
-        e->to_area += level_area;
-        if (shown == 0)
-            continue;
-        const resurf_simplify_report *r = &v->reports[p * v->count + shown - 1];
-        if (!(isfinite(r->result_to_input_max) && isfinite(r->input_to_result_max) &&
-              isfinite(r->result_to_input_mean) && isfinite(r->input_to_result_mean)))
-            return 0;
-        e->to_full = fmax(e->to_full, s * r->result_to_input_max);
-        e->from_full = fmax(e->from_full, s * r->input_to_result_max);
-        e->to_sum += s * r->result_to_input_mean * level_area;
-        e->from_sum += s * r->input_to_result_mean * full_area;
-    }
-    return 1;
-}
-
-/* The margin of the part of the other surface that an instance is measured to, over the instance's own bound: its
- * points lie about that far from their own primitives' other surface, so usually the nearest triangles lie within
- * it; when not, resurfi_side_max_nearby measures again (the figure is the same either way). On 2CylinderEngine at
- * 25% and 10% the errors phase took 0.84 G instructions at 0.5 (retries), 0.65 G at 1.0, 0.69 G at 1.25, which
- * leaves room for a sampled maximum above the bound without a retry. */
-#define NEAR_MARGIN 1.25
-
-/* An instance and its own bound on one side of a level, for measuring the largest first. */
-typedef struct bound_item {
-    double bound;
-    size_t instance;
-} bound_item;
-
-static int larger_bound_first(const void *a, const void *b)
-{
-    const bound_item *x = a, *y = b;
-    if (x->bound != y->bound)
-        return x->bound > y->bound ? -1 : 1;
-    return x->instance < y->instance ? -1 : x->instance > y->instance;
-}
-
-/* One side's maximum over the whole scene: the points of each instance as level `shown` shows it (resurf_compare's
- * points at `density` samples per world area, and the vertices) measured to the whole other surface `to`, the
- * instances taken by their own bound, largest first, until the next bound is no more than the largest distance
- * found. Each instance left lies within its bound of its own primitives' other surface, so of the whole scene's:
- * none of them can raise the maximum. Usually one or two instances are measured, each against the part of `to`
- * near it (resurfi_side_max_nearby, with its own bound as the guess of the margin). */
-static resurf_status side_over_scene(const resurf_scene *scene, const resurfi_scene_instances *list, size_t shown,
-                                     const resurfi_scene_levels *levels, const bound_item *order, double density,
-                                     uint64_t seed, int facet_points, const resurf_mesh *to, unsigned threads,
-                                     const resurf_allocator *alloc, double *out_max, resurf_error *error)
-{
-    double best = 0;
-    for (size_t j = 0; j < list->count && order[j].bound > best; ++j) {
-        resurfi_scene_instances single = {1, &list->items[order[j].instance]};
-        resurf_mesh *m = NULL;
-        resurf_status st = resurfi_scene_flatten(scene, &single, shown, levels, alloc, &m, error);
-        double d = NAN;
-        double samples = st == RESURF_OK ? ceil(density * mesh_area(m)) : 0;
-        samples = samples > 0 ? fmin(samples, 1e9) : 0;
-        if (st == RESURF_OK &&
-            resurfi_side_max_nearby(alloc, m, (size_t)samples, seed + order[j].instance, facet_points, to,
-                                    NEAR_MARGIN * order[j].bound, threads, &d) != RESURF_OK)
-            st = resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory measuring the levels");
-        resurf_mesh_free(m);
-        if (st != RESURF_OK)
-            return st;
-        best = d > best ? d : best;
-    }
-    *out_max = best;
-    return RESURF_OK;
-}
-
-/* Everything a call allocates, freed in one place. */
-typedef struct lod_work {
-    const resurf_allocator *alloc;
-    resurfi_scene_instances list;
-    resurf_mesh *full;            /* level 0 of the whole scene in world space */
-    resurf_mesh ***chains;        /* per primitive: `count` levels, or NULL */
-    size_t *kept;                 /* per primitive: the levels that help */
-    double *mesh_scale;           /* per mesh: the largest scale of its nodes */
-    size_t *mesh_levels;          /* per mesh: 1 + the most levels its primitives kept */
-    double *errors;               /* per mesh and level: the mesh's own relative world error */
-    double **coverage;            /* per mesh */
-    uint8_t **locks;              /* per primitive: its vertices shared with other primitives of its mesh, or NULL */
-    bool *together;               /* per mesh: its primitives are simplified as one surface (simplified_together) */
-    size_t *joint_kept;           /* per primitive of such a mesh: 1 + the levels of the mesh that help, 0 = not yet */
-    int *joint_why;               /* and why the chain ended there (levels_that_help); then every primitive's */
-} lod_work;
-
-static void lod_work_free(lod_work *w, size_t prim_count, size_t mesh_count, size_t count)
+static void lod_work_free(resurfi_lod_work *w, size_t prim_count, size_t mesh_count, size_t count)
 {
     free_chains(w->alloc, w->chains, prim_count, count);
     for (size_t p = 0; w->locks && p < prim_count; ++p)
@@ -616,50 +268,8 @@ static void lod_work_free(lod_work *w, size_t prim_count, size_t mesh_count, siz
 
 /* ---- the chains of all primitives ---- */
 
-/* What every primitive's chain needs, and where it goes (indexed by primitive). */
-typedef struct chain_job {
-    const resurf_scene *scene;
-    const double *ratios;
-    size_t count;
-    const resurf_simplify_options *sim;
-    const resurf_scene_lod_options *o;
-    lod_work *w;
-    double diagonal;
-    size_t sample_budget;
-    double scene_area;
-    resurf_simplify_report *reports; /* count per primitive */
-    resurf_status *status;
-    resurf_error *errors;
-    pthread_mutex_t lock;            /* over done and the caller's progress, side by side */
-    double done, total;
-    atomic_int cancelled;
-    const size_t *order;             /* side by side: the triangle primitives in the order they are taken */
-} chain_job;
-
-/* May mesh m's primitives be simplified as one surface, each primitive a group whose border is a crease
- * (src/mesh_parts.c)? When it has two or more, all of them triangles of one attribute layout; they are when, also,
- * shared positions link them all (shared_positions): primitives that share nothing cannot crack, and each keeps
- * its own ratio (joined, the cost moves triangles between them: an assimp export of two separate parts lost 4x
- * in Hausdorff at 25%). Measured by
- * tools/bench-borders on the dragon-48k cut into 4 parts, against locking the shared positions at the same triangle
- * count: 1.00x Hausdorff and 0.90x mean at 10%, 0.21x and 0.24x at 2% (the locked parts also stopped at twice
- * their target). Other meshes lock the positions their primitives share (shared_positions). */
-static bool simplified_together(const resurf_scene *scene, size_t m)
-{
-    size_t first = scene->mesh_first[m], last = scene->mesh_first[m + 1];
-    if (last - first < 2)
-        return false;
-    for (size_t p = first; p < last; ++p) {
-        const resurfi_scene_prim *prim = &scene->prims[p];
-        if (prim->info.kind != RESURF_PRIMITIVE_TRIANGLES || !prim->mesh ||
-            !resurfi_mesh_same_attributes(scene->prims[first].mesh, prim->mesh))
-            return false;
-    }
-    return true;
-}
-
 /* The work of primitive p's chain, for progress: its triangles, or its mesh's when they go together. */
-static double chain_weight(const chain_job *job, size_t p)
+static double chain_weight(const resurfi_chain_job *job, size_t p)
 {
     const resurf_scene *scene = job->scene;
     size_t m = scene->prims[p].info.mesh, triangles = 0;
@@ -670,11 +280,9 @@ static double chain_weight(const chain_job *job, size_t p)
     return (double)triangles;
 }
 
-static resurf_status make_primitive_chain(chain_job *job, size_t p, const resurf_simplify_options *base);
-
 /* A run's options over a mesh of this scale and area (its locks, its share of the samples), its bounds in its units. */
-static void run_options(const chain_job *job, const resurf_simplify_options *base, double scale, double area,
-                        const uint8_t *lock, resurf_simplify_options *sim, double *bounds)
+void resurfi_run_options(const resurfi_chain_job *job, const resurf_simplify_options *base, double scale, double area,
+                         const uint8_t *lock, resurf_simplify_options *sim, double *bounds)
 {
     for (size_t k = 0; k < job->count; ++k)
         bounds[k] = world_bound(job->o, k, job->diagonal) / scale;
@@ -683,137 +291,25 @@ static void run_options(const chain_job *job, const resurf_simplify_options *bas
     sim->measure_samples = primitive_samples(job->sample_budget, area * scale * scale, job->scene_area);
 }
 
-/* Mesh m's primitives joined as groups of one mesh (*joined), the options of its runs (*lock: the positions its
- * primitives share with other meshes, over the joined vertices, or NULL; its share of the samples) and its levels'
- * bounds in its units; returns its scale. For its chain and the scene budget's runs of it. */
-static double joint_input(const chain_job *job, size_t m, const resurf_simplify_options *base, resurf_mesh **joined,
-                          uint8_t **lock, resurf_simplify_options *sim, double *bounds, resurf_status *st,
-                          resurf_error *e)
-{
-    const resurf_scene *scene = job->scene;
-    const lod_work *w = job->w;
-    size_t first = scene->mesh_first[m], n = scene->mesh_first[m + 1] - first;
-    const resurf_mesh *parts[64];
-    const resurf_mesh **in = n <= 64 ? parts : resurfi_alloc(w->alloc, n, sizeof *in);
-    double area = 0, scale = w->mesh_scale[m] > 0 ? w->mesh_scale[m] : 1;
-    int any = 0;
-    *joined = NULL, *lock = NULL;
-    *st = in ? RESURF_OK : resurfi_error(e, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
-    for (size_t q = 0; *st == RESURF_OK && q < n; ++q)
-        area += mesh_area(in[q] = scene->prims[first + q].mesh), any |= w->locks[first + q] != NULL;
-    if (*st == RESURF_OK)
-        *st = resurfi_mesh_join_parts(in, n, &in[0]->allocator, joined, e);
-    if (*st == RESURF_OK && any && !(*lock = resurfi_calloc(w->alloc, (*joined)->vertex_count + 1, 1)))
-        *st = resurfi_error(e, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
-    for (size_t q = 0, v0 = 0; *st == RESURF_OK && any && q < n; v0 += in[q++]->vertex_count)
-        if (w->locks[first + q]) /* in the order resurfi_mesh_join_parts puts the vertices */
-            memcpy(*lock + v0, w->locks[first + q], in[q]->vertex_count);
-    run_options(job, base, scale, area, *lock, sim, bounds);
-    if (in != parts)
-        resurfi_free(w->alloc, in);
-    return scale;
-}
-
-/* The chains of mesh m's primitives, simplified together: the primitives joined as groups of one mesh, its chain,
- * and each level split back into the primitives. Every primitive of m gets the mesh's reports, and one count of
- * levels that help, so that no level mixes one primitive's borders with another's. A level that would leave a
- * primitive without triangles makes the mesh lock its shared borders instead (which cannot). */
-static resurf_status make_joint_chain(chain_job *job, size_t m, const resurf_simplify_options *base)
-{
-    const resurf_scene *scene = job->scene;
-    lod_work *w = job->w;
-    size_t first = scene->mesh_first[m], n = scene->mesh_first[m + 1] - first, count = job->count;
-    resurf_error *e = &job->errors[first];
-    resurf_mesh *joined = NULL, **chain = resurfi_calloc(w->alloc, count, sizeof *chain);
-    resurf_simplify_report *reports = resurfi_calloc(w->alloc, count, sizeof *reports);
-    resurf_status st = chain && reports ? RESURF_OK : resurfi_error(e, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
-    size_t kept = 0;
-    int why = 0;
-    uint8_t *joint_lock = NULL;
-    resurf_simplify_options sim;
-    double bounds[RESURF_SCENE_MAX_LEVELS - 1];
-    if (st == RESURF_OK)
-        joint_input(job, m, base, &joined, &joint_lock, &sim, bounds, &st, e);
-    if (st == RESURF_OK)
-        st = make_chain(joined, job->ratios, count, bounds, &sim, chain, reports, e);
-    if (st == RESURF_OK)
-        kept = levels_that_help(joined, reports, job->ratios, count, &why);
-    /* Split every level into the primitives: w->chains[first + q][k]. */
-    for (size_t q = 0; st == RESURF_OK && q < n; ++q)
-        if (!(w->chains[first + q] = resurfi_calloc(w->alloc, count, sizeof **w->chains)))
-            st = resurfi_error(e, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
-    resurf_mesh *split[64];
-    resurf_mesh **level = n <= 64 ? split : resurfi_alloc(w->alloc, n, sizeof *level);
-    int emptied = 0;
-    for (size_t k = 0; st == RESURF_OK && k < count && chain[k]; ++k) { /* levels after the chain's end are unmade */
-        if (!level) {
-            st = resurfi_error(e, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
-            break;
-        }
-        st = resurfi_mesh_split_parts(chain[k], n, &chain[k]->allocator, level, e);
-        for (size_t q = 0; st == RESURF_OK && q < n; ++q) {
-            w->chains[first + q][k] = level[q];
-            emptied |= k < kept && level[q]->triangle_count == 0 && scene->prims[first + q].mesh->triangle_count > 0;
-        }
-    }
-    for (size_t k = 0; k < count && chain; ++k)
-        resurf_mesh_free(chain[k]);
-    resurfi_free(w->alloc, chain);
-    resurfi_free(w->alloc, joint_lock);
-    resurf_mesh_free(joined);
-    if (level != split)
-        resurfi_free(w->alloc, level);
-    for (size_t q = 0; q < n; ++q) {
-        if (st == RESURF_OK && !emptied) {
-            /* The mesh's report, with the primitive's own counts (the distances are the mesh's). */
-            resurf_simplify_report *own = job->reports + (first + q) * count;
-            memcpy(own, reports, count * sizeof *reports);
-            for (size_t k = 0; k < count && w->chains[first + q][k]; ++k) {
-                own[k].input_triangles = scene->prims[first + q].mesh->triangle_count;
-                own[k].triangles = w->chains[first + q][k]->triangle_count;
-                own[k].vertices = w->chains[first + q][k]->vertex_count;
-            }
-            w->joint_kept[first + q] = kept + 1;
-            w->joint_why[first + q] = why;
-        } else if (w->chains[first + q]) {
-            for (size_t k = 0; k < count; ++k)
-                resurf_mesh_free(w->chains[first + q][k]);
-            resurfi_free(w->alloc, w->chains[first + q]);
-            w->chains[first + q] = NULL;
-        }
-        job->status[first + q] = st;
-    }
-    resurfi_free(w->alloc, reports);
-    if (st == RESURF_OK && emptied) {
-        /* Lock the shared borders instead, primitive by primitive. */
-        w->together[m] = false;
-        if (shared_positions(scene, m, w->alloc, w->locks, NULL) != RESURF_OK)
-            return job->status[first] = resurfi_error(e, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
-        for (size_t q = 0; q < n && st == RESURF_OK; ++q)
-            st = make_primitive_chain(job, first + q, base);
-    }
-    return st;
-}
-
 /* The options of primitive p's runs (its locks and share of the samples) and its levels' bounds in its units. */
-static double primitive_options(const chain_job *job, size_t p, const resurf_simplify_options *base,
+static double primitive_options(const resurfi_chain_job *job, size_t p, const resurf_simplify_options *base,
                                 resurf_simplify_options *sim, double *bounds)
 {
     const resurfi_scene_prim *prim = &job->scene->prims[p];
     double scale = job->w->mesh_scale[prim->info.mesh] > 0 ? job->w->mesh_scale[prim->info.mesh] : 1;
-    run_options(job, base, scale, mesh_area(prim->mesh), job->w->locks[p], sim, bounds);
+    resurfi_run_options(job, base, scale, resurfi_mesh_area(prim->mesh), job->w->locks[p], sim, bounds);
     return scale;
 }
 
 /* Primitive p's chain with options sim (threads and progress as the caller chose): w->chains[p] and its reports, or
  * status[p] and errors[p]. A primitive of a mesh simplified together makes the whole mesh's chains. */
-static resurf_status make_primitive_chain(chain_job *job, size_t p, const resurf_simplify_options *base)
+resurf_status resurfi_make_primitive_chain(resurfi_chain_job *job, size_t p, const resurf_simplify_options *base)
 {
     if (job->w->together[job->scene->prims[p].info.mesh])
-        return make_joint_chain(job, job->scene->prims[p].info.mesh, base);
+        return resurfi_make_joint_chain(job, job->scene->prims[p].info.mesh, base);
 
     const resurfi_scene_prim *prim = &job->scene->prims[p];
-    lod_work *w = job->w;
+    resurfi_lod_work *w = job->w;
     size_t count = job->count;
     resurf_simplify_options sim;
     double bounds[RESURF_SCENE_MAX_LEVELS - 1];
@@ -822,7 +318,7 @@ static resurf_status make_primitive_chain(chain_job *job, size_t p, const resurf
     resurf_mesh **chain = resurfi_calloc(w->alloc, count, sizeof *chain);
     resurf_status st = chain ? RESURF_OK : resurfi_error(e, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
     if (st == RESURF_OK)
-        st = make_chain(prim->mesh, job->ratios, count, bounds, &sim, chain, job->reports + p * count, e);
+        st = resurfi_make_chain(prim->mesh, job->ratios, count, bounds, &sim, chain, job->reports + p * count, e);
     for (size_t k = 0; k < count && st == RESURF_OK; ++k)
         if (chain[k] && !same_layout(prim->mesh, chain[k]))
             st = resurfi_error(e, RESURF_ERR_INTERNAL, "level %zu lost an attribute of the input", k + 1);
@@ -854,13 +350,13 @@ static int larger_first(const void *a, const void *b)
 static int chain_block(void *ctx, size_t begin, size_t end, unsigned worker)
 {
     (void)worker;
-    chain_job *job = ctx;
+    resurfi_chain_job *job = ctx;
     for (size_t i = begin; i < end; ++i) {
         if (atomic_load(&job->cancelled))
             return 1;
         size_t p = job->order[i];
         double weight = chain_weight(job, p);
-        make_primitive_chain(job, p, job->sim);
+        resurfi_make_primitive_chain(job, p, job->sim);
         pthread_mutex_lock(&job->lock);
         job->done += weight;
         double f = job->total > 0 ? job->done / job->total : 1;
@@ -925,7 +421,7 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
 
     /* Everything here ends in the scene or is freed: the scene's allocator (the levels' meshes come from
      * simplify->allocator when it is set, else from the primitive's mesh, which is the scene's). */
-    lod_work w = {.alloc = &scene->alloc};
+    resurfi_lod_work w = {.alloc = &scene->alloc};
     const resurf_allocator *alloc = w.alloc;
     w.chains = resurfi_calloc(alloc, prim_count, sizeof *w.chains);
     w.kept = resurfi_calloc(alloc, prim_count + 1, sizeof *w.kept);
@@ -949,19 +445,21 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
         report.diagonal = resurf_mesh_bounds(w.full, NULL, NULL);
     for (size_t m = 0; st == RESURF_OK && m < mesh_count; ++m) {
         bool connected = false;
-        if (o.keep_shared_borders && simplified_together(scene, m) &&
-            shared_positions(scene, m, alloc, NULL, &connected) != RESURF_OK)
+        if (o.keep_shared_borders && resurfi_scene_simplified_together(scene, m) &&
+            resurfi_scene_shared_positions(scene, m, alloc, NULL, &connected) != RESURF_OK)
             st = resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory finding shared borders");
         w.together[m] = connected;
     }
     for (size_t m = 0; st == RESURF_OK && m < mesh_count; ++m)
-        if (o.keep_shared_borders && !w.together[m] && shared_positions(scene, m, alloc, w.locks, NULL) != RESURF_OK)
+        if (o.keep_shared_borders && !w.together[m] &&
+            resurfi_scene_shared_positions(scene, m, alloc, w.locks, NULL) != RESURF_OK)
             st = resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory finding shared borders");
-    if (st == RESURF_OK && o.keep_shared_borders && shared_between_meshes(scene, &w.list, alloc, w.locks) != RESURF_OK)
+    if (st == RESURF_OK && o.keep_shared_borders &&
+        resurfi_scene_shared_between_meshes(scene, &w.list, alloc, w.locks) != RESURF_OK)
         st = resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory finding shared borders");
     for (size_t i = 0; st == RESURF_OK && i < w.list.count; ++i) {
         double *sc = &w.mesh_scale[w.list.items[i].mesh];
-        *sc = fmax(*sc, matrix_scale(w.list.items[i].world));
+        *sc = fmax(*sc, resurfi_matrix_scale(w.list.items[i].world));
     }
 
     /* The work of each primitive is taken as proportional to its triangles, for the progress fraction. */
@@ -971,7 +469,7 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
             const resurfi_scene_prim *prim = &scene->prims[p];
             double scale = w.mesh_scale[prim->info.mesh] > 0 ? w.mesh_scale[prim->info.mesh] : 1;
             total += (double)prim->mesh->triangle_count + 1;
-            scene_area += mesh_area(prim->mesh) * scale * scale;
+            scene_area += resurfi_mesh_area(prim->mesh) * scale * scale;
         }
     const size_t sample_budget = sim.measure_samples;
 
@@ -980,7 +478,7 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
      * else one after the other with simplify->threads each. The chains do not depend on the thread count, and the
      * results are taken in primitive order: the outcome is the same either way. */
     double chains_start = seconds_now();
-    chain_job job = {.scene = scene, .ratios = ratios, .count = count, .sim = &sim, .o = &o, .w = &w,
+    resurfi_chain_job job = {.scene = scene, .ratios = ratios, .count = count, .sim = &sim, .o = &o, .w = &w,
                      .diagonal = report.diagonal, .sample_budget = sample_budget, .scene_area = scene_area,
                      .total = total};
     pthread_mutex_init(&job.lock, NULL);
@@ -1036,7 +534,7 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
             sp.base = done / total;
             sp.span = weight / total;
             done += weight;
-            if (make_primitive_chain(&job, p, &sim) != RESURF_OK)
+            if (resurfi_make_primitive_chain(&job, p, &sim) != RESURF_OK)
                 break;
         }
     }
@@ -1067,13 +565,14 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
         const resurf_simplify_report *reports = job.reports + p * count;
         report.primitives++;
         int why = w.joint_why[p];
-        size_t kept = w.joint_kept[p] ? w.joint_kept[p] - 1 : levels_that_help(prim->mesh, reports, ratios, count, &why);
+        size_t kept = w.joint_kept[p] ? w.joint_kept[p] - 1
+                                      : resurfi_levels_that_help(prim->mesh, reports, ratios, count, &why);
         w.kept[p] = kept;
         w.joint_why[p] = why; /* counted below, where the budget has settled where the chain ends */
         size_t m = prim->info.mesh, first = scene->mesh_first[m];
         if (budget && w.chains[p] && w.together[m] && p == first) { /* the mesh is one entry */
             resurfi_budget_prim *x = &budget[budgeted++];
-            x->scale = joint_input(&job, m, &sim, &x->joined, &x->joined_lock, &x->sim, x->bounds, &st, error);
+            x->scale = resurfi_joint_input(&job, m, &sim, &x->joined, &x->joined_lock, &x->sim, x->bounds, &st, error);
             x->input = x->joined, x->parts = scene->mesh_first[m + 1] - first;
             x->part_chains = &w.chains[first], x->part_kept = &w.kept[first];
             x->part_reports = job.reports + first * count;
@@ -1137,41 +636,41 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
      * usual case): their points already cover the scene by area at the same budget, so measuring the world again
      * would only repeat them (on 2CylinderEngine that was 3 of the call's 4 CPU seconds). Else measured. */
     double *areas = st == RESURF_OK ? resurfi_calloc(alloc, prim_count * (count + 1) + 1, sizeof *areas) : NULL;
-    lod_levels_view view = {(resurf_mesh *const *const *)w.chains, w.kept, job.reports, areas, count};
+    resurfi_lod_levels_view view = {(resurf_mesh *const *const *)w.chains, w.kept, job.reports, areas, count};
     int composed = areas && job.reports && sim.measure_samples > 0;
     for (size_t p = 0; composed && p < prim_count; ++p) {
         if (!scene->prims[p].mesh)
             continue;
-        areas[p * (count + 1)] = mesh_area(scene->prims[p].mesh);
+        areas[p * (count + 1)] = resurfi_mesh_area(scene->prims[p].mesh);
         for (size_t j = 0; w.chains[p] && j < w.kept[p]; ++j)
-            areas[p * (count + 1) + j + 1] = mesh_area(w.chains[p][j]);
+            areas[p * (count + 1) + j + 1] = resurfi_mesh_area(w.chains[p][j]);
     }
-    bound_item *to_order = composed ? resurfi_alloc(alloc, w.list.count + 1, 2 * sizeof *to_order) : NULL;
-    bound_item *from_order = to_order ? to_order + w.list.count + 1 : NULL;
+    resurfi_bound_item *to_order = composed ? resurfi_alloc(alloc, w.list.count + 1, 2 * sizeof *to_order) : NULL;
+    resurfi_bound_item *from_order = to_order ? to_order + w.list.count + 1 : NULL;
     composed = to_order && w.full->triangle_count > 0;
     for (size_t k = 1; k < levels && composed && st == RESURF_OK; ++k) {
-        world_errors e = {0, 0, 0, 0, 0, 0};
+        resurfi_world_errors e = {0, 0, 0, 0, 0, 0};
         for (size_t i = 0; i < w.list.count && composed; ++i) {
-            world_errors one = {0, 0, 0, 0, 0, 0};
-            composed = add_instance(scene, &view, &w.list.items[i], k, &one);
-            to_order[i] = (bound_item){one.to_full, i};
-            from_order[i] = (bound_item){one.from_full, i};
+            resurfi_world_errors one = {0, 0, 0, 0, 0, 0};
+            composed = resurfi_add_instance(scene, &view, &w.list.items[i], k, &one);
+            to_order[i] = (resurfi_bound_item){one.to_full, i};
+            from_order[i] = (resurfi_bound_item){one.from_full, i};
             e.to_sum += one.to_sum, e.to_area += one.to_area, e.from_sum += one.from_sum, e.from_area += one.from_area;
         }
         resurf_mesh *level = NULL;
         if (composed)
             st = resurfi_scene_flatten(scene, &w.list, k, &stand_in, alloc, &level, error);
         if (composed && st == RESURF_OK && level->triangle_count > 0) {
-            qsort(to_order, w.list.count, sizeof *to_order, larger_bound_first);
-            qsort(from_order, w.list.count, sizeof *from_order, larger_bound_first);
-            double level_area = mesh_area(level), full_area = mesh_area(w.full);
+            qsort(to_order, w.list.count, sizeof *to_order, resurfi_larger_bound_first);
+            qsort(from_order, w.list.count, sizeof *from_order, resurfi_larger_bound_first);
+            double level_area = resurfi_mesh_area(level), full_area = resurfi_mesh_area(w.full);
             double to_density = level_area > 0 ? (double)sample_budget / level_area : 0;
             double from_density = full_area > 0 ? (double)sample_budget / full_area : 0;
-            st = side_over_scene(scene, &w.list, k, &stand_in, to_order, to_density, 1, 1, w.full, threads, alloc,
-                                 &e.to_full, error);
+            st = resurfi_side_over_scene(scene, &w.list, k, &stand_in, to_order, to_density, 1, 1, w.full, threads,
+                                         alloc, &e.to_full, error);
             if (st == RESURF_OK)
-                st = side_over_scene(scene, &w.list, 0, NULL, from_order, from_density, 0x9e3779b9u, 0, level, threads,
-                                     alloc, &e.from_full, error);
+                st = resurfi_side_over_scene(scene, &w.list, 0, NULL, from_order, from_density, 0x9e3779b9u, 0, level,
+                                             threads, alloc, &e.from_full, error);
         } else if (composed && st == RESURF_OK) { /* a level without triangles: not measurable */
             e.to_full = e.from_full = e.to_sum = NAN;
         }
@@ -1187,7 +686,7 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
     resurfi_free(alloc, to_order);
     for (size_t k = 1; k < levels && st == RESURF_OK && sim.measure_samples > 0 && !composed; ++k) {
         resurf_compare_report m;
-        st = measure_level(scene, &w.list, w.full, k, &stand_in, &co, &m, error);
+        st = resurfi_measure_level(scene, &w.list, w.full, k, &stand_in, &co, &m, error);
         if (st != RESURF_OK)
             break;
         double d = m.diagonal > 0 ? m.diagonal : NAN;
@@ -1218,9 +717,9 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
         st = resurfi_scene_flatten(scene, &single, 0, NULL, alloc, &full, error);
         int mesh_composed = composed && st == RESURF_OK;
         for (size_t k = 1; k < w.mesh_levels[m] && mesh_composed; ++k) {
-            world_errors e = {0, 0, 0, 0, 0, 0};
+            resurfi_world_errors e = {0, 0, 0, 0, 0, 0};
             double d = resurf_mesh_bounds(full, NULL, NULL);
-            mesh_composed = add_instance(scene, &view, &one, k, &e);
+            mesh_composed = resurfi_add_instance(scene, &view, &one, k, &e);
             err[k] = d > 0 ? fmax(e.to_full, e.from_full) / d : NAN;
         }
         if (mesh_composed) {
@@ -1235,7 +734,7 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
             mco.samples = (size_t)fmin((double)co.samples, fmax(1000.0, share * (double)co.samples));
         for (size_t k = 1; k < w.mesh_levels[m] && st == RESURF_OK; ++k) {
             resurf_compare_report r;
-            st = measure_level(scene, &single, full, k, &stand_in, &mco, &r, error);
+            st = resurfi_measure_level(scene, &single, full, k, &stand_in, &mco, &r, error);
             if (st == RESURF_OK)
                 err[k] = r.diagonal > 0 ? r.hausdorff / r.diagonal : NAN;
         }

@@ -1,0 +1,115 @@
+/* What resurf_scene_build_lods (scene_lods.c) shares with the files it is split into: the shared borders
+ * (scene_borders.c), the chains of a mesh whose primitives are simplified together (scene_joint.c) and the world
+ * errors of the levels (scene_lod_errors.c). Not installed, not used elsewhere. */
+#ifndef RESURF_SCENE_LODS_INTERNAL_H
+#define RESURF_SCENE_LODS_INTERNAL_H
+
+#include <pthread.h>
+#include <stdatomic.h>
+
+#include "scene_internal.h"
+
+/* Everything a call allocates, freed in one place. */
+typedef struct resurfi_lod_work {
+    const resurf_allocator *alloc;
+    resurfi_scene_instances list;
+    resurf_mesh *full;            /* level 0 of the whole scene in world space */
+    resurf_mesh ***chains;        /* per primitive: `count` levels, or NULL */
+    size_t *kept;                 /* per primitive: the levels that help */
+    double *mesh_scale;           /* per mesh: the largest scale of its nodes */
+    size_t *mesh_levels;          /* per mesh: 1 + the most levels its primitives kept */
+    double *errors;               /* per mesh and level: the mesh's own relative world error */
+    double **coverage;            /* per mesh */
+    uint8_t **locks;              /* per primitive: its vertices shared with other primitives of its mesh, or NULL */
+    bool *together;               /* per mesh: its primitives are simplified as one surface
+                                     (resurfi_scene_simplified_together) */
+    size_t *joint_kept;           /* per primitive of such a mesh: 1 + the levels of the mesh that help, 0 = not yet */
+    int *joint_why;               /* and why the chain ended there (resurfi_levels_that_help); then every primitive's */
+} resurfi_lod_work;
+
+/* What every primitive's chain needs, and where it goes (indexed by primitive). */
+typedef struct resurfi_chain_job {
+    const resurf_scene *scene;
+    const double *ratios;
+    size_t count;
+    const resurf_simplify_options *sim;
+    const resurf_scene_lod_options *o;
+    resurfi_lod_work *w;
+    double diagonal;
+    size_t sample_budget;
+    double scene_area;
+    resurf_simplify_report *reports; /* count per primitive */
+    resurf_status *status;
+    resurf_error *errors;
+    pthread_mutex_t lock;            /* over done and the caller's progress, side by side */
+    double done, total;
+    atomic_int cancelled;
+    const size_t *order;             /* side by side: the triangle primitives in the order they are taken */
+} resurfi_chain_job;
+
+/* ---- the chains (scene_lods.c) ---- */
+
+double resurfi_mesh_area(const resurf_mesh *m);
+resurf_status resurfi_make_chain(const resurf_mesh *in, const double *ratios, size_t count, const double *bounds,
+                                 const resurf_simplify_options *sim, resurf_mesh **chain,
+                                 resurf_simplify_report *reports, resurf_error *e);
+size_t resurfi_levels_that_help(const resurf_mesh *in, const resurf_simplify_report *rep, const double *ratios,
+                                size_t count, int *why);
+void resurfi_run_options(const resurfi_chain_job *job, const resurf_simplify_options *base, double scale, double area,
+                         const uint8_t *lock, resurf_simplify_options *sim, double *bounds);
+resurf_status resurfi_make_primitive_chain(resurfi_chain_job *job, size_t p, const resurf_simplify_options *base);
+
+/* ---- shared borders (scene_borders.c) ---- */
+
+resurf_status resurfi_scene_shared_positions(const resurf_scene *scene, size_t m, const resurf_allocator *alloc,
+                                             uint8_t **locks, bool *connected);
+resurf_status resurfi_scene_shared_between_meshes(const resurf_scene *scene, const resurfi_scene_instances *list,
+                                                  const resurf_allocator *alloc, uint8_t **locks);
+
+/* ---- a mesh's primitives simplified together (scene_joint.c) ---- */
+
+bool resurfi_scene_simplified_together(const resurf_scene *scene, size_t m);
+double resurfi_joint_input(const resurfi_chain_job *job, size_t m, const resurf_simplify_options *base,
+                           resurf_mesh **joined, uint8_t **lock, resurf_simplify_options *sim, double *bounds,
+                           resurf_status *st, resurf_error *e);
+resurf_status resurfi_make_joint_chain(resurfi_chain_job *job, size_t m, const resurf_simplify_options *base);
+
+/* ---- the world errors of the levels (scene_lod_errors.c) ---- */
+
+/* What the composition reads: the chains as they will be set, the primitives' reports, and their levels' areas. */
+typedef struct resurfi_lod_levels_view {
+    resurf_mesh *const *const *chains; /* per primitive: its levels, or NULL */
+    const size_t *kept;                /* per primitive: the levels that help */
+    const resurf_simplify_report *reports;
+    const double *areas;
+    size_t count;                      /* levels asked for */
+} resurfi_lod_levels_view;
+
+/* Level k's figures in world units over some instances: one-sided maxima and area-weighted means of each side. */
+typedef struct resurfi_world_errors {
+    double to_full, from_full;      /* the level's surface to level 0's, and level 0's to the level's: maxima */
+    double to_sum, to_area;         /* the level's side: sum of mean × area, and the area */
+    double from_sum, from_area;     /* level 0's side */
+} resurfi_world_errors;
+
+/* An instance and its own bound on one side of a level, for measuring the largest first. */
+typedef struct resurfi_bound_item {
+    double bound;
+    size_t instance;
+} resurfi_bound_item;
+
+double resurfi_matrix_scale(const double *a);
+int resurfi_add_instance(const resurf_scene *scene, const resurfi_lod_levels_view *v,
+                         const resurfi_scene_instance *item, size_t k, resurfi_world_errors *e);
+int resurfi_larger_bound_first(const void *a, const void *b);
+resurf_status resurfi_side_over_scene(const resurf_scene *scene, const resurfi_scene_instances *list, size_t shown,
+                                      const resurfi_scene_levels *levels, const resurfi_bound_item *order,
+                                      double density, uint64_t seed, int facet_points, const resurf_mesh *to,
+                                      unsigned threads, const resurf_allocator *alloc, double *out_max,
+                                      resurf_error *error);
+resurf_status resurfi_measure_level(const resurf_scene *scene, const resurfi_scene_instances *list,
+                                    const resurf_mesh *full, size_t level, const resurfi_scene_levels *levels,
+                                    const resurf_compare_options *co, resurf_compare_report *out,
+                                    resurf_error *error);
+
+#endif
