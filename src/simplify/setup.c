@@ -731,7 +731,9 @@ resurf_status simplify_start(simplifier *s, scratch *scratch, resurf_error *erro
         sj.build_restorer = s->opt.restore != RESURF_RESTORE_NONE;
     if (resurfi_progress(&s->opt.progress, RESURF_STAGE_PREPARE, 0.5))
         return resurfi_error(error, RESURF_ERR_CANCELLED, "simplification cancelled");
-    size_t blocks = (s->pos_count + BLOCK_POSITIONS - 1) / BLOCK_POSITIONS;
+    /* The analysis kept by an earlier call on these services, else made here (and kept for the later ones). */
+    int kept = services_take_analysis(s);
+    size_t blocks = kept ? 0 : (s->pos_count + BLOCK_POSITIONS - 1) / BLOCK_POSITIONS;
     int analysed = !resurfi_pool_for(s->pool, blocks, 1, setup_block, &sj);
     if (analysed && sj.build_restorer) /* the other threads took every block */
         build_restorer(&sj);
@@ -742,6 +744,8 @@ resurf_status simplify_start(simplifier *s, scratch *scratch, resurf_error *erro
             *error = sj.restorer_error;
         return sj.restorer_status;
     }
+    if (!kept)
+        services_keep_analysis(s);
     if (s->opt.vertex_lock) /* after the analysis, which writes every flag afresh */
         for (size_t v = 0; v < s->in->vertex_count; ++v)
             if (s->opt.vertex_lock[v] && !(s->P[s->remap[v]].flags & POS_DEAD))

@@ -431,7 +431,13 @@ struct resurfi_simplify_services {
     resurfi_bvh *bvh;
     const resurf_mesh *in;      /* the input they were built for */
     resurf_allocator alloc;     /* a copy of the build's allocator */
+    struct services_analysis *analysis; /* the first call's per-position analysis, kept for the later ones */
 };
+/* The per-position analysis (flags, quadric, neighbours above) of the first call that borrows the services, copied
+ * into a later call whose options it depends on are the same (services_take_analysis returns 1); a call that finds
+ * none keeps its own (services_keep_analysis). Safe for calls on several threads at once. */
+int services_take_analysis(simplifier *s);
+void services_keep_analysis(const simplifier *s);
 resurf_restore_options services_restore_options(const resurf_simplify_options *o, const resurf_allocator *alloc);
 resurf_status services_build_restorer(const resurf_mesh *in, const resurf_simplify_options *o,
                                       const resurf_allocator *alloc, const uint32_t *remap, size_t positions,
