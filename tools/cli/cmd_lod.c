@@ -337,14 +337,17 @@ int cmd_lod(int argc, char **argv)
                      (size_t)floor(level_ratios[k] * (double)m->triangle_count));
         /* A primitive simplified together with the others of its mesh ends where the mesh's chain ends, even when
          * its own part made its ratio (the stop and the guards are the mesh's). */
-        const char *what = r->triangles >= before ? "could not reduce, keeping"
+        /* A level its mesh did not make keeps the mesh's counts (the primitives go together): say so. */
+        int mesh_counts = r->input_triangles != m->triangle_count;
+        const char *what = mesh_counts ? "was not made: its mesh's level (the primitives go together) stopped at"
+                           : r->triangles >= before ? "could not reduce, keeping"
                            : level_ratios && (double)r->triangles <= 1.5 * level_ratios[k] * (double)m->triangle_count + 2
                                ? "reached its ratio, but its mesh's level (the primitives go together) did not, at"
                                : "missed its ratio at";
         fprintf(stderr,
                 "resurf: warning: %s: level %zu%s %s %zu of %zu triangles (stopped: %s; blocked: %s); its chain "
                 "ends at level %zu\n",
-                info.name, k + 1, target, what, r->triangles, m->triangle_count,
+                info.name, k + 1, target, what, r->triangles, mesh_counts ? r->input_triangles : m->triangle_count,
                 stop_names[r->stop < RESURF_STOP_COUNT ? r->stop : 0], blocked, k);
     }
     resurf_scene_save_report report;
