@@ -539,14 +539,12 @@ int try_candidate(simplifier *s, pending *q, lane *L, scratch *sc, int defer)
     int restored, left;
     uint32_t home, at;
     vec3 p = restored_place(s, q, a, b, &pl, &restored, &left, &home, &at);
-    if (restored && !left && !restore_keeps_reach(s, fa, fb, a, b, &pl, p, home)) {
-        p = pl.p; /* the reach gate: the quadric's place covers M better (guards.c) */
-        left = 1;
-        home = NONE;
-    }
-    if (restored && !left && qab.w > 0 &&
-        qeval(s, &qab, pl.p) <= EXACT_PLACE * EXACT_PLACE * v3_dist2(s->P[a].p, s->P[b].p) * qab.w) {
-        p = pl.p; /* the quadric's place lies on every plane of M it merged: M is there, S is not needed */
+    /* The quadric's place is kept where it lies on every plane of M it merged (M is there, S is not needed) or
+     * where it covers M better than the restored one (the reach gate, guards.c). */
+    if (restored && !left &&
+        ((qab.w > 0 && qeval(s, &qab, pl.p) <= EXACT_PLACE * EXACT_PLACE * v3_dist2(s->P[a].p, s->P[b].p) * qab.w) ||
+         !restore_keeps_reach(s, fa, fb, a, b, &pl, p, home))) {
+        p = pl.p;
         left = 1;
         home = NONE;
     }

@@ -4,7 +4,7 @@
  * scene budget's runs of a primitive, a chain made level by level), which then borrow them. They are the same
  * either way: the restorer welds the input's positions exactly as the simplifier does, and neither depends on the
  * thread count. The first borrowing call also leaves its per-position analysis (flags, quadrics) with them, which a
- * later call with the same options copies rather than redoes: about 11% of a scene budget run. */
+ * later call with the same options copies rather than redoes (docs/performance.md). */
 #include <pthread.h>
 
 #include "simplify_internal.h"
