@@ -73,6 +73,9 @@ static inline int resurfi_allocator_ok(const resurf_allocator *a)
 
 /* ---- mesh helpers (mesh.c, weld.c) --------------------------------------------------------------------------- */
 
+/* Input normals closer than this (cosine of 1°) are one normal: the test for split normals (a normal seam). */
+#define RESURFI_SAME_NORMAL_COS 0.99984769515639127
+
 static inline vec3 resurfi_position(const resurf_mesh *m, uint32_t v) { return v3_load(m->positions + 3 * (size_t)v); }
 
 /* Exact position weld: remap[v] = position id, positions numbered by first appearance. (weld.c)

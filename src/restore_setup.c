@@ -11,9 +11,6 @@
 
 enum { BLOCK_SETUP = 8192 }; /* parallel block of the set-up loops (cheap elements) */
 
-/* Input normals closer than this (cosine, about 1°) count as the same normal when looking for split normals. */
-static const double same_normal_cos = 0.99984769515639127;
-
 /* cos² of the largest angle (150°) a triangle may have to take part in crease detection (see reliable_normal). */
 static const double sliver_cos2 = 0.75;
 
@@ -178,7 +175,7 @@ static int split_input_normals(const resurfi_restorer *r, const resurf_mesh *m, 
             continue;
         vec3 nf = v3_normalize(v3_load(m->normals + 3 * (size_t)af));
         vec3 ng = v3_normalize(v3_load(m->normals + 3 * (size_t)ag));
-        if (v3_len2(nf) > 0 && v3_len2(ng) > 0 && v3_finite(nf) && v3_finite(ng) && v3_dot(nf, ng) < same_normal_cos)
+        if (v3_len2(nf) > 0 && v3_len2(ng) > 0 && v3_finite(nf) && v3_finite(ng) && v3_dot(nf, ng) < RESURFI_SAME_NORMAL_COS)
             return 1;
     }
     return 0;

@@ -69,6 +69,12 @@ START_TEST(cli_usage_errors_exit_2)
     free(out);
     ck_assert_int_eq(cli(&out, "convert a.obj b.xyz"), 2);
     free(out);
+    ck_assert_int_eq(cli(&out, "lod a.glb -o b.glb --feature-angle 0"), 2);
+    ck_assert_str_eq(out, "resurf lod: --feature-angle must be in (0, 180], not 0 (see 'resurf lod --help')\n");
+    free(out);
+    ck_assert_int_eq(cli(&out, "simplify a.obj -o b.obj --ratio 0.5 --corner-angle 181"), 2);
+    ck_assert_str_eq(out, "resurf simplify: --corner-angle must be in (0, 180], not 181 (see 'resurf simplify --help')\n");
+    free(out);
 }
 END_TEST
 

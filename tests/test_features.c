@@ -461,6 +461,85 @@ START_TEST(features_crease_vertices_on_the_rim)
 }
 END_TEST
 
+/* A flat-shaded mesh: every triangle with its own vertices, each carrying the triangle's unit normal (as an STL
+ * export, or any flat-shaded asset, writes them). */
+static resurf_mesh *flat_shaded(const resurf_mesh *welded)
+{
+    size_t nt = welded->triangle_count;
+    resurf_mesh *m = NULL;
+    ck_assert_int_eq(resurf_mesh_create(3 * nt, nt, RESURF_ATTR_NORMALS, &m, NULL), RESURF_OK);
+    for (size_t t = 0; t < nt; ++t) {
+        const uint32_t *i = welded->indices + 3 * t;
+        vec3 n = v3_normalize(v3_tri_cross(resurfi_position(welded, i[0]), resurfi_position(welded, i[1]),
+                                           resurfi_position(welded, i[2])));
+        for (int k = 0; k < 3; ++k) {
+            memcpy(m->positions + 3 * (3 * t + k), welded->positions + 3 * (size_t)i[k], 3 * sizeof(double));
+            v3_store(m->normals + 3 * (3 * t + k), n);
+            m->indices[3 * t + k] = (uint32_t)(3 * t + k);
+        }
+    }
+    return m;
+}
+
+/* The largest angle (degrees) between a corner's normal and its triangle's normal. */
+static double worst_corner_vs_face_deg(const resurf_mesh *m)
+{
+    double worst = 0;
+    for (size_t t = 0; t < m->triangle_count; ++t) {
+        const uint32_t *i = m->indices + 3 * t;
+        vec3 f = v3_normalize(v3_tri_cross(resurfi_position(m, i[0]), resurfi_position(m, i[1]),
+                                           resurfi_position(m, i[2])));
+        for (int k = 0; k < 3; ++k) {
+            double c = v3_dot(f, v3_normalize(v3_load(m->normals + 3 * (size_t)i[k])));
+            double deg = acos(c > 1 ? 1 : c < -1 ? -1 : c) * 180 / M_PI;
+            worst = deg > worst ? deg : worst;
+        }
+    }
+    return worst;
+}
+
+/* A flat-shaded sphere splits its normals at every edge, so every edge is a normal seam. Such normals are the
+ * faces' own (src/simplify/facets.c): at 10% the level is what the same triangles without normals give, position
+ * for position, and it is shaded flat again (every corner's normal its face's, to 1e-3 degrees). The same sphere
+ * shaded smooth keeps smooth normals (within 2° of the true radial one, where a face's normal is up to ~6° off). */
+START_TEST(features_flat_shaded_mesh_is_simplified_and_stays_flat)
+{
+    resurf_mesh *welded = shape_mesh(SHAPE_SPHERE, tu_light() ? 4000 : 8000, 0.3, 1, 0);
+    ck_assert_ptr_nonnull(welded);
+    resurf_mesh *flat = flat_shaded(welded), *bare = NULL;
+    ck_assert_int_eq(resurf_mesh_clone(flat, &bare, NULL), RESURF_OK);
+    free(bare->normals);
+    bare->normals = NULL;
+    resurf_mesh *flat_out = simplified(flat, 0.1, RESURF_RESTORE_INLINE);
+    resurf_mesh *bare_out = simplified(bare, 0.1, RESURF_RESTORE_INLINE);
+    ck_assert_uint_eq(flat_out->triangle_count, bare_out->triangle_count);
+    for (size_t c = 0; c < 3 * flat_out->triangle_count; ++c)
+        for (int k = 0; k < 3; ++k)
+            ck_assert_double_eq(flat_out->positions[3 * (size_t)flat_out->indices[c] + k],
+                                bare_out->positions[3 * (size_t)bare_out->indices[c] + k]);
+    double worst = worst_corner_vs_face_deg(flat_out);
+    ck_assert_msg(worst < 1e-3, "a corner's normal is %g degrees off its face's", worst);
+
+    resurf_mesh *smooth = shape_mesh(SHAPE_SPHERE, tu_light() ? 4000 : 8000, 0.3, 1, 1);
+    ck_assert_ptr_nonnull(smooth);
+    resurf_mesh *smooth_out = simplified(smooth, 0.1, RESURF_RESTORE_INLINE);
+    double off = 0, face_off = worst_corner_vs_face_deg(smooth_out);
+    for (size_t v = 0; v < smooth_out->vertex_count; ++v) {
+        vec3 n = v3_normalize(v3_load(smooth_out->normals + 3 * v)), r = v3_normalize(resurfi_position(smooth_out, (uint32_t)v));
+        double c = v3_dot(n, r), deg = acos(c > 1 ? 1 : c) * 180 / M_PI;
+        off = deg > off ? deg : off;
+    }
+    ck_assert_msg(off < 2 && face_off > 4, "smooth normals %g degrees off radial, %g off the faces", off, face_off);
+    resurf_mesh_free(smooth_out);
+    resurf_mesh_free(smooth);
+    resurf_mesh_free(flat_out);
+    resurf_mesh_free(bare_out);
+    resurf_mesh_free(flat);
+    resurf_mesh_free(bare);
+    resurf_mesh_free(welded);
+}
+END_TEST
+
 Suite *make_suite(void)
 {
     Suite *s = suite_create("features");
@@ -477,6 +556,7 @@ Suite *make_suite(void)
     tcase_add_test(features, features_sag_offset_no_worse_on_a_cylinder);
     tcase_add_test(features, features_sphere_still_gains);
     tcase_add_test(features, features_crease_vertices_on_the_rim);
+    tcase_add_test(features, features_flat_shaded_mesh_is_simplified_and_stays_flat);
     suite_add_tcase(s, features);
     return s;
 }

@@ -997,7 +997,10 @@ typedef struct resurf_simplify_report {
  *   smooth normal field at each vertex (without restoration: the input's normals interpolated), texcoords,
  *   colours and extras interpolated from the input at the vertex's closest input triangle on the same side of an
  *   attribute seam, and triangle groups from the input triangle each result triangle descends from. Triangles keep
- *   the input's relative order; vertices are numbered in order of first use.
+ *   the input's relative order; vertices are numbered in order of first use. Flat shading is kept, not frozen: in
+ *   a connected part of the input whose every corner carries its own face's normal (within 1°) and whose normals
+ *   are split somewhere (an STL or any flat-shaded export), the normals say nothing the geometry does not, so they
+ *   are no seams there, and the result's vertices there are split by face and given their faces' normals.
  * - out_report: may be NULL.
  * The result is byte-identical for the same input and options whatever options->threads is. On error or cancel
  * *out is NULL. Time about n log n for n triangles; peak memory about 150 bytes per input triangle without

@@ -288,7 +288,9 @@ static int attribute_block(void *ctx, size_t begin, size_t end, unsigned worker)
         uint32_t t = attribute_source(s, j->o, (uint32_t)ov, b);
         uint32_t w = j->o->ov_wedge[ov];
         const uint32_t *idx = t == NONE ? NULL : in->indices + 3 * (size_t)t;
-        if (m->normals) {
+        if (m->normals && v3_len2(v3_load(in->normals + 3 * (size_t)w)) == 0 && s->flat_shaded) {
+            v3_store(m->normals + 3 * ov, v3(0, 0, 0)); /* shaded flat from the level's faces (facets_shade) */
+        } else if (m->normals) {
             vec3 n = v3(0, 0, 0);
             if (idx && s->restorer)
                 n = resurfi_restorer_normal(s->restorer, t, b);
@@ -583,6 +585,8 @@ resurf_status build_output(simplifier *s, resurf_mesh **out, resurf_simplify_rep
         rep->positions = o.nu;
         if (st == RESURF_OK)
             st = measure_level(s, m, rep);
+        if (st == RESURF_OK && s->flat_shaded && (st = facets_shade(m)) == RESURF_OK)
+            rep->vertices = m->vertex_count;
     }
     output_free(&o, s->alloc);
     if (st != RESURF_OK) {

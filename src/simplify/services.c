@@ -144,6 +144,13 @@ resurf_status resurfi_simplify_services_build(const resurf_mesh *in, const resur
     }
     sv->in = in;
     sv->alloc = *alloc;
+    if (facets_derive(in, alloc, &sv->derived) != RESURF_OK) {
+        resurfi_free(alloc, sv);
+        resurfi_free(alloc, remap);
+        return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
+    }
+    if (sv->derived)
+        in = sv->derived; /* the services are over the copy the calls simplify */
     if (!(sv->analysis = resurfi_calloc(alloc, 1, sizeof *sv->analysis))) {
         resurfi_free(alloc, sv);
         resurfi_free(alloc, remap);
@@ -176,6 +183,7 @@ void resurfi_simplify_services_free(resurfi_simplify_services *sv)
     const resurf_allocator alloc = sv->alloc; /* the struct holding it goes last */
     resurfi_restorer_free(sv->restorer);
     resurfi_bvh_free(sv->bvh);
+    resurf_mesh_free(sv->derived);
     if (sv->analysis) {
         pthread_mutex_destroy(&sv->analysis->lock);
         resurfi_free(&alloc, sv->analysis->entries);

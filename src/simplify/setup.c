@@ -371,9 +371,6 @@ static resurfi_quadric edge_plane(vec3 p, vec3 q, vec3 n, double w)
     return resurfi_quadric_plane(m, -v3_dot(m, p), w);
 }
 
-/* Input normals closer than this (cosine, about 1°) are one normal: the restorer's test for split normals. */
-static const double same_normal_cos = 0.99984769515639127;
-
 /* A triangle's normal can be judged by when none of its angles exceeds 150° (the restorer's reliable_normal, see
  * docs/restoring.md §7): a flat sliver's normal is that of the surface near its far-away circumcentre. */
 static shaped_normal well_shaped(const simplifier *s, uint32_t t)
@@ -420,7 +417,7 @@ static int marked_feature(const simplifier *s, uint32_t ti, uint32_t tj, uint32_
             continue;
         vec3 ni = v3_load(normals + 3 * (size_t)wi), nj = v3_load(normals + 3 * (size_t)wj);
         double l2 = v3_len2(ni) * v3_len2(nj), d = v3_dot(ni, nj);
-        if (l2 > 0 && isfinite(l2) && d < same_normal_cos * sqrt(l2))
+        if (l2 > 0 && isfinite(l2) && d < RESURFI_SAME_NORMAL_COS * sqrt(l2))
             return 1;
     }
     return 0;
@@ -705,6 +702,14 @@ resurf_status simplify_start(simplifier *s, scratch *scratch, resurf_error *erro
     resurf_status st = simplify_check_input(s->in, error);
     if (st != RESURF_OK)
         return st;
+    /* Flat-shaded parts are simplified without their normals (facets.c); lent services are over that copy already. */
+    if (s->lent && s->lent->derived)
+        s->in = s->lent->derived;
+    else if (!s->lent && (st = facets_derive(s->in, s->alloc, &s->own_derived)) != RESURF_OK)
+        return resurfi_error(error, st, "out of memory dropping flat shading");
+    else if (s->own_derived)
+        s->in = s->own_derived;
+    s->flat_shaded = s->lent ? s->lent->derived != NULL : s->own_derived != NULL;
     double lo[3], hi[3];
     s->diagonal = resurf_mesh_bounds(s->in, lo, hi);
     s->origin = v3(0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2]));

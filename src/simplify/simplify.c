@@ -36,6 +36,7 @@
  *                        loop that knows about threads;
  *   output.c             numbering, post restoration, sag offset, attributes;
  *   measure.c            the report's two-sided distances and UV error;
+ *   facets.c             flat shading: a flat-shaded part's normals dropped for the call, its levels shaded flat;
  *   services.c           the services over M (restorer, tree over the input): built by the start, or once
  *                        beforehand and lent to several calls on one input (resurfi_simplify_lent).
  *
@@ -147,6 +148,7 @@ static void simplifier_free(simplifier *s)
     resurfi_bvh_free(s->own_bvh);
     measure_free(s);
     resurfi_pool_free(s->pool);
+    resurf_mesh_free(s->own_derived);
 }
 
 /* The shared worker: one run of collapses, a snapshot at each target (non-increasing). With `ends`, a level for

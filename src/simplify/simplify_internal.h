@@ -230,7 +230,9 @@ typedef struct measure_state {
 } measure_state;
 
 typedef struct simplifier {
-    const resurf_mesh *in;
+    const resurf_mesh *in;       /* M: the caller's mesh, or its copy with flat shading dropped (facets.c) */
+    resurf_mesh *own_derived;    /* that copy when the call made it */
+    int flat_shaded;             /* in is such a copy: the levels are shaded flat where it has no normals */
     resurf_simplify_options opt;
     const resurf_allocator *alloc; /* the call's (options, else the input's): temporaries and the output */
     unsigned threads;
@@ -423,6 +425,11 @@ int analyse_position(simplifier *s, uint32_t a, scratch *sc, pos_flags *out_flag
 int feature_edge(const simplifier *s, uint32_t ti, uint32_t tj, uint32_t ci, uint32_t cj);
 int group_border(const simplifier *s, uint32_t ti, uint32_t tj);
 resurf_status simplify_start(simplifier *s, scratch *scratch, resurf_error *error);
+/* Flat shading (facets.c). facets_derive: *out_derived is NULL, or a copy of in whose flat-shaded parts have zero
+ * normals (the call simplifies it instead). facets_shade: each vertex of a level with a zero normal is split by
+ * the directions of its faces and given their normal. */
+resurf_status facets_derive(const resurf_mesh *in, const resurf_allocator *alloc, resurf_mesh **out_derived);
+resurf_status facets_shade(resurf_mesh *m);
 /* The input's indices, positions, counts and groups checked (the start's first step). */
 resurf_status simplify_check_input(const resurf_mesh *in, resurf_error *error);
 /* The services over M (services.c): what they hold, and the restoring options a call builds its restorer with. */
@@ -430,6 +437,7 @@ struct resurfi_simplify_services {
     resurfi_restorer *restorer; /* NULL without restoration */
     resurfi_bvh *bvh;
     const resurf_mesh *in;      /* the input they were built for */
+    resurf_mesh *derived;       /* its copy without its flat-shaded normals (facets.c), or NULL; what they are over */
     resurf_allocator alloc;     /* a copy of the build's allocator */
     struct services_analysis *analysis; /* the first call's per-position analysis, kept for the later ones */
 };

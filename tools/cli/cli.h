@@ -52,6 +52,8 @@ int cli_getopt(const char *command, int argc, char **argv, const char *shortopts
 /* Parse a number option; on failure print a usage error and return CLI_USAGE, else 0. */
 int cli_parse_double(const char *command, const char *option, const char *text, double *out);
 int cli_parse_unsigned(const char *command, const char *option, const char *text, unsigned long *out);
+/* An angle option in degrees, in (0, 180]. */
+int cli_parse_angle(const char *command, const char *option, const char *text, double *out);
 
 /* --threads N: 0 (all cores) .. 256. */
 int cli_parse_threads(const char *command, const char *text, unsigned *out);

@@ -76,6 +76,17 @@ int cli_parse_double(const char *command, const char *option, const char *text, 
     return 0;
 }
 
+int cli_parse_angle(const char *command, const char *option, const char *text, double *out)
+{
+    double v = 0;
+    if (cli_parse_double(command, option, text, &v))
+        return CLI_USAGE;
+    if (!(v > 0 && v <= 180))
+        return cli_usage(command, "--%s must be in (0, 180], not %s", option, text);
+    *out = v;
+    return 0;
+}
+
 int cli_parse_unsigned(const char *command, const char *option, const char *text, unsigned long *out)
 {
     char *end = NULL;

@@ -48,6 +48,10 @@ static const char usage[] =
     "  --screen-height H      ... on a screen H pixels high (default 1080)\n"
     "  --attribute-weights N,UV,C[,S]  weights of normals, texture coordinates, colours and skin influences\n"
     "                         in the collapse cost (0 = that attribute off; default 0,0.25,0.25,1.4)\n"
+    "  --feature-angle DEG    an edge whose triangles turn by more than DEG is a crease: kept, never restored\n"
+    "                         across (default: the library's; 180 = none)\n"
+    "  --corner-angle DEG     a border turning by more than DEG makes a corner that never moves (default: the\n"
+    "                         library's; 180 = none)\n"
     "  --threads N            worker threads, 0 = all cores (default)\n"
     "  --preview SHEET.png    also draw every level with its error, as 'resurf preview' does\n"
     "  --preview-size WxH     the sheet's size (default 1600x900)\n"
@@ -142,6 +146,8 @@ int cmd_lod(int argc, char **argv)
         {"screen-height", required_argument, NULL, 'H'},
         {"threads", required_argument, NULL, 't'},
         {"attribute-weights", required_argument, NULL, 'W'},
+        {"feature-angle", required_argument, NULL, 'F'},
+        {"corner-angle", required_argument, NULL, 'C'},
         {"json", no_argument, NULL, 'j'},
         {"preview", required_argument, NULL, 'P'},
         {"preview-size", required_argument, NULL, 'Z'},
@@ -227,6 +233,14 @@ int cmd_lod(int argc, char **argv)
             break;
         case 'W':
             if (cli_parse_attribute_weights("lod", optarg, &sim))
+                return CLI_USAGE;
+            break;
+        case 'F':
+            if (cli_parse_angle("lod", "feature-angle", optarg, &sim.feature_angle_deg))
+                return CLI_USAGE;
+            break;
+        case 'C':
+            if (cli_parse_angle("lod", "corner-angle", optarg, &sim.corner_angle_deg))
                 return CLI_USAGE;
             break;
         case 'j': json = 1; break;

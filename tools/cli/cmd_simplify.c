@@ -238,26 +238,20 @@ int cmd_simplify(int argc, char **argv)
                 return cli_usage("simplify", "--min-angle must be in [0, 60), not %s", optarg);
             break;
         case 'N':
-            if (cli_parse_double("simplify", "max-normal-change", optarg, &o.max_normal_change_deg))
+            if (cli_parse_angle("simplify", "max-normal-change", optarg, &o.max_normal_change_deg))
                 return CLI_USAGE;
-            if (!(o.max_normal_change_deg > 0 && o.max_normal_change_deg <= 180))
-                return cli_usage("simplify", "--max-normal-change must be in (0, 180], not %s", optarg);
             break;
         case 'W':
             if (cli_parse_attribute_weights("simplify", optarg, &o))
                 return CLI_USAGE;
             break;
         case 'F':
-            if (cli_parse_double("simplify", "feature-angle", optarg, &o.feature_angle_deg))
+            if (cli_parse_angle("simplify", "feature-angle", optarg, &o.feature_angle_deg))
                 return CLI_USAGE;
-            if (!(o.feature_angle_deg > 0 && o.feature_angle_deg <= 180))
-                return cli_usage("simplify", "--feature-angle must be in (0, 180], not %s", optarg);
             break;
         case 'C':
-            if (cli_parse_double("simplify", "corner-angle", optarg, &o.corner_angle_deg))
+            if (cli_parse_angle("simplify", "corner-angle", optarg, &o.corner_angle_deg))
                 return CLI_USAGE;
-            if (!(o.corner_angle_deg > 0 && o.corner_angle_deg <= 180))
-                return cli_usage("simplify", "--corner-angle must be in (0, 180], not %s", optarg);
             break;
         case 's':
             if (cli_parse_unsigned("simplify", "samples", optarg, &n))
