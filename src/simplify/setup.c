@@ -19,6 +19,11 @@
  * 2% move by 1% or less at 0.75). */
 static const double AREA_FLOOR = 0.75;
 
+/* An edge whose two triangles' normals are further apart than this (cosine) folds the surface back onto itself, as
+ * along the rim of a fin modelled as two sheets: the triangles' planes are nearly the same plane and do not hold the
+ * rim, so the edge adds the planes through it perpendicular to its triangles, as a border edge does. */
+static const double FOLD_COS = -0.866;
+
 enum { SMALL_SORT = 24 }; /* fans up to this size are insertion-sorted */
 
 static int pair_less(fan_pair p, fan_pair q) { return p.x < q.x || (p.x == q.x && p.slot < q.slot); }
@@ -534,7 +539,8 @@ int analyse_position(simplifier *s, uint32_t a, scratch *sc, pos_flags *out_flag
                 ++features;
             else if (turn_cos < s->smooth_cos)
                 rough = 1;
-            if (out_q && (seam_here || seam_there || material)) {
+            int fold = turn_cos < FOLD_COS;
+            if (out_q && (seam_here || seam_there || material || fold)) {
                 /* Each side's triangle adds its own perpendicular plane, at half weight. */
                 double len2 = v3_dist2(pa, s->P[x].p);
                 for (int side = 0; side < 2; ++side) {
