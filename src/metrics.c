@@ -1,5 +1,6 @@
 /* Deviation metrics between two meshes: one- and two-sided surface distances (Hausdorff, mean, RMS) from
- * area-uniform samples plus the vertices, each measured exactly to the other surface through its BVH; the
+ * area-uniform samples plus the vertices and, for the maximum, every triangle's centroid and edge midpoints (the
+ * facet points), each measured exactly to the other surface through its BVH; the
  * distances of TEST's vertices to REF; TEST's triangle quality; the normal deviation of TEST's faces; and, when both
  * carry TEXCOORD_0, the UV error at TEST's samples (its UV there against REF's at the closest point), whose helpers
  * the simplifier's report shares.
@@ -478,8 +479,14 @@ resurf_status resurf_compare(const resurf_mesh *ref, const resurf_mesh *test, co
     side test_side = {test, w.test_cum, test_area, test_area > 0 ? o.samples : 0, o.seed, NULL, ref, 0, NULL, NULL};
     side ref_side = {ref, w.ref_cum, ref_area, ref_area > 0 ? o.samples : 0, o.seed ^ 0xd1b54a32d192ed03ull, NULL,
                      test, 0, NULL, NULL};
-    w.test_dist = resurfi_alloc(w.alloc, test_side.samples + test->vertex_count, sizeof *w.test_dist);
-    w.ref_dist = resurfi_alloc(w.alloc, ref_side.samples + ref->vertex_count, sizeof *w.ref_dist);
+    /* Each side's facet points too: a chord or a coarse facet leaves the other surface farthest at an edge's midpoint
+     * or a centroid, a point that area samples may miss however many there are. */
+    test_side.facets = RESURFI_FACET_POINTS * test->triangle_count;
+    ref_side.facets = RESURFI_FACET_POINTS * ref->triangle_count;
+    size_t test_points = test_side.samples + test->vertex_count + test_side.facets;
+    size_t ref_points = ref_side.samples + ref->vertex_count + ref_side.facets;
+    w.test_dist = resurfi_alloc(w.alloc, test_points, sizeof *w.test_dist);
+    w.ref_dist = resurfi_alloc(w.alloc, ref_points, sizeof *w.ref_dist);
     w.angle = resurfi_alloc(w.alloc, test->triangle_count, sizeof *w.angle);
     w.weight = resurfi_alloc(w.alloc, test->triangle_count, sizeof *w.weight);
     if (test_side.samples && resurfi_has_uv0(test) && resurfi_has_uv0(ref) &&
@@ -503,7 +510,6 @@ resurf_status resurf_compare(const resurf_mesh *ref, const resurf_mesh *test, co
     ref_side.to = w.test_bvh;
     ref_side.distance = w.ref_dist;
 
-    size_t test_points = test_side.samples + test->vertex_count, ref_points = ref_side.samples + ref->vertex_count;
     size_t total = test_points + ref_points + test->triangle_count, done = 0;
     normal_job nj = {test, ref, w.ref_bvh, w.angle, w.weight};
     if (run_batches(test_points, threads, measure_points, &test_side, &o.progress, &done, total) ||

@@ -684,8 +684,9 @@ RESURF_API resurf_status resurf_smooth(resurf_mesh *mesh, const resurf_smooth_op
  * number of threads. */
 typedef struct resurf_compare_options {
     size_t struct_size;
-    size_t samples;        /* area-uniform random points on each surface, in addition to its vertices; at most 10^9;
-                              0 measures from the vertices alone; default 200000 */
+    size_t samples;        /* area-uniform random points on each surface, in addition to its vertices and facet
+                              points; at most 10^9; 0 measures from those alone (the mean then over the vertices);
+                              default 200000 */
     uint64_t seed;         /* sample seed (any value); default 1 */
     unsigned threads;      /* 0 = all cores */
     resurf_progress progress; /* RESURF_STAGE_COMPARE; a cancel returns RESURF_ERR_CANCELLED and writes no output */
@@ -696,7 +697,8 @@ RESURF_API resurf_compare_options resurf_compare_options_default(void);
 
 /* What resurf_compare() measures. Distances are in the meshes' units; divide by `diagonal` for relative figures
  * (what `resurf compare` prints as "rel"). Each one-sided figure is measured from the points of one surface (its
- * samples and the vertices its triangles use) to the nearest point of the other surface: the max over all those
+ * samples, the vertices its triangles use, and each triangle's centroid and edge midpoints, where a chord or a
+ * coarse facet leaves the other surface farthest) to the nearest point of the other surface: the max over all those
  * points, the mean and RMS over the area-uniform samples (so that they estimate the area average; over the
  * vertices when samples is 0). */
 typedef struct resurf_compare_report {
