@@ -253,7 +253,7 @@ START_TEST(compare_threads_deterministic)
 }
 END_TEST
 
-/* With samples = 0 only the vertices are measured (mean and RMS too): two grids of different spacing on the
+/* With samples = 0 only the vertices (and, for the max, the facet points) are measured: two grids of different spacing on the
  * parallel planes z = 0 and z = 0.25 are 0.25 apart from every vertex. */
 START_TEST(compare_without_samples)
 {
@@ -266,6 +266,28 @@ START_TEST(compare_without_samples)
     ck_assert_double_eq(r.hausdorff, 0.25);
     ck_assert_double_eq(r.mean, 0.25);
     ck_assert_double_eq(r.rms, 0.25);
+    resurf_mesh_free(ref);
+    resurf_mesh_free(test);
+}
+END_TEST
+
+/* The facet points find a chord's farthest point: REF is the valley z = |x| (x in [-1, 1], y in [0, 1]), TEST its
+ * lid z = 1, two triangles whose corners all lie on the valley's rims. With no samples the vertices are 0 away; the
+ * midpoint of the lid's edge from (-1, 0, 1) to (1, 0, 1) lies over the valley's floor, 1/sqrt(2) from its planes,
+ * which is the true one-sided maximum (without facet points: 0). */
+START_TEST(compare_facet_points_find_a_chord)
+{
+    const double valley[] = {-1, 0, 1, 0, 0, 0, 1, 0, 1, -1, 1, 1, 0, 1, 0, 1, 1, 1};
+    const uint32_t vt[] = {0, 1, 4, 0, 4, 3, 1, 2, 5, 1, 5, 4};
+    const double lid[] = {-1, 0, 1, 1, 0, 1, 1, 1, 1, -1, 1, 1};
+    const uint32_t lt[] = {0, 1, 2, 0, 2, 3};
+    resurf_mesh *ref = tu_mesh(valley, 6, vt, 4), *test = tu_mesh(lid, 4, lt, 2);
+    resurf_compare_report r;
+    resurf_compare_options o = compare_options(0, 1);
+    ck_assert_int_eq(resurf_compare(ref, test, &o, &r, NULL, NULL), RESURF_OK);
+    ck_assert_double_eq(r.vertex_max, 0);
+    ck_assert_double_eq_tol(r.test_to_ref_max, sqrt(0.5), 1e-15);
+    ck_assert_double_eq(r.ref_to_test_max, 1); /* the valley's floor, under the lid */
     resurf_mesh_free(ref);
     resurf_mesh_free(test);
 }
@@ -454,6 +476,7 @@ Suite *make_suite(void)
     tcase_add_test(tc, compare_reports_test_quality);
     tcase_add_test(tc, compare_threads_deterministic);
     tcase_add_test(tc, compare_without_samples);
+    tcase_add_test(tc, compare_facet_points_find_a_chord);
     tcase_add_test(tc, compare_cancel);
     tcase_add_test(tc, compare_rejects_bad_input);
     tcase_add_test(tc, compare_cli_json_and_heatmap);
