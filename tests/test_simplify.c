@@ -483,10 +483,55 @@ START_TEST(simplify_sphere_lod_vertices_on_sphere)
 }
 END_TEST
 
+/* Hausdorff distance between a and b by resurf_compare, many samples: an evaluation apart from the report's. */
+static double dense_hausdorff(const resurf_mesh *a, const resurf_mesh *b)
+{
+    resurf_compare_options co = resurf_compare_options_default();
+    co.samples = 200000;
+    resurf_compare_report cr;
+    ck_assert_int_eq(resurf_compare(a, b, &co, &cr, NULL, NULL), RESURF_OK);
+    return cr.hausdorff;
+}
+
+/* The default keeps, per level, whichever of the inline and the plain level lies closer to the input. On the
+ * jittered cubic surface at 10% the plain collapse's two-sided maximum is smaller (the restored vertices sit on S,
+ * and S rises above the input's facets); on the sphere with the sag offset restoration wins. Each default level is
+ * one of the two byte for byte, the one the dense evaluation finds closer, and its report says which. */
+START_TEST(simplify_measured_restore_keeps_the_closer_level)
+{
+    static const shape_kind kinds[2] = {SHAPE_CUBIC, SHAPE_SPHERE};
+    static const resurf_restore_mode winner[2] = {RESURF_RESTORE_NONE, RESURF_RESTORE_INLINE};
+    for (int k = 0; k < 2; ++k) {
+        resurf_mesh *m = shape_mesh(kinds[k], 8000, 0.3, 1, 0);
+        resurf_simplify_options o = resurf_simplify_options_default();
+        ck_assert_int_eq(o.restore, RESURF_RESTORE_MEASURED);
+        o.target_ratio = 0.1;
+        resurf_simplify_report r, ri, rn;
+        resurf_mesh *chosen = simplify_ok(m, &o, &r);
+        o.restore = RESURF_RESTORE_INLINE;
+        resurf_mesh *restored = simplify_ok(m, &o, &ri);
+        o.restore = RESURF_RESTORE_NONE;
+        resurf_mesh *plain = simplify_ok(m, &o, &rn);
+        double hi = dense_hausdorff(m, restored), hn = dense_hausdorff(m, plain);
+        ck_assert_msg(winner[k] == RESURF_RESTORE_NONE ? hn < 0.97 * hi : hi < 0.97 * hn, "shape %d: inline %g, none %g",
+                      k, hi, hn);
+        ck_assert_int_eq(r.restore_used, winner[k]);
+        ck_assert(same_mesh_bytes(chosen, winner[k] == RESURF_RESTORE_NONE ? plain : restored));
+        ck_assert_int_eq(ri.restore_used, RESURF_RESTORE_INLINE);
+        ck_assert_int_eq(rn.restore_used, RESURF_RESTORE_NONE);
+        resurf_mesh_free(chosen);
+        resurf_mesh_free(restored);
+        resurf_mesh_free(plain);
+        resurf_mesh_free(m);
+    }
+}
+END_TEST
+
 START_TEST(simplify_lod_chain_restored_onto_original)
 {
     resurf_mesh *m = shape_mesh(SHAPE_SPHERE, 20000, 0.3, 1, 0);
     resurf_simplify_options o = resurf_simplify_options_default();
+    o.restore = RESURF_RESTORE_INLINE; /* on S without the offset: the measured choice may keep the plain level */
     o.sag_offset = 0;
     const double ratios[] = {0.5, 0.25, 0.1, 0.02};
     resurf_mesh *levels[4];
@@ -1252,6 +1297,7 @@ Suite *make_suite(void)
     TCase *levels = tcase_create("levels");
     tcase_add_test(levels, simplify_sphere_lod_vertices_on_sphere);
     tcase_add_test(levels, simplify_lod_chain_restored_onto_original);
+    tcase_add_test(levels, simplify_measured_restore_keeps_the_closer_level);
     tcase_add_test(levels, simplify_deterministic_over_threads);
     tcase_add_test(levels, simplify_error_bound_stops);
     tcase_add_test(levels, simplify_min_angle_guard);

@@ -66,7 +66,7 @@ resurf_simplify_options resurf_simplify_options_default(void)
     memset(&o, 0, sizeof o);
     o.struct_size = sizeof o;
     o.placement = RESURF_PLACEMENT_QUADRIC;
-    o.restore = RESURF_RESTORE_INLINE;
+    o.restore = RESURF_RESTORE_MEASURED;
     o.sag_offset = 1.0;
     o.max_normal_change_deg = 60;
     o.border_weight = 1;
@@ -196,6 +196,7 @@ static resurf_status simplify_levels(const resurf_mesh *in, const resurf_simplif
                 reports[i].result_to_input_max = reports[i].result_to_input_mean = NAN;
                 reports[i].input_to_result_max = reports[i].input_to_result_mean = NAN;
                 reports[i].uv_error_mean = reports[i].uv_error_p95 = NAN;
+                reports[i].restore_used = s.opt.restore;
             }
             break;
         }
@@ -207,7 +208,7 @@ static resurf_status simplify_levels(const resurf_mesh *in, const resurf_simplif
         if (st == RESURF_OK)
             st = build_output(&s, &outs[i], &rep, error);
         if (st == RESURF_OK && reports)
-            reports[i] = rep;
+            reports[i] = rep, reports[i].restore_used = s.opt.restore;
     }
     if (st == RESURF_OK && resurfi_progress(&s.opt.progress, RESURF_STAGE_FINISH, 1))
         st = resurfi_error(error, RESURF_ERR_CANCELLED, "simplification cancelled");
@@ -221,6 +222,68 @@ static resurf_status simplify_levels(const resurf_mesh *in, const resurf_simplif
             outs[i] = NULL;
         }
     return st;
+}
+
+/* RESURF_RESTORE_MEASURED: the levels made inline, then again without restoration to the levels the first run
+ * made; per level the one of the smaller two-sided maximum is kept (inline on a tie). A plain level is taken only
+ * within the level's target (or the inline level's count, where that missed it) and below the level before, so
+ * the chain's counts never rise. */
+static int plain_is_better(const resurf_simplify_report *plain, const resurf_simplify_report *restored,
+                           size_t target, size_t before)
+{
+    size_t allowed = restored->triangles > target ? restored->triangles : target;
+    return plain->max_distance < restored->max_distance && plain->triangles <= allowed && plain->triangles < before;
+}
+
+static resurf_status simplify_measured(const resurf_mesh *in, const resurf_simplify_options *options,
+                                       const size_t *targets, size_t count, resurf_mesh **outs,
+                                       resurf_simplify_report *reports, const resurfi_chain_end *ends,
+                                       const resurfi_simplify_services *services, resurf_error *error)
+{
+    resurf_simplify_options o = *options;
+    o.restore = RESURF_RESTORE_INLINE;
+    const resurf_allocator *alloc = resurfi_allocator_of(o.allocator, in);
+    resurf_simplify_report *reps = resurfi_alloc(alloc, count ? 2 * count : 1, sizeof *reps);
+    resurf_mesh **plain = resurfi_calloc(alloc, count ? count : 1, sizeof *plain);
+    resurf_status st = reps && plain ? RESURF_OK : resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
+    if (st == RESURF_OK)
+        st = simplify_levels(in, &o, targets, count, outs, reps, ends, services, error);
+    size_t made = 0;
+    while (st == RESURF_OK && made < count && outs[made])
+        made++;
+    if (st == RESURF_OK && made && o.measure_samples) {
+        o.restore = RESURF_RESTORE_NONE;
+        o.progress.fn = NULL; /* the inline run reported the stages */
+        st = simplify_levels(in, &o, targets, made, plain, reps + count, NULL, services, error);
+    }
+    for (size_t i = 0, before = SIZE_MAX; st == RESURF_OK && i < made; before = reps[i++].triangles)
+        if (plain[i] && plain_is_better(&reps[count + i], &reps[i], targets[i], before)) {
+            resurf_mesh *t = outs[i];
+            outs[i] = plain[i], plain[i] = t;
+            reps[i] = reps[count + i];
+        }
+    for (size_t i = 0; plain && i < count; ++i)
+        resurf_mesh_free(plain[i]);
+    if (st != RESURF_OK)
+        for (size_t i = 0; i < count; ++i)
+            resurf_mesh_free(outs[i]), outs[i] = NULL;
+    else if (reports)
+        memcpy(reports, reps, count * sizeof *reports);
+    resurfi_free(alloc, plain);
+    resurfi_free(alloc, reps);
+    return st;
+}
+
+/* One run, or with RESURF_RESTORE_MEASURED the two it compares. */
+static resurf_status simplify_chain(const resurf_mesh *in, const resurf_simplify_options *options,
+                                    const size_t *targets, size_t count, resurf_mesh **outs,
+                                    resurf_simplify_report *reports, const resurfi_chain_end *ends,
+                                    const resurfi_simplify_services *services, resurf_error *error)
+{
+    resurf_simplify_options o = options ? *options : resurf_simplify_options_default();
+    if (o.restore == RESURF_RESTORE_MEASURED)
+        return simplify_measured(in, &o, targets, count, outs, reports, ends, services, error);
+    return simplify_levels(in, &o, targets, count, outs, reports, ends, services, error);
 }
 
 resurf_status resurf_simplify(const resurf_mesh *in, const resurf_simplify_options *options, resurf_mesh **out,
@@ -254,7 +317,7 @@ resurf_status resurfi_simplify_lent(const resurf_mesh *in, const resurf_simplify
     resurf_simplify_report rep;
     if (services && services->in != in)
         return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "the services were built for another mesh");
-    st = simplify_levels(in, &o, &target, 1, out, out_report ? &rep : NULL, NULL, services, error);
+    st = simplify_chain(in, &o, &target, 1, out, out_report ? &rep : NULL, NULL, services, error);
     if (st == RESURF_OK && out_report)
         *out_report = rep;
     return st;
@@ -296,7 +359,7 @@ resurf_status resurfi_simplify_lods_until(const resurf_mesh *in, const double *r
     }
     st = services && services->in != in
              ? resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "the services were built for another mesh")
-             : simplify_levels(in, options, targets, count, out_levels, out_reports, ends, services, error);
+             : simplify_chain(in, options, targets, count, out_levels, out_reports, ends, services, error);
     resurfi_free(alloc, targets);
     return st;
 }

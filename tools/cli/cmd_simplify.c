@@ -22,7 +22,8 @@ static const char usage[] =
     "                            simplified from the previous one and restored onto IN; level I (1-based) of\n"
     "                            -o STEM.EXT is written to STEM_lodI.EXT (OUT itself is not written)\n"
     "  --placement P             quadric (default) or midpoint\n"
-    "  --restore MODE            inline (default: after every collapse), post (once at the end), none\n"
+    "  --restore MODE            measured (default: each level made inline and plain, the closer to IN kept),\n"
+    "                            inline (after every collapse), post (once at the end), none\n"
     "  --sag-offset S            move restored vertices outward by S x the local chord sag so that the facets\n"
     "                            straddle the surface; 0 keeps them on it (default: the library's)\n"
     "  --lock-border             border vertices never move\n"
@@ -43,7 +44,7 @@ static const char usage[] =
     "  --format FMT              read IN as obj|ply|off|stl whatever its name says\n" CLI_MAX_TRIANGLES_HELP;
 
 static const char *const placement_names[RESURF_PLACEMENT_COUNT] = {"quadric", "midpoint"};
-static const char *const restore_names[RESURF_RESTORE_MODE_COUNT] = {"inline", "post", "none"};
+static const char *const restore_names[RESURF_RESTORE_MODE_COUNT] = {"inline", "post", "none", "measured"};
 static const char *const stop_names[RESURF_STOP_COUNT] = {"target", "error", "blocked"};
 
 enum { MAX_LEVELS = 32 };
@@ -79,7 +80,8 @@ static void print_text(const char *out, const resurf_simplify_report *r)
         printf("UV error             mean %.9g, 95th percentile %.9g (TEXCOORD_0)\n", r->uv_error_mean,
                r->uv_error_p95);
     printf("max error estimate   %.9g\n", r->max_error_estimate);
-    printf("restored             %zu (left alone %zu)\n", r->restored, r->restore_left);
+    printf("restored             %zu (left alone %zu; made %s)\n", r->restored, r->restore_left,
+           restore_names[r->restore_used]);
     printf("blocked: link        %zu\n", r->blocked_link);
     printf("blocked: flip        %zu\n", r->blocked_flip);
     printf("blocked: min angle   %zu\n", r->blocked_min_angle);
@@ -122,6 +124,7 @@ static void print_json_report(const char *out, const resurf_simplify_report *r)
     cli_json_number(stdout, r->diagonal);
     printf(", \"max_error_estimate\": ");
     cli_json_number(stdout, r->max_error_estimate);
+    printf(", \"restore_used\": \"%s\"", restore_names[r->restore_used]);
     printf(", \"restored\": %zu, \"restore_left\": %zu, \"blocked\": {\"link\": %zu, \"flip\": %zu, \"min_angle\": %zu, "
            "\"distance\": %zu, \"border\": %zu, \"seam\": %zu, \"feature\": %zu, \"nonmanifold\": %zu}, "
            "\"skipped_error\": %zu}",
