@@ -275,6 +275,24 @@ resurf_status resurfi_simplify_lent(const resurf_mesh *in, const resurf_simplify
  * the other triangle. */
 enum { RESURFI_FACET_POINTS = 4 };
 int resurfi_facet_point(const resurf_mesh *m, size_t k, vec3 *out);
+/* Facet point k's triangle and barycentrics. */
+void resurfi_facet_point_place(size_t k, uint32_t *t, double b[3]);
+
+/* A side's maximum climbed to (max_climb.c): the points of largest distance, one a triangle, are offered as they
+ * are measured; the climb moves each uphill inside its triangle and returns the largest distance found, at least
+ * `max`. */
+enum { RESURFI_MAX_STARTS = 4 };
+typedef struct resurfi_max_start {
+    double d, b[3];
+    uint32_t t;
+} resurfi_max_start;
+typedef struct resurfi_max_starts {
+    size_t count;
+    resurfi_max_start start[RESURFI_MAX_STARTS]; /* by distance, largest first */
+} resurfi_max_starts;
+void resurfi_max_starts_offer(resurfi_max_starts *s, double d, uint32_t t, const double b[3]);
+double resurfi_max_starts_climb(const resurfi_max_starts *s, const resurf_mesh *from, const resurfi_bvh *to,
+                                double max);
 /* The largest distance from `from` (samples area-uniform samples drawn from seed, then the vertices its triangles
  * use, as resurf_compare draws them, then with facet_points its facet points) to the surface under `to`; NaN for a
  * mesh without triangles. */

@@ -1,6 +1,7 @@
 /* Deviation metrics between two meshes: one- and two-sided surface distances (Hausdorff, mean, RMS) from
  * area-uniform samples plus the vertices and, for the maximum, every triangle's centroid and edge midpoints (the
- * facet points), each measured exactly to the other surface through its BVH; the
+ * facet points), each measured exactly to the other surface through its BVH, the maximum then climbed to from the
+ * best of them (max_climb.c); the
  * distances of TEST's vertices to REF; TEST's triangle quality; the normal deviation of TEST's faces; and, when both
  * carry TEXCOORD_0, the UV error at TEST's samples (its UV there against REF's at the closest point), whose helpers
  * the simplifier's report shares.
@@ -327,6 +328,26 @@ static side_stats summarize(const side *s, const uint8_t *used)
     return st;
 }
 
+/* The side's maximum climbed to from its best samples and facet points (max_climb.c). */
+static double climbed_max(const side *s, double max)
+{
+    resurfi_max_starts starts = {0};
+    size_t facets_begin = s->samples + s->from->vertex_count;
+    for (size_t i = 0; i < facets_begin + s->facets; ++i) {
+        double d = s->distance[i], b[3];
+        uint32_t t;
+        if ((i >= s->samples && i < facets_begin) ||
+            (starts.count == RESURFI_MAX_STARTS && d <= starts.start[RESURFI_MAX_STARTS - 1].d))
+            continue;
+        if (i < s->samples)
+            sample_point(s, i, &t, b);
+        else
+            resurfi_facet_point_place(i - facets_begin, &t, b);
+        resurfi_max_starts_offer(&starts, d, t, b);
+    }
+    return resurfi_max_starts_climb(&starts, s->from, s->to, max);
+}
+
 static uint8_t *used_vertices(const resurf_allocator *alloc, const resurf_mesh *m)
 {
     uint8_t *used = resurfi_calloc(alloc, m->vertex_count, 1);
@@ -403,7 +424,7 @@ resurf_status resurfi_side_max(const resurf_allocator *alloc, const resurf_mesh 
     resurf_status st = cum && used && sd.distance ? RESURF_OK : RESURF_ERR_OUT_OF_MEMORY;
     if (st == RESURF_OK) {
         resurfi_parallel_for(points, BLOCK, threads, measure_points, &sd);
-        *out_max = summarize(&sd, used).max;
+        *out_max = climbed_max(&sd, summarize(&sd, used).max);
     }
     resurfi_free(alloc, sd.distance);
     resurfi_free(alloc, used);
@@ -523,6 +544,8 @@ resurf_status resurf_compare(const resurf_mesh *ref, const resurf_mesh *test, co
     double lo[3], hi[3];
     m.diagonal = resurf_mesh_bounds(ref, lo, hi);
     side_stats t2r = summarize(&test_side, w.test_used), r2t = summarize(&ref_side, w.ref_used);
+    t2r.max = climbed_max(&test_side, t2r.max);
+    r2t.max = climbed_max(&ref_side, r2t.max);
     m.test_to_ref_max = t2r.max;
     m.test_to_ref_mean = t2r.mean;
     m.ref_to_test_max = r2t.max;

@@ -293,6 +293,37 @@ START_TEST(compare_facet_points_find_a_chord)
 }
 END_TEST
 
+/* A triangle measured to its own three corners (tiny triangles hanging below them): the farthest point is its
+ * circumcentre, at the circumradius R, away from every vertex, centroid and edge midpoint (which give 0.509 and
+ * below). The climb from the best of those finds R. Corners (0,0), (1,0), (0.3,0.8): the circumcentre is
+ * (0.5, 0.26875), R = sqrt(0.25 + 0.26875^2). */
+START_TEST(compare_climbs_to_the_farthest_point)
+{
+    const double e = 1e-12;
+    const double tri[] = {0, 0, 0, 1, 0, 0, 0.3, 0.8, 0};
+    const uint32_t tt[] = {0, 1, 2};
+    double corners[27];
+    uint32_t ct[9];
+    for (int c = 0; c < 3; ++c) {
+        for (int k = 0; k < 3; ++k)
+            for (int j = 0; j < 3; ++j)
+                corners[9 * c + 3 * k + j] = tri[3 * c + j] + (k == 1 && j == 0 ? e : k == 2 && j == 1 ? e : 0) -
+                                             (k && j == 2 ? e : 0);
+        for (int k = 0; k < 3; ++k)
+            ct[3 * c + k] = (uint32_t)(3 * c + k);
+    }
+    resurf_mesh *ref = tu_mesh(corners, 9, ct, 3), *test = tu_mesh(tri, 3, tt, 1);
+    resurf_compare_report r;
+    resurf_compare_options o = compare_options(0, 1);
+    ck_assert_int_eq(resurf_compare(ref, test, &o, &r, NULL, NULL), RESURF_OK);
+    double R = sqrt(0.25 + 0.26875 * 0.26875);
+    ck_assert_msg(fabs(r.test_to_ref_max - R) <= 5e-4 * R, "found %.9g, R %.9g", r.test_to_ref_max, R);
+    ck_assert_double_le(r.test_to_ref_max, R);
+    resurf_mesh_free(ref);
+    resurf_mesh_free(test);
+}
+END_TEST
+
 static bool cancel_at(void *user, resurf_stage stage, double fraction)
 {
     (void)fraction;
@@ -477,6 +508,7 @@ Suite *make_suite(void)
     tcase_add_test(tc, compare_threads_deterministic);
     tcase_add_test(tc, compare_without_samples);
     tcase_add_test(tc, compare_facet_points_find_a_chord);
+    tcase_add_test(tc, compare_climbs_to_the_farthest_point);
     tcase_add_test(tc, compare_cancel);
     tcase_add_test(tc, compare_rejects_bad_input);
     tcase_add_test(tc, compare_cli_json_and_heatmap);

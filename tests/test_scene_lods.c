@@ -161,6 +161,9 @@ START_TEST(scene_lods_equal_per_primitive_chains)
     const double ratios[2] = {0.5, 0.2};
     resurf_simplify_options so = fast_options();
     so.measure_samples = 20000; /* three simplified meshes share the budget: 5,000 can miss the max by over 20% */
+    /* One restoring mode: the measured default chooses per level by the report, which here has the primitive's
+       share of the samples and alone has them all. */
+    so.restore = RESURF_RESTORE_INLINE;
     resurf_scene_lod_options lo = resurf_scene_lod_options_default();
     lo.pixels = 1; /* small enough that no level's coverage is clamped at 1 */
     lo.screen_height = 720;

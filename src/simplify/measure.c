@@ -6,7 +6,8 @@
  * triangle's centroid and edge midpoints, resurfi_facet_point): a level's long chords and coarse facets leave the
  * input farthest there, so its maximum needs no dense sampling (on a torus's 25% level, 5,000 samples and the
  * facet points find 0.996 of the maximum 2M samples find; 100k samples alone found 0.92). The samples then serve
- * the means, which converge fast. The result's points go to the input's tree (the one the
+ * the means, which converge fast; the maximum is then climbed to from the best points (max_climb.c), as
+ * resurf_compare does. The result's points go to the input's tree (the one the
  * simplifier built for attributes), the input's points to a tree built over the level. A one-sided measure cannot
  * see what a level lost: a square of two triangles reduced to one lies on the input everywhere, and only the
  * input's points on the lost half find the distance. The figures are those of resurf_compare (metrics.c): the
@@ -42,6 +43,7 @@ typedef struct side {
     const resurfi_bvh *to;
     const resurf_mesh *to_mesh;
     double *block_max, *block_sum, *block_vertex_sum; /* per block of BLOCK_SAMPLES points */
+    resurfi_max_starts *block_starts; /* per block: its best samples and facet points, to climb from */
     double *uv;                 /* per sample: the UV error, or NULL */
 } side;
 
@@ -73,16 +75,20 @@ static int measure_block(void *ctx, size_t begin, size_t end, unsigned worker)
     (void)worker;
     const side *sd = ctx;
     double mx = 0, sum = 0, vertex_sum = 0;
+    resurfi_max_starts *starts = &sd->block_starts[begin / BLOCK_SAMPLES];
+    starts->count = 0;
     for (size_t i = begin; i < end; ++i) {
-        int is_sample = i < sd->samples;
+        int is_sample = i < sd->samples, is_facet = i >= sd->samples + sd->vertex_count;
         uint32_t t = NONE;
         double b[3], cb[3], d2;
         vec3 p;
         if (is_sample) {
             p = sample_point(sd, i, &t, b);
-        } else if (i >= sd->samples + sd->vertex_count) {
-            if (!resurfi_facet_point(sd->from, i - sd->samples - sd->vertex_count, &p))
+        } else if (is_facet) {
+            size_t k = i - sd->samples - sd->vertex_count;
+            if (!resurfi_facet_point(sd->from, k, &p))
                 continue;
+            resurfi_facet_point_place(k, &t, b);
         } else {
             size_t k = i - sd->samples;
             p = resurfi_position(sd->from, sd->vertices ? sd->vertices[k] : (uint32_t)k);
@@ -91,6 +97,8 @@ static int measure_block(void *ctx, size_t begin, size_t end, unsigned worker)
         uint32_t c = resurfi_bvh_closest(sd->to, p, INFINITY, NULL, uv ? cb : NULL, &d2);
         double d = c == NONE ? INFINITY : sqrt(d2);
         mx = d > mx ? d : mx;
+        if (is_sample || is_facet)
+            resurfi_max_starts_offer(starts, d, t, b);
         if (is_sample)
             sum += d;
         else if (i < sd->samples + sd->vertex_count)
@@ -197,17 +205,28 @@ static resurf_status run_side(simplifier *s, side *sd, double *out_max, double *
     size_t total = sd->samples + sd->vertex_count + sd->facets;
     size_t blocks = (total + BLOCK_SAMPLES - 1) / BLOCK_SAMPLES;
     sd->block_max = resurfi_alloc(s->alloc, blocks ? blocks : 1, 3 * sizeof(double));
-    if (!sd->block_max)
+    sd->block_starts = resurfi_alloc(s->alloc, blocks ? blocks : 1, sizeof *sd->block_starts);
+    if (!sd->block_max || !sd->block_starts) {
+        resurfi_free(s->alloc, sd->block_max);
+        resurfi_free(s->alloc, sd->block_starts);
         return RESURF_ERR_OUT_OF_MEMORY;
+    }
     sd->block_sum = sd->block_max + blocks;
     sd->block_vertex_sum = sd->block_sum + blocks;
     resurfi_pool_for(s->pool, total, BLOCK_SAMPLES, measure_block, sd);
     double mx = 0, sum = 0, vertex_sum = 0;
+    resurfi_max_starts starts = {0};
     for (size_t b = 0; b < blocks; ++b) {
         mx = sd->block_max[b] > mx ? sd->block_max[b] : mx;
         sum += sd->block_sum[b];
         vertex_sum += sd->block_vertex_sum[b];
+        for (size_t k = 0; k < sd->block_starts[b].count; ++k) /* in block order: the same for any thread count */
+            resurfi_max_starts_offer(&starts, sd->block_starts[b].start[k].d, sd->block_starts[b].start[k].t,
+                                     sd->block_starts[b].start[k].b);
     }
+    mx = resurfi_max_starts_climb(&starts, sd->from, sd->to, mx);
+    resurfi_free(s->alloc, sd->block_starts);
+    sd->block_starts = NULL;
     resurfi_free(s->alloc, sd->block_max);
     sd->block_max = sd->block_sum = sd->block_vertex_sum = NULL;
     *out_max = total ? mx : NAN;
@@ -234,10 +253,10 @@ resurf_status measure_level(simplifier *s, const resurf_mesh *m, resurf_simplify
                                        s->opt.thread_pool ? 1 : s->opt.threads, &level_bvh);
     size_t n = s->opt.measure_samples;
     side result = {m, level_area, level_area && level_area[m->triangle_count] > 0 ? n : 0, NULL, m->vertex_count,
-                   RESURFI_FACET_POINTS * m->triangle_count, 0, s->bvh, s->in, NULL, NULL, NULL, NULL};
+                   RESURFI_FACET_POINTS * m->triangle_count, 0, s->bvh, s->in, NULL, NULL, NULL, NULL, NULL};
     const double *in_area = s->measure.in_area_prefix;
     side input = {s->in, in_area, in_area && in_area[s->in->triangle_count] > 0 ? n : 0, s->measure.in_used,
-                  s->measure.in_used_count, 0, 3, level_bvh, m, NULL, NULL, NULL, NULL};
+                  s->measure.in_used_count, 0, 3, level_bvh, m, NULL, NULL, NULL, NULL, NULL};
     if (st == RESURF_OK && result.samples && resurfi_has_uv0(s->in) && resurfi_has_uv0(m) &&
         !(uv = result.uv = resurfi_alloc(s->alloc, result.samples, sizeof *uv)))
         st = RESURF_ERR_OUT_OF_MEMORY;
