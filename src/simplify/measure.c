@@ -42,6 +42,11 @@ typedef struct side {
     uint64_t stream;            /* first of the three sample_unit streams of this side */
     const resurfi_bvh *to;
     const resurf_mesh *to_mesh;
+    const uint32_t *rep;        /* per vertex of from: the vertex measured for its position (NONE: unused), or NULL
+                                   when every vertex is measured */
+    uint32_t *nearest;          /* per measured vertex of from: its closest triangle of to_mesh (the facet bound) */
+    double facet_floor;         /* a facet point whose bound is at most this cannot raise the maximum: skipped */
+    size_t first;               /* the first point of the running phase */
     double *block_max, *block_sum, *block_vertex_sum; /* per block of BLOCK_SAMPLES points */
     resurfi_max_starts *block_starts; /* per block: its best samples and facet points, to climb from */
     double *uv;                 /* per sample: the UV error, or NULL */
@@ -70,6 +75,25 @@ static vec3 sample_point(const side *sd, size_t i, uint32_t *out_t, double b[3])
     return v3_madd(p, resurfi_position(m, f[2]), b[2]);
 }
 
+/* An upper bound of facet point p's distance (of from's triangle t) to to_mesh: its distance to the triangles its
+ * corners are closest to, which are triangles of to_mesh. INFINITY where no corner was measured. */
+static double facet_bound(const side *sd, uint32_t t, vec3 p)
+{
+    double bound2 = INFINITY;
+    const uint32_t *f = sd->from->indices + 3 * (size_t)t;
+    for (int k = 0; k < 3; ++k) {
+        uint32_t v = sd->rep ? sd->rep[f[k]] : f[k], c = v == NONE ? NONE : sd->nearest[v];
+        if (c == NONE)
+            continue;
+        const uint32_t *g = sd->to_mesh->indices + 3 * (size_t)c;
+        vec3 q = resurfi_closest_on_triangle(p, resurfi_position(sd->to_mesh, g[0]),
+                                             resurfi_position(sd->to_mesh, g[1]), resurfi_position(sd->to_mesh, g[2]),
+                                             NULL);
+        bound2 = fmin(bound2, v3_dist2(p, q));
+    }
+    return sqrt(bound2);
+}
+
 static int measure_block(void *ctx, size_t begin, size_t end, unsigned worker)
 {
     (void)worker;
@@ -77,9 +101,9 @@ static int measure_block(void *ctx, size_t begin, size_t end, unsigned worker)
     double mx = 0, sum = 0, vertex_sum = 0;
     resurfi_max_starts *starts = &sd->block_starts[begin / BLOCK_SAMPLES];
     starts->count = 0;
-    for (size_t i = begin; i < end; ++i) {
+    for (size_t i = sd->first + begin; i < sd->first + end; ++i) {
         int is_sample = i < sd->samples, is_facet = i >= sd->samples + sd->vertex_count;
-        uint32_t t = NONE;
+        uint32_t t = NONE, v = NONE;
         double b[3], cb[3], d2;
         vec3 p;
         if (is_sample) {
@@ -89,9 +113,12 @@ static int measure_block(void *ctx, size_t begin, size_t end, unsigned worker)
             if (!resurfi_facet_point(sd->from, k, &p))
                 continue;
             resurfi_facet_point_place(k, &t, b);
+            if (facet_bound(sd, t, p) <= sd->facet_floor)
+                continue;
         } else {
             size_t k = i - sd->samples;
-            p = resurfi_position(sd->from, sd->vertices ? sd->vertices[k] : (uint32_t)k);
+            v = sd->vertices ? sd->vertices[k] : (uint32_t)k;
+            p = resurfi_position(sd->from, v);
         }
         int uv = is_sample && sd->uv;
         uint32_t c = resurfi_bvh_closest(sd->to, p, INFINITY, NULL, uv ? cb : NULL, &d2);
@@ -101,8 +128,10 @@ static int measure_block(void *ctx, size_t begin, size_t end, unsigned worker)
             resurfi_max_starts_offer(starts, d, t, b);
         if (is_sample)
             sum += d;
-        else if (i < sd->samples + sd->vertex_count)
+        else if (!is_facet) {
             vertex_sum += d;
+            sd->nearest[v] = c;
+        }
         if (uv)
             sd->uv[i] = c == NONE ? INFINITY : resurfi_uv_distance(sd->from, t, b, sd->to_mesh, c, cb);
     }
@@ -143,21 +172,28 @@ static int by_place(const void *pa, const void *pb)
 }
 
 /* Keeps one of the vertices at each position (the lowest index), in the order of their places: copies of a position
- * at a seam (split normals or texcoords) are one point of the surface, and CAD exports split most of theirs. */
-static void one_per_position(const resurf_allocator *alloc, const resurf_mesh *in, uint32_t *vertices, size_t *count)
+ * at a seam (split normals or texcoords) are one point of the surface, and CAD exports split most of theirs.
+ * rep[v] (vertex_count entries, NONE before) becomes the vertex kept for v's position. */
+static void one_per_position(const resurf_allocator *alloc, const resurf_mesh *in, uint32_t *vertices, size_t *count,
+                             uint32_t *rep)
 {
     placed_vertex *pv = resurfi_alloc(alloc, *count ? *count : 1, sizeof *pv);
-    if (!pv)
-        return; /* measuring every copy gives the same figures, only slower */
+    if (!pv) { /* measuring every copy gives the same figures, only slower */
+        for (size_t i = 0; i < *count; ++i)
+            rep[vertices[i]] = vertices[i];
+        return;
+    }
     for (size_t i = 0; i < *count; ++i) {
         memcpy(pv[i].p, in->positions + 3 * (size_t)vertices[i], sizeof pv[i].p);
         pv[i].v = vertices[i];
     }
     qsort(pv, *count, sizeof *pv, by_place);
     size_t n = 0;
-    for (size_t i = 0; i < *count; ++i)
+    for (size_t i = 0; i < *count; ++i) {
         if (i == 0 || memcmp(pv[i].p, pv[i - 1].p, sizeof pv[i].p))
             vertices[n++] = pv[i].v;
+        rep[pv[i].v] = vertices[n - 1];
+    }
     *count = n;
     resurfi_free(alloc, pv);
 }
@@ -188,7 +224,11 @@ static resurf_status measure_input(simplifier *s)
         if (used[v])
             ms->in_used[ms->in_used_count++] = (uint32_t)v;
     resurfi_free(s->alloc, used);
-    one_per_position(s->alloc, in, ms->in_used, &ms->in_used_count);
+    if (!(ms->in_rep = resurfi_alloc(s->alloc, in->vertex_count ? in->vertex_count : 1, sizeof *ms->in_rep)))
+        return RESURF_ERR_OUT_OF_MEMORY;
+    for (size_t v = 0; v < in->vertex_count; ++v)
+        ms->in_rep[v] = NONE;
+    one_per_position(s->alloc, in, ms->in_used, &ms->in_used_count, ms->in_rep);
     return RESURF_OK;
 }
 
@@ -196,42 +236,67 @@ void measure_free(simplifier *s)
 {
     resurfi_free(s->alloc, s->measure.in_area_prefix);
     resurfi_free(s->alloc, s->measure.in_used);
+    resurfi_free(s->alloc, s->measure.in_rep);
     memset(&s->measure, 0, sizeof s->measure);
 }
 
-/* Runs a side's points on the call's threads; its max and mean (over the samples, else over the vertices). */
+/* Points [first, first + count) of a side on the call's threads, their maximum, sums and best points merged into
+ * the side's (in block order: the same for any thread count). */
+static resurf_status run_phase(simplifier *s, side *sd, size_t first, size_t count, double acc[3],
+                               resurfi_max_starts *starts)
+{
+    size_t blocks = (count + BLOCK_SAMPLES - 1) / BLOCK_SAMPLES;
+    if (!blocks)
+        return RESURF_OK;
+    sd->block_max = resurfi_alloc(s->alloc, blocks, 3 * sizeof(double));
+    sd->block_starts = resurfi_alloc(s->alloc, blocks, sizeof *sd->block_starts);
+    resurf_status st = sd->block_max && sd->block_starts ? RESURF_OK : RESURF_ERR_OUT_OF_MEMORY;
+    if (st == RESURF_OK) {
+        sd->block_sum = sd->block_max + blocks;
+        sd->block_vertex_sum = sd->block_sum + blocks;
+        sd->first = first;
+        resurfi_pool_for(s->pool, count, BLOCK_SAMPLES, measure_block, sd);
+        for (size_t b = 0; b < blocks; ++b) {
+            acc[0] = fmax(acc[0], sd->block_max[b]);
+            acc[1] += sd->block_sum[b];
+            acc[2] += sd->block_vertex_sum[b];
+            for (size_t k = 0; k < sd->block_starts[b].count; ++k)
+                resurfi_max_starts_offer(starts, sd->block_starts[b].start[k].d, sd->block_starts[b].start[k].t,
+                                         sd->block_starts[b].start[k].b);
+        }
+    }
+    resurfi_free(s->alloc, sd->block_starts);
+    resurfi_free(s->alloc, sd->block_max);
+    sd->block_starts = NULL;
+    sd->block_max = sd->block_sum = sd->block_vertex_sum = NULL;
+    return st;
+}
+
+/* A side's max and mean (over the samples, else over the vertices). The samples and vertices run first; then the
+ * facet points, each skipped when its distance to the triangles its corners are closest to (an upper bound of its
+ * distance) is at most the maximum so far: it cannot raise it, so the maximum is the one over every facet point,
+ * exactly, at a few point-triangle tests for most of them. Last the climb from the best points. */
 static resurf_status run_side(simplifier *s, side *sd, double *out_max, double *out_mean)
 {
-    size_t total = sd->samples + sd->vertex_count + sd->facets;
-    size_t blocks = (total + BLOCK_SAMPLES - 1) / BLOCK_SAMPLES;
-    sd->block_max = resurfi_alloc(s->alloc, blocks ? blocks : 1, 3 * sizeof(double));
-    sd->block_starts = resurfi_alloc(s->alloc, blocks ? blocks : 1, sizeof *sd->block_starts);
-    if (!sd->block_max || !sd->block_starts) {
-        resurfi_free(s->alloc, sd->block_max);
-        resurfi_free(s->alloc, sd->block_starts);
-        return RESURF_ERR_OUT_OF_MEMORY;
-    }
-    sd->block_sum = sd->block_max + blocks;
-    sd->block_vertex_sum = sd->block_sum + blocks;
-    resurfi_pool_for(s->pool, total, BLOCK_SAMPLES, measure_block, sd);
-    double mx = 0, sum = 0, vertex_sum = 0;
+    size_t points = sd->samples + sd->vertex_count, total = points + sd->facets;
+    double acc[3] = {0, 0, 0}; /* max, sample sum, vertex sum */
     resurfi_max_starts starts = {0};
-    for (size_t b = 0; b < blocks; ++b) {
-        mx = sd->block_max[b] > mx ? sd->block_max[b] : mx;
-        sum += sd->block_sum[b];
-        vertex_sum += sd->block_vertex_sum[b];
-        for (size_t k = 0; k < sd->block_starts[b].count; ++k) /* in block order: the same for any thread count */
-            resurfi_max_starts_offer(&starts, sd->block_starts[b].start[k].d, sd->block_starts[b].start[k].t,
-                                     sd->block_starts[b].start[k].b);
-    }
-    mx = resurfi_max_starts_climb(&starts, sd->from, sd->to, mx);
-    resurfi_free(s->alloc, sd->block_starts);
-    sd->block_starts = NULL;
-    resurfi_free(s->alloc, sd->block_max);
-    sd->block_max = sd->block_sum = sd->block_vertex_sum = NULL;
-    *out_max = total ? mx : NAN;
-    *out_mean = sd->samples ? sum / (double)sd->samples
-                            : sd->vertex_count ? vertex_sum / (double)sd->vertex_count : NAN;
+    sd->nearest = resurfi_alloc(s->alloc, sd->from->vertex_count ? sd->from->vertex_count : 1, sizeof *sd->nearest);
+    if (!sd->nearest)
+        return RESURF_ERR_OUT_OF_MEMORY;
+    for (size_t v = 0; v < sd->from->vertex_count; ++v)
+        sd->nearest[v] = NONE;
+    resurf_status st = run_phase(s, sd, 0, points, acc, &starts);
+    sd->facet_floor = acc[0];
+    if (st == RESURF_OK)
+        st = run_phase(s, sd, points, sd->facets, acc, &starts);
+    resurfi_free(s->alloc, sd->nearest);
+    sd->nearest = NULL;
+    if (st != RESURF_OK)
+        return st;
+    *out_max = total ? resurfi_max_starts_climb(&starts, sd->from, sd->to, acc[0]) : NAN;
+    *out_mean = sd->samples ? acc[1] / (double)sd->samples
+                            : sd->vertex_count ? acc[2] / (double)sd->vertex_count : NAN;
     return RESURF_OK;
 }
 
@@ -253,10 +318,12 @@ resurf_status measure_level(simplifier *s, const resurf_mesh *m, resurf_simplify
                                        s->opt.thread_pool ? 1 : s->opt.threads, &level_bvh);
     size_t n = s->opt.measure_samples;
     side result = {m, level_area, level_area && level_area[m->triangle_count] > 0 ? n : 0, NULL, m->vertex_count,
-                   RESURFI_FACET_POINTS * m->triangle_count, 0, s->bvh, s->in, NULL, NULL, NULL, NULL, NULL};
+                   RESURFI_FACET_POINTS * m->triangle_count, 0, s->bvh, s->in, NULL, NULL, 0, 0,
+                   NULL, NULL, NULL, NULL, NULL};
     const double *in_area = s->measure.in_area_prefix;
     side input = {s->in, in_area, in_area && in_area[s->in->triangle_count] > 0 ? n : 0, s->measure.in_used,
-                  s->measure.in_used_count, 0, 3, level_bvh, m, NULL, NULL, NULL, NULL, NULL};
+                  s->measure.in_used_count, RESURFI_FACET_POINTS * s->in->triangle_count, 3, level_bvh, m,
+                  s->measure.in_rep, NULL, 0, 0, NULL, NULL, NULL, NULL, NULL};
     if (st == RESURF_OK && result.samples && resurfi_has_uv0(s->in) && resurfi_has_uv0(m) &&
         !(uv = result.uv = resurfi_alloc(s->alloc, result.samples, sizeof *uv)))
         st = RESURF_ERR_OUT_OF_MEMORY;

@@ -225,8 +225,9 @@ typedef struct attr_quadrics {
 /* The report's input side (measure.c), found at the first measured level and kept for the others. */
 typedef struct measure_state {
     double *in_area_prefix;   /* the input's cumulative triangle areas, triangle_count + 1 */
-    uint32_t *in_used;        /* the input's vertices that triangles use */
+    uint32_t *in_used;        /* the input's vertices that triangles use, one per position */
     size_t in_used_count;
+    uint32_t *in_rep;         /* per input vertex: the one of in_used at its position, NONE if unused */
 } measure_state;
 
 typedef struct simplifier {
