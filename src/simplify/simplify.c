@@ -252,6 +252,12 @@ static resurf_status simplify_measured(const resurf_mesh *in, const resurf_simpl
     resurf_simplify_report *reps = resurfi_alloc(alloc, count ? 2 * count : 1, sizeof *reps);
     resurf_mesh **plain = resurfi_calloc(alloc, count ? count : 1, sizeof *plain);
     resurf_status st = reps && plain ? RESURF_OK : resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
+    /* The two runs read the same services over M (and the plain one copies the inline one's analysis): built once
+       here when the caller lent none. */
+    resurfi_simplify_services *own = NULL;
+    if (st == RESURF_OK && !services && o.measure_samples &&
+        (st = resurfi_simplify_services_build(in, &o, &own, error)) == RESURF_OK)
+        services = own;
     if (st == RESURF_OK)
         st = simplify_levels(in, &o, targets, count, outs, reps, ends, services, error);
     size_t made = 0;
@@ -275,6 +281,7 @@ static resurf_status simplify_measured(const resurf_mesh *in, const resurf_simpl
             resurf_mesh_free(outs[i]), outs[i] = NULL;
     else if (reports)
         memcpy(reports, reps, count * sizeof *reports);
+    resurfi_simplify_services_free(own);
     resurfi_free(alloc, plain);
     resurfi_free(alloc, reps);
     return st;
