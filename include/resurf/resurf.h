@@ -757,12 +757,13 @@ typedef enum resurf_restore_mode {
     RESURF_RESTORE_INLINE = 0, /* after every collapse, the new vertex is restored onto S of the ORIGINAL mesh */
     RESURF_RESTORE_POST,       /* once, at the end, every vertex of the result */
     RESURF_RESTORE_NONE,       /* plain edge collapse */
-    RESURF_RESTORE_MEASURED,   /* the default: each level made both INLINE and NONE, and the one of the smaller
-                                  measured two-sided Hausdorff distance to the input kept (INLINE on a tie, or when
-                                  measure_samples is 0 and nothing is measured). The paper's S is the surface a
-                                  smooth mesh approximates; on a noisy scan, at a shading-smoothed hard edge or on a
-                                  CAD part it may lie farther from the input than the plain collapse does. About
-                                  1.7x the time of INLINE; the report's restore_used says which was kept */
+    RESURF_RESTORE_MEASURED,   /* the default: each level made both INLINE and NONE, and the INLINE one kept where
+                                  its measured two-sided distance to the input is no larger in maximum and in mean,
+                                  else the NONE one (INLINE when measure_samples is 0 and nothing is measured). The
+                                  paper's S is the surface a smooth mesh approximates; on a noisy scan, at a
+                                  shading-smoothed hard edge or on a CAD part it may lie farther from the input than
+                                  the plain collapse does. About 1.8x the time of INLINE with its report; the
+                                  report's restore_used says which was kept */
     RESURF_RESTORE_MODE_COUNT
 } resurf_restore_mode;
 

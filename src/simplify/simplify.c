@@ -225,20 +225,17 @@ static resurf_status simplify_levels(const resurf_mesh *in, const resurf_simplif
 }
 
 /* RESURF_RESTORE_MEASURED: the levels made inline, then again without restoration to the levels the first run
- * made; per level the one of the smaller two-sided maximum is kept, and where the maxima tie (a flat part's or a
- * border's feature sets both) the one of the smaller mean. A plain level is taken only within the level's target
- * (or the inline level's count, where that missed it) and below the level before, so the chain's counts never
- * rise. */
+ * made; per level the restored one is kept where it is at least as near the input as the plain one in both the
+ * two-sided maximum and the mean, else the plain one: a default that is never farther from the input than the
+ * plain collapse, by either measure. A plain level is taken only within the level's target (or the inline level's
+ * count, where that missed it) and below the level before, so the chain's counts never rise. */
 static int plain_is_better(const resurf_simplify_report *plain, const resurf_simplify_report *restored,
                            size_t target, size_t before)
 {
-    const double tie = 1e-9; /* relative: rounding apart */
     size_t allowed = restored->triangles > target ? restored->triangles : target;
     if (!(plain->triangles <= allowed && plain->triangles < before))
         return 0;
-    if (plain->max_distance < restored->max_distance * (1 - tie))
-        return 1;
-    return plain->max_distance <= restored->max_distance * (1 + tie) && plain->mean_distance < restored->mean_distance;
+    return !(restored->max_distance <= plain->max_distance && restored->mean_distance <= plain->mean_distance);
 }
 
 static resurf_status simplify_measured(const resurf_mesh *in, const resurf_simplify_options *options,
