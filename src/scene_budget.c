@@ -105,7 +105,8 @@ static resurf_status rerun(budget_memo *memo, const resurfi_budget_prim *b, size
         o.target_triangles = t;
         /* A level is made again the way its chain's level was (inline or plain): one run, not the two of the
            measured choice. */
-        if (o.restore == RESURF_RESTORE_MEASURED)
+        if (o.restore == RESURF_RESTORE_MEASURED && (b->reports[k].restore_used == RESURF_RESTORE_INLINE ||
+                                                     b->reports[k].restore_used == RESURF_RESTORE_NONE))
             o.restore = b->reports[k].restore_used;
         if (b->bounds[k] > 0)
             o.max_error = o.max_error > 0 ? fmin(o.max_error, b->bounds[k]) : b->bounds[k];

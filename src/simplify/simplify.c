@@ -246,7 +246,7 @@ static resurf_status simplify_measured(const resurf_mesh *in, const resurf_simpl
     resurf_simplify_options o = *options;
     o.restore = RESURF_RESTORE_INLINE;
     const resurf_allocator *alloc = resurfi_allocator_of(o.allocator, in);
-    resurf_simplify_report *reps = resurfi_alloc(alloc, count ? 2 * count : 1, sizeof *reps);
+    resurf_simplify_report *reps = resurfi_calloc(alloc, count ? 2 * count : 1, sizeof *reps); /* unmade levels: zero */
     resurf_mesh **plain = resurfi_calloc(alloc, count ? count : 1, sizeof *plain);
     resurf_status st = reps && plain ? RESURF_OK : resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
     /* The two runs read the same services over M (and the plain one copies the inline one's analysis): built once
