@@ -1224,6 +1224,31 @@ static void cancel_everywhere(size_t triangles)
     resurf_mesh_free(m);
 }
 
+/* The measured default's second, plain run still asks the callback (at FINISH 1), so a cancel stops it too: more
+ * calls than the inline run alone, and a cancel at the last one returns CANCELLED with no output. */
+START_TEST(simplify_measured_plain_run_can_be_cancelled)
+{
+    resurf_mesh *m = shape_mesh(SHAPE_SPHERE, 4000, 0.3, 1, 0);
+    resurf_simplify_options o = resurf_simplify_options_default();
+    o.target_ratio = 0.2;
+    cancel_state inline_calls = {0, -1, {0}}, measured_calls = {0, -1, {0}};
+    o.restore = RESURF_RESTORE_INLINE;
+    o.progress = (resurf_progress){cancel_cb, &inline_calls};
+    resurf_mesh_free(simplify_ok(m, &o, NULL));
+    o.restore = RESURF_RESTORE_MEASURED;
+    o.progress = (resurf_progress){cancel_cb, &measured_calls};
+    resurf_mesh_free(simplify_ok(m, &o, NULL));
+    ck_assert_int_gt(measured_calls.calls, inline_calls.calls);
+    cancel_state c = {0, measured_calls.calls - 1, {0}};
+    o.progress = (resurf_progress){cancel_cb, &c};
+    resurf_mesh *out = (resurf_mesh *)1;
+    resurf_error e;
+    ck_assert_int_eq(resurf_simplify(m, &o, &out, NULL, &e), RESURF_ERR_CANCELLED);
+    ck_assert_ptr_null(out);
+    resurf_mesh_free(m);
+}
+END_TEST
+
 START_TEST(simplify_cancel_at_every_step)
 {
     cancel_everywhere(tu_light() ? 10000 : 40000);
@@ -1324,6 +1349,7 @@ Suite *make_suite(void)
     tcase_add_test(hostile, simplify_empty_input);
     tcase_add_test(hostile, simplify_rejects_bad_input_and_options);
     tcase_add_test(hostile, simplify_cancel_at_every_step);
+    tcase_add_test(hostile, simplify_measured_plain_run_can_be_cancelled);
     tcase_add_test(hostile, simplify_cli_levels_and_json);
     suite_add_tcase(s, hostile);
     return s;

@@ -238,6 +238,15 @@ static int plain_is_better(const resurf_simplify_report *plain, const resurf_sim
     return !(restored->max_distance <= plain->max_distance && restored->mean_distance <= plain->mean_distance);
 }
 
+/* The plain run's progress: the inline run has reported every stage to its end, so the plain one only asks the
+ * caller's callback again at FINISH 1 (which stays monotonic), that a cancel still stops it. */
+static bool plain_run_progress(void *user, resurf_stage stage, double fraction)
+{
+    (void)stage, (void)fraction;
+    const resurf_progress *caller = user;
+    return caller->fn(caller->user, RESURF_STAGE_FINISH, 1.0);
+}
+
 static resurf_status simplify_measured(const resurf_mesh *in, const resurf_simplify_options *options,
                                        const size_t *targets, size_t count, resurf_mesh **outs,
                                        resurf_simplify_report *reports, const resurfi_chain_end *ends,
@@ -261,8 +270,10 @@ static resurf_status simplify_measured(const resurf_mesh *in, const resurf_simpl
     while (st == RESURF_OK && made < count && outs[made])
         made++;
     if (st == RESURF_OK && made && o.measure_samples) {
+        const resurf_progress caller = options->progress;
         o.restore = RESURF_RESTORE_NONE;
-        o.progress.fn = NULL; /* the inline run reported the stages */
+        if (caller.fn)
+            o.progress = (resurf_progress){plain_run_progress, (void *)&caller};
         st = simplify_levels(in, &o, targets, made, plain, reps + count, NULL, services, error);
     }
     for (size_t i = 0, before = SIZE_MAX; st == RESURF_OK && i < made; before = reps[i++].triangles)
