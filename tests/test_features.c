@@ -146,18 +146,9 @@ static resurf_mesh *simplified(const resurf_mesh *in, double ratio, resurf_resto
     return out;
 }
 
-static resurf_compare_report compared(const resurf_mesh *ref, const resurf_mesh *test)
-{
-    resurf_compare_options co = resurf_compare_options_default();
-    co.samples = 50000;
-    resurf_compare_report d;
-    ck_assert_int_eq(resurf_compare(ref, test, &co, &d, NULL, NULL), RESURF_OK);
-    return d;
-}
-
 static double hausdorff_rel(const resurf_mesh *ref, const resurf_mesh *test)
 {
-    resurf_compare_report d = compared(ref, test);
+    resurf_compare_report d = tu_compare(ref, test, 50000);
     return d.hausdorff / d.diagonal;
 }
 
@@ -390,7 +381,7 @@ START_TEST(features_sag_offset_no_worse_on_a_cylinder)
     for (int r = 0; r < 2; ++r) {
         resurf_mesh *none = simplified(in, ratios[r], RESURF_RESTORE_NONE);
         resurf_mesh *inline_ = simplified(in, ratios[r], RESURF_RESTORE_INLINE);
-        double mn = compared(in, none).mean, mi = compared(in, inline_).mean;
+        double mn = tu_compare(in, none, 50000).mean, mi = tu_compare(in, inline_, 50000).mean;
         ck_assert_msg(mi <= mn, "at %g%%: inline %g, none %g", 100 * ratios[r], mi, mn);
         resurf_mesh_free(none);
         resurf_mesh_free(inline_);

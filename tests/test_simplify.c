@@ -483,16 +483,6 @@ START_TEST(simplify_sphere_lod_vertices_on_sphere)
 }
 END_TEST
 
-/* The two-sided distance between a and b by resurf_compare, many samples: an evaluation apart from the report's. */
-static resurf_compare_report dense_compare(const resurf_mesh *a, const resurf_mesh *b)
-{
-    resurf_compare_options co = resurf_compare_options_default();
-    co.samples = 200000;
-    resurf_compare_report cr;
-    ck_assert_int_eq(resurf_compare(a, b, &co, &cr, NULL, NULL), RESURF_OK);
-    return cr;
-}
-
 /* The default keeps, per level, the inline level where it lies as near the input as the plain one in maximum and
  * in mean, else the plain one. On the jittered cubic surface at 10% the plain collapse's two-sided maximum is
  * smaller (the restored vertices sit on S, and S rises above the input's facets); on the sphere with the sag
@@ -513,7 +503,7 @@ START_TEST(simplify_measured_restore_keeps_the_closer_level)
         resurf_mesh *restored = simplify_ok(m, &o, &ri);
         o.restore = RESURF_RESTORE_NONE;
         resurf_mesh *plain = simplify_ok(m, &o, &rn);
-        resurf_compare_report di = dense_compare(m, restored), dn = dense_compare(m, plain);
+        resurf_compare_report di = tu_compare(m, restored, 200000), dn = tu_compare(m, plain, 200000);
         int inline_nearer = di.hausdorff <= dn.hausdorff && di.mean <= dn.mean;
         ck_assert_msg(inline_nearer == (winner[k] == RESURF_RESTORE_INLINE), "shape %d: inline %g / %g, none %g / %g",
                       k, di.hausdorff, di.mean, dn.hausdorff, dn.mean);

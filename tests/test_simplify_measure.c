@@ -17,16 +17,6 @@ static resurf_mesh *simplify_ok(const resurf_mesh *in, const resurf_simplify_opt
     return out;
 }
 
-static resurf_compare_report compare_ok(const resurf_mesh *ref, const resurf_mesh *test, size_t samples)
-{
-    resurf_compare_options o = resurf_compare_options_default();
-    o.samples = samples;
-    resurf_compare_report r;
-    resurf_error e;
-    ck_assert_msg(resurf_compare(ref, test, &o, &r, NULL, &e) == RESURF_OK, "compare failed: %s", e.message);
-    return r;
-}
-
 /* An n×n grid of squares on z = 0 over [0, 1]² with TEXCOORD_0 = uv(x, y) at its vertices (uv NULL: none). */
 static resurf_mesh *uv_grid(unsigned n, void (*uv)(double x, double y, double out[2]))
 {
@@ -119,7 +109,7 @@ START_TEST(sphere_level_matches_a_dense_measurement)
     o.target_ratio = 0.1;
     resurf_simplify_report r;
     resurf_mesh *out = simplify_ok(in, &o, &r);
-    resurf_compare_report d = compare_ok(in, out, light ? 400000 : 2000000);
+    resurf_compare_report d = tu_compare(in, out, light ? 400000 : 2000000);
     ck_assert_msg(fabs(r.max_distance - d.hausdorff) <= 0.1 * d.hausdorff, "max %g, dense %g", r.max_distance,
                   d.hausdorff);
     ck_assert_msg(fabs(r.mean_distance - d.mean) <= 0.1 * d.mean, "mean %g, dense %g", r.mean_distance, d.mean);
@@ -153,7 +143,7 @@ START_TEST(level_maxima_reach_the_dense_ones)
         o.target_ratio = ratios[k];
         resurf_simplify_report r;
         resurf_mesh *out = simplify_ok(inputs[k], &o, &r);
-        resurf_compare_report d = compare_ok(inputs[k], out, tu_light() ? 200000 : 1000000);
+        resurf_compare_report d = tu_compare(inputs[k], out, tu_light() ? 200000 : 1000000);
         ck_assert_msg(r.result_to_input_max >= 0.99 * d.test_to_ref_max, "case %d: level side %g, dense %g", k,
                       r.result_to_input_max, d.test_to_ref_max);
         ck_assert_msg(r.input_to_result_max >= 0.99 * d.ref_to_test_max, "case %d: input side %g, dense %g", k,
@@ -187,7 +177,7 @@ START_TEST(chain_levels_on_any_threads)
         for (size_t k = 0; k < sizeof fa / sizeof *fa; ++k)
             ck_assert_msg(!memcmp(fa[k], fb[k], sizeof *fa[k]), "level %d field %zu: %.17g vs %.17g", l, k, *fa[k],
                           *fb[k]);
-        resurf_compare_report d = compare_ok(in, levels[0][l], tu_light() ? 200000 : 500000);
+        resurf_compare_report d = tu_compare(in, levels[0][l], tu_light() ? 200000 : 500000);
         ck_assert_msg(fabs(a->max_distance - d.hausdorff) <= 0.1 * d.hausdorff, "level %d: max %g, dense %g", l,
                       a->max_distance, d.hausdorff);
         ck_assert_msg(fabs(a->mean_distance - d.mean) <= 0.1 * d.mean, "level %d: mean %g, dense %g", l,
@@ -230,7 +220,7 @@ START_TEST(curved_uv_error_matches_compare)
     o.texcoord_weight = 0; /* with it, the level collapses along v only and keeps u exact (test_attributes.c) */
     resurf_simplify_report r;
     resurf_mesh *out = simplify_ok(in, &o, &r);
-    resurf_compare_report d = compare_ok(in, out, tu_light() ? 200000 : 400000);
+    resurf_compare_report d = tu_compare(in, out, tu_light() ? 200000 : 400000);
     ck_assert_double_gt(d.uv_error_mean, 1e-5);
     ck_assert_msg(fabs(r.uv_error_mean - d.uv_error_mean) <= 0.1 * d.uv_error_mean, "mean %g, compare %g",
                   r.uv_error_mean, d.uv_error_mean);
@@ -247,22 +237,22 @@ START_TEST(compare_uv_error_of_known_offsets)
     resurf_mesh *ref = uv_grid(8, uv_identity);
     resurf_mesh *same = uv_grid(8, uv_identity), *coarse = uv_grid(3, uv_identity);
     resurf_mesh *offset = uv_grid(8, uv_offset), *doubled = uv_grid(5, uv_double_u), *bare = uv_grid(8, NULL);
-    resurf_compare_report r = compare_ok(ref, same, 20000);
+    resurf_compare_report r = tu_compare(ref, same, 20000);
     ck_assert_double_le(r.uv_error_p95, 1e-15);
-    r = compare_ok(ref, coarse, 20000); /* another triangulation of the same affine UV */
+    r = tu_compare(ref, coarse, 20000); /* another triangulation of the same affine UV */
     ck_assert_double_le(r.uv_error_p95, 1e-14);
-    r = compare_ok(ref, offset, 20000); /* (0.03, 0.04) everywhere */
+    r = tu_compare(ref, offset, 20000); /* (0.03, 0.04) everywhere */
     ck_assert_double_eq_tol(r.uv_error_mean, 0.05, 1e-12);
     ck_assert_double_eq_tol(r.uv_error_p95, 0.05, 1e-12);
     /* u off by x at a point uniform over the unit square: mean 1/2, 95th percentile 0.95. */
-    r = compare_ok(ref, doubled, 200000);
+    r = tu_compare(ref, doubled, 200000);
     ck_assert_double_eq_tol(r.uv_error_mean, 0.5, 0.005);
     ck_assert_double_eq_tol(r.uv_error_p95, 0.95, 0.005);
-    r = compare_ok(ref, bare, 2000);
+    r = tu_compare(ref, bare, 2000);
     ck_assert(isnan(r.uv_error_mean) && isnan(r.uv_error_p95));
-    r = compare_ok(bare, ref, 2000);
+    r = tu_compare(bare, ref, 2000);
     ck_assert(isnan(r.uv_error_mean) && isnan(r.uv_error_p95));
-    r = compare_ok(ref, same, 0); /* vertices only: no samples to measure the UVs at */
+    r = tu_compare(ref, same, 0); /* vertices only: no samples to measure the UVs at */
     ck_assert(isnan(r.uv_error_mean));
     resurf_mesh *ms[] = {ref, same, coarse, offset, doubled, bare};
     for (size_t k = 0; k < sizeof ms / sizeof *ms; ++k)

@@ -287,3 +287,13 @@ tu_bytes tu_tetra_bin(void)
         tu_put_u16(&b, t[i]);
     return b;
 }
+
+resurf_compare_report tu_compare(const resurf_mesh *ref, const resurf_mesh *test, size_t samples)
+{
+    resurf_compare_options o = resurf_compare_options_default();
+    o.samples = samples;
+    resurf_compare_report r;
+    resurf_error e;
+    ck_assert_msg(resurf_compare(ref, test, &o, &r, NULL, &e) == RESURF_OK, "compare failed: %s", e.message);
+    return r;
+}

@@ -44,6 +44,9 @@ resurf_mesh *tu_mesh(const double *positions, size_t vertex_count, const uint32_
 resurf_mesh *tu_tetrahedron(void);
 resurf_mesh *tu_cube(void);
 resurf_mesh *tu_grid(unsigned n);
+/* resurf_compare of test against ref with `samples` samples a side (the other options the defaults), asserted OK:
+ * a measurement apart from the simplifier's report. */
+resurf_compare_report tu_compare(const resurf_mesh *ref, const resurf_mesh *test, size_t samples);
 
 /* ---- glTF documents (the test_gltf_* suites) ---- */
 
