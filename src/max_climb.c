@@ -4,9 +4,10 @@
  * Between them the distance to the other surface rises and falls smoothly over a triangle, and the true maximum
  * usually lies a fraction of a sample spacing from the best point: on a torus's 2% level (400 triangles, 20,000
  * samples and the facet points) the report found 0.911 of the maximum that 1M samples find. So the few points of
- * largest distance, on distinct triangles, are moved uphill inside their triangle by a compass search in
- * the triangle's plane (a step that finds no higher point is halved). Every point visited lies on the triangle and is measured exactly, so the figure is still a maximum over
- * real points of the surface, never above the true one; it can only rise. The search visits a fixed sequence of
+ * largest distance, on distinct triangles, are moved uphill inside their triangle by a compass search in the
+ * triangle's plane (a step that finds no higher point is halved). Every point visited lies on the triangle and is
+ * measured exactly, so the figure is still a maximum over real points of the surface, never above the true one; it
+ * can only rise. The search visits a fixed sequence of
  * points from its start, so it is deterministic, and the starts are kept in the order offered. */
 #include <math.h>
 #include <string.h>
@@ -107,16 +108,4 @@ double resurfi_max_starts_climb(const resurfi_max_starts *s, const resurf_mesh *
     for (size_t k = 0; k < s->count; ++k)
         max = fmax(max, climb(from, &s->start[k], to));
     return max;
-}
-
-void resurfi_facet_point_place(size_t k, uint32_t *t, double b[3])
-{
-    *t = (uint32_t)(k / RESURFI_FACET_POINTS);
-    size_t j = k % RESURFI_FACET_POINTS;
-    if (j == 0) {
-        b[0] = b[1] = b[2] = 1.0 / 3;
-        return;
-    }
-    b[0] = b[1] = b[2] = 0;
-    b[j - 1] = b[j % 3] = 0.5;
 }

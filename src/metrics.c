@@ -408,6 +408,19 @@ int resurfi_facet_point(const resurf_mesh *m, size_t k, vec3 *out)
     return 1;
 }
 
+/* Where facet point k lies: its triangle, and its barycentrics there (the order of resurfi_facet_point). */
+void resurfi_facet_point_place(size_t k, uint32_t *t, double b[3])
+{
+    *t = (uint32_t)(k / RESURFI_FACET_POINTS);
+    size_t j = k % RESURFI_FACET_POINTS;
+    if (j == 0) {
+        b[0] = b[1] = b[2] = 1.0 / 3;
+        return;
+    }
+    b[0] = b[1] = b[2] = 0;
+    b[j - 1] = b[j % 3] = 0.5;
+}
+
 resurf_status resurfi_side_max(const resurf_allocator *alloc, const resurf_mesh *from, size_t samples, uint64_t seed,
                                int facet_points, const resurfi_bvh *to, unsigned threads, double *out_max)
 {
