@@ -55,6 +55,12 @@ int cli_parse_unsigned(const char *command, const char *option, const char *text
 /* An angle option in degrees, in (0, 180]. */
 int cli_parse_angle(const char *command, const char *option, const char *text, double *out);
 
+/* An option naming one of names[0..count): its index in *out; else a usage error listing them, CLI_USAGE. */
+int cli_parse_choice(const char *command, const char *option, const char *text, const char *const *names, int count,
+                     int *out);
+/* The names of resurf_restore_mode, in its order (simplify and lod --restore, their reports). */
+extern const char *const cli_restore_names[RESURF_RESTORE_MODE_COUNT];
+
 /* --threads N: 0 (all cores) .. 256. */
 int cli_parse_threads(const char *command, const char *text, unsigned *out);
 /* --levels R1,R2,...: up to max ratios in (0, 1], non-increasing. */

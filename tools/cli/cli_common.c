@@ -87,6 +87,25 @@ int cli_parse_angle(const char *command, const char *option, const char *text, d
     return 0;
 }
 
+int cli_parse_choice(const char *command, const char *option, const char *text, const char *const *names, int count,
+                     int *out)
+{
+    for (int k = 0; k < count; ++k)
+        if (!strcmp(text, names[k])) {
+            *out = k;
+            return 0;
+        }
+    char list[160] = "";
+    for (int k = 0; k < count; ++k) {
+        strncat(list, names[k], sizeof list - strlen(list) - 1);
+        if (k + 1 < count)
+            strncat(list, ", ", sizeof list - strlen(list) - 1);
+    }
+    return cli_usage(command, "unknown --%s '%s' (%s)", option, text, list);
+}
+
+const char *const cli_restore_names[RESURF_RESTORE_MODE_COUNT] = {"inline", "post", "none", "measured"};
+
 int cli_parse_unsigned(const char *command, const char *option, const char *text, unsigned long *out)
 {
     char *end = NULL;

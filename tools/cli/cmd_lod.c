@@ -52,6 +52,8 @@ static const char usage[] =
     "                         across (default: the library's; 180 = none)\n"
     "  --corner-angle DEG     a border turning by more than DEG makes a corner that never moves (default: the\n"
     "                         library's; 180 = none)\n"
+    "  --restore MODE         measured (default: each level made with inline restoration and without; the\n"
+    "                         restored one kept where it is as near IN in max and mean), inline, post or none\n"
     "  --threads N            worker threads, 0 = all cores (default)\n"
     "  --preview SHEET.png    also draw every level with its error, as 'resurf preview' does\n"
     "  --preview-size WxH     the sheet's size (default 1600x900)\n"
@@ -145,6 +147,7 @@ int cmd_lod(int argc, char **argv)
         {"pixels", required_argument, NULL, 'p'},
         {"screen-height", required_argument, NULL, 'H'},
         {"threads", required_argument, NULL, 't'},
+        {"restore", required_argument, NULL, 'M'},
         {"attribute-weights", required_argument, NULL, 'W'},
         {"feature-angle", required_argument, NULL, 'F'},
         {"corner-angle", required_argument, NULL, 'C'},
@@ -231,6 +234,13 @@ int cmd_lod(int argc, char **argv)
             if (cli_parse_threads("lod", optarg, &sim.threads))
                 return CLI_USAGE;
             break;
+        case 'M': {
+            int choice = 0;
+            if (cli_parse_choice("lod", "restore", optarg, cli_restore_names, RESURF_RESTORE_MODE_COUNT, &choice))
+                return CLI_USAGE;
+            sim.restore = (resurf_restore_mode)choice;
+            break;
+        }
         case 'W':
             if (cli_parse_attribute_weights("lod", optarg, &sim))
                 return CLI_USAGE;

@@ -29,15 +29,6 @@ static const char usage[] =
     "  --json                    print the report as JSON on stdout\n"
     "  --format FMT              read both inputs as obj|ply|off|stl whatever their names say\n" CLI_MAX_TRIANGLES_HELP;
 
-/* Index of text in names[0..count), or -1. */
-static int find_name(const char *text, const char *const *names, int count)
-{
-    for (int k = 0; k < count; ++k)
-        if (!strcmp(text, names[k]))
-            return k;
-    return -1;
-}
-
 static const char *const normal_names[RESURF_NORMALS_COUNT] = {"inverse-area", "area", "angle", "max", "jet"};
 static const char *const side_names[RESURF_SIDE_COUNT] = {"curvature", "local"};
 static const char *const displacement_names[RESURF_DISPLACEMENT_COUNT] = {"paper", "normal-section"};
@@ -52,22 +43,6 @@ typedef struct overrides {
     double step, tolerance, crease, far;
     unsigned iterations, threads;
 } overrides;
-
-static int parse_choice(const char *option, const char *text, const char *const *names, int count, int *out)
-{
-    int k = find_name(text, names, count);
-    if (k < 0) {
-        char list[128] = "";
-        for (int i = 0; i < count; ++i) {
-            strncat(list, names[i], sizeof list - strlen(list) - 1);
-            if (i + 1 < count)
-                strncat(list, ", ", sizeof list - strlen(list) - 1);
-        }
-        return cli_usage("restore", "unknown --%s '%s' (%s)", option, text, list);
-    }
-    *out = k;
-    return 0;
-}
 
 static void print_text(const char *original, const char *processed, const char *out,
                        const resurf_restore_report *r)
@@ -161,24 +136,25 @@ int cmd_restore(int argc, char **argv)
                 return cli_usage("restore", "unknown --preset '%s' (paper, default)", optarg);
             break;
         case 'n':
-            if (parse_choice("normals", optarg, normal_names, RESURF_NORMALS_COUNT, &ov.normals))
+            if (cli_parse_choice("restore", "normals", optarg, normal_names, RESURF_NORMALS_COUNT, &ov.normals))
                 return CLI_USAGE;
             break;
         case 'I':
-            if (parse_choice("input-normals", optarg, input_names, RESURF_INPUT_NORMALS_COUNT, &ov.input_normals))
+            if (cli_parse_choice("restore", "input-normals", optarg, input_names, RESURF_INPUT_NORMALS_COUNT,
+                                 &ov.input_normals))
                 return CLI_USAGE;
             break;
         case 's':
-            if (parse_choice("side", optarg, side_names, RESURF_SIDE_COUNT, &ov.side))
+            if (cli_parse_choice("restore", "side", optarg, side_names, RESURF_SIDE_COUNT, &ov.side))
                 return CLI_USAGE;
             break;
         case 'd':
-            if (parse_choice("displacement", optarg, displacement_names, RESURF_DISPLACEMENT_COUNT,
-                             &ov.displacement))
+            if (cli_parse_choice("restore", "displacement", optarg, displacement_names, RESURF_DISPLACEMENT_COUNT,
+                                 &ov.displacement))
                 return CLI_USAGE;
             break;
         case 'O':
-            if (parse_choice("outside", optarg, outside_names, RESURF_OUTSIDE_COUNT, &ov.outside))
+            if (cli_parse_choice("restore", "outside", optarg, outside_names, RESURF_OUTSIDE_COUNT, &ov.outside))
                 return CLI_USAGE;
             break;
         case 'k':

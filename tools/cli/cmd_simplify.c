@@ -45,7 +45,6 @@ static const char usage[] =
     "  --format FMT              read IN as obj|ply|off|stl whatever its name says\n" CLI_MAX_TRIANGLES_HELP;
 
 static const char *const placement_names[RESURF_PLACEMENT_COUNT] = {"quadric", "midpoint"};
-static const char *const restore_names[RESURF_RESTORE_MODE_COUNT] = {"inline", "post", "none", "measured"};
 static const char *const stop_names[RESURF_STOP_COUNT] = {"target", "error", "blocked"};
 
 enum { MAX_LEVELS = 32 };
@@ -82,7 +81,7 @@ static void print_text(const char *out, const resurf_simplify_report *r)
                r->uv_error_p95);
     printf("max error estimate   %.9g\n", r->max_error_estimate);
     printf("restored             %zu (left alone %zu; made %s)\n", r->restored, r->restore_left,
-           restore_names[r->restore_used]);
+           cli_restore_names[r->restore_used]);
     printf("blocked: link        %zu\n", r->blocked_link);
     printf("blocked: flip        %zu\n", r->blocked_flip);
     printf("blocked: min angle   %zu\n", r->blocked_min_angle);
@@ -125,24 +124,13 @@ static void print_json_report(const char *out, const resurf_simplify_report *r)
     cli_json_number(stdout, r->diagonal);
     printf(", \"max_error_estimate\": ");
     cli_json_number(stdout, r->max_error_estimate);
-    printf(", \"restore_used\": \"%s\"", restore_names[r->restore_used]);
+    printf(", \"restore_used\": \"%s\"", cli_restore_names[r->restore_used]);
     printf(", \"restored\": %zu, \"restore_left\": %zu, \"blocked\": {\"link\": %zu, \"flip\": %zu, \"min_angle\": %zu, "
            "\"distance\": %zu, \"border\": %zu, \"seam\": %zu, \"feature\": %zu, \"nonmanifold\": %zu}, "
            "\"skipped_error\": %zu}",
            r->restored, r->restore_left, r->blocked_link, r->blocked_flip, r->blocked_min_angle,
            r->blocked_distance, r->blocked_border, r->blocked_seam, r->blocked_feature, r->blocked_nonmanifold,
            r->skipped_error);
-}
-
-static int parse_choice(const char *option, const char *text, const char *const *names, int count, int *out)
-{
-    for (int k = 0; k < count; ++k)
-        if (!strcmp(text, names[k])) {
-            *out = k;
-            return 0;
-        }
-    return cli_usage("simplify", "unknown --%s '%s' (%s, %s%s%s)", option, text, names[0], names[1],
-                     count > 2 ? ", " : "", count > 2 ? names[2] : "");
 }
 
 int cmd_simplify(int argc, char **argv)
@@ -214,12 +202,12 @@ int cmd_simplify(int argc, char **argv)
                 return CLI_USAGE;
             break;
         case 'p':
-            if (parse_choice("placement", optarg, placement_names, RESURF_PLACEMENT_COUNT, &choice))
+            if (cli_parse_choice("simplify", "placement", optarg, placement_names, RESURF_PLACEMENT_COUNT, &choice))
                 return CLI_USAGE;
             o.placement = (resurf_placement)choice;
             break;
         case 'R':
-            if (parse_choice("restore", optarg, restore_names, RESURF_RESTORE_MODE_COUNT, &choice))
+            if (cli_parse_choice("simplify", "restore", optarg, cli_restore_names, RESURF_RESTORE_MODE_COUNT, &choice))
                 return CLI_USAGE;
             o.restore = (resurf_restore_mode)choice;
             break;
@@ -319,7 +307,7 @@ int cmd_simplify(int argc, char **argv)
             printf("{\"input\": ");
             cli_json_string(stdout, input);
             printf(", \"placement\": \"%s\", \"restore\": \"%s\", \"levels\": [", placement_names[o.placement],
-                   restore_names[o.restore]);
+                   cli_restore_names[o.restore]);
             for (size_t i = 0; i < outputs; ++i) {
                 if (i)
                     printf(", ");
