@@ -838,6 +838,37 @@ START_TEST(simplify_drops_fins)
 }
 END_TEST
 
+/* A double-sided sheet: a flat panel written twice over the same positions, the second copy with the winding
+ * reversed (how exporters make a leaf card, a flag or a crest two-sided). Every triangle is one of an opposite pair,
+ * yet the pairs are the sheet, not strays: one side stays, and the level lies on the panel with its outline, so the
+ * two-sided distance to the input is rounding. Before, both sides were dropped and the level was empty. */
+START_TEST(simplify_keeps_double_sided_sheets)
+{
+    resurf_mesh *panel = shape_mesh(SHAPE_PLANE, 2000, 0.3, 4, 0), *m = NULL;
+    size_t nv = panel->vertex_count, nt = panel->triangle_count;
+    ck_assert_int_eq(resurf_mesh_create(nv, 2 * nt, 0, &m, NULL), RESURF_OK);
+    memcpy(m->positions, panel->positions, 3 * nv * sizeof(double));
+    for (size_t t = 0; t < nt; ++t)
+        for (int k = 0; k < 3; ++k) {
+            m->indices[3 * t + (size_t)k] = panel->indices[3 * t + (size_t)k];
+            m->indices[3 * (nt + t) + (size_t)k] = panel->indices[3 * t + (size_t)(2 - k)];
+        }
+    resurf_simplify_options o = resurf_simplify_options_default();
+    o.target_ratio = 0.25;
+    resurf_simplify_report r;
+    resurf_mesh *out = simplify_ok(m, &o, &r);
+    ck_assert_uint_eq(r.dropped_fins, nt);
+    ck_assert_uint_gt(out->triangle_count, 0);
+    ck_assert_uint_le(out->triangle_count, nt / 2);
+    resurf_compare_report d = tu_compare(m, out, 20000);
+    ck_assert_msg(d.hausdorff <= 1e-9 * d.diagonal, "the sheet's level is %g of the diagonal away",
+                  d.hausdorff / d.diagonal);
+    resurf_mesh_free(out);
+    resurf_mesh_free(m);
+    resurf_mesh_free(panel);
+}
+END_TEST
+
 /* A closed tube: `rings` rings of `sides` corners on a circle of `radius`, `length` from the first ring to the last,
  * a cone tip `cap` beyond each end. With `slant`, every other ring is turned by half a side (an antiprism tube: every
  * triangle slants); without, each side is a quad cut by a diagonal. */
@@ -1328,6 +1359,7 @@ Suite *make_suite(void)
     TCase *guards = tcase_create("guards");
     tcase_add_test(guards, simplify_nonmanifold_input);
     tcase_add_test(guards, simplify_drops_fins);
+    tcase_add_test(guards, simplify_keeps_double_sided_sheets);
     tcase_add_test(guards, simplify_keeps_a_pencils_length);
     tcase_add_test(guards, simplify_keeps_a_scanned_spike);
     tcase_add_test(guards, simplify_restored_scan_covers_its_tips);
