@@ -857,10 +857,10 @@ typedef struct resurf_simplify_options {
                                      stopped its 10% level at 8,056 triangles (17%, error 1.8% of the diagonal);
                                      without them it reaches 4,778 (error 0.45%). false keeps every triangle.
                                      Only triangles of one group pair up: two sides in two materials stay. A
-                                     double-sided sheet is pairs throughout (a leaf card, a flag, a crest): where
-                                     the dropped pairs sharing positions would take 4 or more positions no other
-                                     triangle uses with them, one side stays (the first written), so the sheet is
-                                     simplified, not lost */
+                                     double-sided sheet is pairs throughout (a leaf card, a flag): where the
+                                     dropped pairs sharing positions would take 4 or more positions no other
+                                     triangle uses, and share at most 2 with other triangles, one side stays (the
+                                     first written), so the sheet is simplified, not lost */
 
     /* Attributes in the cost (attribute quadrics, Hoppe 1999): each collapse also pays for how far the attributes of
      * the triangles merged into each of its wedges are from one linear field over them, so that collapses keep
