@@ -75,6 +75,14 @@ START_TEST(cli_usage_errors_exit_2)
     ck_assert_int_eq(cli(&out, "simplify a.obj -o b.obj --ratio 0.5 --corner-angle 181"), 2);
     ck_assert_str_eq(out, "resurf simplify: --corner-angle must be in (0, 180], not 181 (see 'resurf simplify --help')\n");
     free(out);
+    /* a choice lists every name it accepts */
+    ck_assert_int_eq(cli(&out, "simplify a.obj -o b.obj --restore bogus"), 2);
+    ck_assert_str_eq(out, "resurf simplify: unknown --restore 'bogus' (inline, post, none, measured) "
+                          "(see 'resurf simplify --help')\n");
+    free(out);
+    ck_assert_int_eq(cli(&out, "lod a.glb -o b.glb --restore bogus"), 2);
+    ck_assert_str_eq(out, "resurf lod: unknown --restore 'bogus' (inline, post, none, measured) (see 'resurf lod --help')\n");
+    free(out);
 }
 END_TEST
 
