@@ -81,7 +81,8 @@ START_TEST(cli_usage_errors_exit_2)
                           "(see 'resurf simplify --help')\n");
     free(out);
     ck_assert_int_eq(cli(&out, "lod a.glb -o b.glb --restore bogus"), 2);
-    ck_assert_str_eq(out, "resurf lod: unknown --restore 'bogus' (inline, post, none, measured) (see 'resurf lod --help')\n");
+    ck_assert_str_eq(out, "resurf lod: unknown --restore 'bogus' (inline, post, none, measured) "
+                          "(see 'resurf lod --help')\n");
     free(out);
 }
 END_TEST

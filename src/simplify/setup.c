@@ -165,10 +165,11 @@ static resurf_status keep_sheets(simplifier *s, const uint32_t *remap, const uin
 {
     const resurf_mesh *in = s->in;
     size_t nt = in->triangle_count, pc = s->pos_count;
-    uint32_t *group = resurfi_alloc(s->alloc, pc, sizeof *group);  /* union-find over the dropped triangles' positions */
-    uint32_t *count = resurfi_calloc(s->alloc, 2 * pc, sizeof *count); /* per group root: positions of its own,
-                                                                         positions shared with kept triangles */
-    uint8_t *use = resurfi_calloc(s->alloc, pc, 1);                  /* per position: USE_* bits */
+    /* group: union-find over the dropped triangles' positions; count: per group root, its positions of its own
+     * and those it shares with kept triangles; use: per position, USE_* bits */
+    uint32_t *group = resurfi_alloc(s->alloc, pc, sizeof *group);
+    uint32_t *count = resurfi_calloc(s->alloc, 2 * pc, sizeof *count);
+    uint8_t *use = resurfi_calloc(s->alloc, pc, 1);
     if (!group || !count || !use) {
         resurfi_free(s->alloc, group);
         resurfi_free(s->alloc, count);
