@@ -61,7 +61,6 @@ static const char usage[] =
 
 enum { MAX_LEVELS = RESURF_SCENE_MAX_LEVELS - 1 };
 
-static const char *const stop_names[RESURF_STOP_COUNT] = {"target", "error", "blocked"};
 
 /* A list of positive numbers, non-decreasing, separated by commas. */
 static int parse_errors(const char *text, double *out, size_t max, size_t *count)
@@ -372,7 +371,7 @@ int cmd_lod(int argc, char **argv)
                 "resurf: warning: %s: level %zu%s %s %zu of %zu triangles (stopped: %s; blocked: %s); its chain "
                 "ends at level %zu\n",
                 info.name, k + 1, target, what, r->triangles, mesh_counts ? r->input_triangles : m->triangle_count,
-                stop_names[r->stop < RESURF_STOP_COUNT ? r->stop : 0], blocked, k);
+                cli_stop_names[r->stop < RESURF_STOP_COUNT ? r->stop : 0], blocked, k);
     }
     resurf_scene_save_report report;
     double save_seconds = 0;
@@ -438,7 +437,7 @@ int cmd_lod(int argc, char **argv)
                     const resurf_simplify_report *r = &prim_reports[p * ratio_count + k];
                     printf("%s{\"level\": %zu, \"kept\": %s, \"triangles\": %zu, \"stop\": \"%s\", \"error_rel\": ",
                            k ? ", " : "", k + 1, k < info.lod_count ? "true" : "false", r->triangles,
-                           stop_names[r->stop < RESURF_STOP_COUNT ? r->stop : 0]);
+                           cli_stop_names[r->stop < RESURF_STOP_COUNT ? r->stop : 0]);
                     cli_json_number(stdout, r->max_distance_rel);
                     printf(", \"mean_rel\": ");
                     cli_json_number(stdout, r->mean_distance_rel);

@@ -46,7 +46,6 @@ static const char usage[] =
     "  --format FMT              read IN as obj|ply|off|stl whatever its name says\n" CLI_MAX_TRIANGLES_HELP;
 
 static const char *const placement_names[RESURF_PLACEMENT_COUNT] = {"quadric", "midpoint"};
-static const char *const stop_names[RESURF_STOP_COUNT] = {"target", "error", "blocked"};
 
 enum { MAX_LEVELS = 32 };
 
@@ -71,7 +70,7 @@ static void print_text(const char *out, const resurf_simplify_report *r)
     printf("vertices             %zu (%zu positions)\n", r->vertices, r->positions);
     printf("collapses            %zu\n", r->collapses);
     printf("dropped fins         %zu\n", r->dropped_fins);
-    printf("stopped by           %s\n", stop_names[r->stop]);
+    printf("stopped by           %s\n", cli_stop_names[r->stop]);
     printf("max distance to IN   %.9g (%.3g of the diagonal; two-sided)\n", r->max_distance, r->max_distance_rel);
     printf("mean distance to IN  %.9g (%.3g of the diagonal; two-sided)\n", r->mean_distance,
            r->mean_distance_rel);
@@ -101,7 +100,7 @@ static void print_json_report(const char *out, const resurf_simplify_report *r)
     printf(", \"input_triangles\": %zu, \"input_positions\": %zu, \"triangles\": %zu, \"vertices\": %zu, "
            "\"positions\": %zu, \"collapses\": %zu, \"dropped_fins\": %zu, \"stop\": \"%s\", \"max_distance\": ",
            r->input_triangles, r->input_positions, r->triangles, r->vertices, r->positions, r->collapses,
-           r->dropped_fins, stop_names[r->stop]);
+           r->dropped_fins, cli_stop_names[r->stop]);
     cli_json_number(stdout, r->max_distance);
     printf(", \"mean_distance\": ");
     cli_json_number(stdout, r->mean_distance);
