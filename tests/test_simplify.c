@@ -839,27 +839,67 @@ START_TEST(simplify_drops_fins)
 END_TEST
 
 /* A double-sided sheet: a flat panel written twice over the same positions, the second copy with the winding
- * reversed (how exporters make a leaf card, a flag or a crest two-sided). Every triangle is one of an opposite pair,
- * yet the pairs are the sheet, not strays: one side stays, and the level lies on the panel with its outline, so the
- * two-sided distance to the input is rounding. Before, both sides were dropped and the level was empty. */
+ * reversed, its normals -z and its texture mapped mirrored (u' = 1 - u), as exporters write a leaf card, a flag or a
+ * sign. Every triangle is one of an opposite pair, yet the pairs are the sheet, not strays. Every level keeps both
+ * sides: each triangle has a reversed twin over the same positions, each corner's normal is its face's, each side's
+ * texture coordinates are that side's own mapping at the corner's position, and the level lies on the panel with
+ * its outline, so the two-sided distance to the input is rounding. Before, both sides were dropped and the level
+ * was empty; then one side stayed, invisible from behind with a one-sided material. */
 START_TEST(simplify_keeps_double_sided_sheets)
 {
     resurf_mesh *panel = shape_mesh(SHAPE_PLANE, 2000, 0.3, 4, 0), *m = NULL;
     size_t nv = panel->vertex_count, nt = panel->triangle_count;
-    ck_assert_int_eq(resurf_mesh_create(nv, 2 * nt, 0, &m, NULL), RESURF_OK);
-    memcpy(m->positions, panel->positions, 3 * nv * sizeof(double));
+    ck_assert_int_eq(resurf_mesh_create_with(2 * nv, 2 * nt, RESURF_ATTR_NORMALS | RESURF_ATTR_TEXCOORD0, NULL, &m,
+                                             NULL),
+                     RESURF_OK);
+    for (size_t side = 0; side < 2; ++side)
+        for (size_t v = 0; v < nv; ++v) {
+            const double *p = panel->positions + 3 * v;
+            size_t w = side * nv + v;
+            memcpy(m->positions + 3 * w, p, 3 * sizeof(double));
+            v3_store(m->normals + 3 * w, v3(0, 0, side ? -1 : 1));
+            m->texcoords[0][2 * w] = side ? 1 - (p[0] + 1) / 2 : (p[0] + 1) / 2;
+            m->texcoords[0][2 * w + 1] = (p[1] + 1) / 2;
+        }
     for (size_t t = 0; t < nt; ++t)
         for (int k = 0; k < 3; ++k) {
             m->indices[3 * t + (size_t)k] = panel->indices[3 * t + (size_t)k];
-            m->indices[3 * (nt + t) + (size_t)k] = panel->indices[3 * t + (size_t)(2 - k)];
+            m->indices[3 * (nt + t) + (size_t)k] = (uint32_t)nv + panel->indices[3 * t + (size_t)(2 - k)];
         }
     resurf_simplify_options o = resurf_simplify_options_default();
     o.target_ratio = 0.25;
     resurf_simplify_report r;
     resurf_mesh *out = simplify_ok(m, &o, &r);
-    ck_assert_uint_eq(r.dropped_fins, nt);
+    ck_assert_uint_eq(r.dropped_fins, 0);
     ck_assert_uint_gt(out->triangle_count, 0);
     ck_assert_uint_le(out->triangle_count, nt / 2);
+    ck_assert_uint_eq(r.triangles, out->triangle_count);
+    size_t up = 0, twins = 0;
+    for (size_t t = 0; t < out->triangle_count; ++t) {
+        const uint32_t *f = out->indices + 3 * t;
+        vec3 a = resurfi_position(out, f[0]), b = resurfi_position(out, f[1]), c = resurfi_position(out, f[2]);
+        double z = v3_tri_cross(a, b, c).z, sign = z > 0 ? 1 : -1;
+        ck_assert(z != 0);
+        up += z > 0;
+        for (int k = 0; k < 3; ++k) {
+            const double *p = out->positions + 3 * f[k], *uv = out->texcoords[0] + 2 * f[k];
+            ck_assert_double_eq_tol(out->normals[3 * f[k] + 2], sign, 1e-12);
+            ck_assert_double_eq_tol(uv[0], z > 0 ? (p[0] + 1) / 2 : 1 - (p[0] + 1) / 2, 1e-9);
+            ck_assert_double_eq_tol(uv[1], (p[1] + 1) / 2, 1e-9);
+        }
+        /* its twin: the same three positions, running the other way */
+        for (size_t u = 0; u < out->triangle_count && z > 0; ++u) {
+            const uint32_t *g = out->indices + 3 * u;
+            int same = 0;
+            for (int k = 0; k < 3; ++k)
+                same += v3_dist2(a, resurfi_position(out, g[k])) == 0 &&
+                        v3_dist2(b, resurfi_position(out, g[(k + 2) % 3])) == 0 &&
+                        v3_dist2(c, resurfi_position(out, g[(k + 1) % 3])) == 0;
+            twins += same;
+        }
+    }
+    ck_assert_uint_eq(2 * up, out->triangle_count);
+    ck_assert_uint_eq(twins, up);
     resurf_compare_report d = tu_compare(m, out, 20000);
     ck_assert_msg(d.hausdorff <= 1e-9 * d.diagonal, "the sheet's level is %g of the diagonal away",
                   d.hausdorff / d.diagonal);

@@ -859,8 +859,11 @@ typedef struct resurf_simplify_options {
                                      Only triangles of one group pair up: two sides in two materials stay. A
                                      double-sided sheet is pairs throughout (a leaf card, a flag): where the
                                      dropped pairs sharing positions would take 4 or more positions no other
-                                     triangle uses, and share at most 2 with other triangles, one side stays (the
-                                     first written), so the sheet is simplified, not lost */
+                                     triangle uses, and share at most 2 with other triangles, one side (the
+                                     first written) is simplified and every level writes it twice: as simplified
+                                     and mirrored (reversed triangles over the same positions, normals reversed,
+                                     the other side's texture coordinates and attributes), so the sheet is neither
+                                     lost nor one-sided, and its triangles count twice towards the targets */
 
     /* Attributes in the cost (attribute quadrics, Hoppe 1999): each collapse also pays for how far the attributes of
      * the triangles merged into each of its wedges are from one linear field over them, so that collapses keep

@@ -318,8 +318,8 @@ static int apply_collapse(simplifier *s, lane *L, uint32_t keep, uint32_t gone, 
                 opposite[k] = TV(3 * t + i);
         check_corner_write(s, L, 3 * t, keep, gone);
         s->tri[t].dead = 1;
+        L->dead_tris += 1 + (s->mirror && s->mirror[s->src[t]] != NONE); /* a sheet's mirror goes with it */
     }
-    L->dead_tris += (size_t)maps;
     for (int k = 0; k < maps; ++k) /* each wedge of gone into its image (once: both maps may be the same) */
         if (k == 0 || from[k] != from[0]) {
             attribute_merge(s, to[k], from[k]);

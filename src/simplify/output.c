@@ -31,6 +31,10 @@ typedef struct output {
                              crease: neither restored at the end nor offset), else 0 */
     uint32_t *side_tri;   /* per output vertex at a seam: the closest input triangle on its side, else NONE */
     double *side_bary;    /* 3 per output vertex: the barycentrics of that closest point */
+    /* a double-sided sheet's back (mirror_sheets): output vertices nv.. and triangles nt.. */
+    size_t mirror_nv, mirror_nt;
+    uint32_t *mirror_front; /* per mirror vertex: the output vertex it mirrors */
+    uint32_t *mirror_tris;  /* per mirror triangle: the output triangle it mirrors */
 } output;
 
 static void output_free(output *o, const resurf_allocator *alloc)
@@ -56,6 +60,8 @@ static void output_free(output *o, const resurf_allocator *alloc)
     resurfi_free(alloc, o->held);
     resurfi_free(alloc, o->side_tri);
     resurfi_free(alloc, o->side_bary);
+    resurfi_free(alloc, o->mirror_front);
+    resurfi_free(alloc, o->mirror_tris);
 }
 
 enum { HELD_PLACE = 1, HELD_OFFSET = 2 };
@@ -274,88 +280,119 @@ static uint32_t attribute_source(const simplifier *s, const output *o, uint32_t 
     return cs.best;
 }
 
+/* The input corners a mirror vertex interpolates over: those of input triangle t's mirror, in the order of t's
+ * corners (the same positions: the working mesh welds equal positions exactly), else t's own. */
+static void mirror_corners(const simplifier *s, uint32_t t, uint32_t out[3])
+{
+    const uint32_t *f = s->in->indices + 3 * (size_t)t;
+    memcpy(out, f, 3 * sizeof *out);
+    if (!s->mirror || s->mirror[t] == NONE)
+        return;
+    const uint32_t *g = s->in->indices + 3 * (size_t)s->mirror[t];
+    for (int k = 0; k < 3; ++k)
+        for (int j = 0; j < 3; ++j)
+            if (v3_dist2(resurfi_position(s->in, g[j]), resurfi_position(s->in, f[k])) == 0)
+                out[k] = g[j];
+}
+
+/* Output vertex ov's attributes, interpolated at its source (attribute_source); a mirror vertex (ov >= nv) takes
+ * its front vertex's source on the sheet's mirror, and its normal reversed. */
+static void give_attributes(const simplifier *s, const output *o, resurf_mesh *m, const resurfi_skin_sets *skin,
+                            uint32_t ov)
+{
+    const resurf_mesh *in = s->in;
+    uint32_t front = ov < o->nv ? ov : o->mirror_front[ov - o->nv];
+    double b[3];
+    uint32_t t = attribute_source(s, o, front, b);
+    uint32_t w = o->ov_wedge[front];
+    uint32_t corners[3];
+    const uint32_t *idx = NULL;
+    if (t != NONE && ov >= o->nv) {
+        mirror_corners(s, t, corners);
+        idx = corners;
+    } else if (t != NONE) {
+        idx = in->indices + 3 * (size_t)t;
+    }
+    if (m->normals && v3_len2(v3_load(in->normals + 3 * (size_t)w)) == 0 && s->flat_shaded) {
+        v3_store(m->normals + 3 * ov, v3(0, 0, 0)); /* shaded flat from the level's faces (facets_shade) */
+    } else if (m->normals) {
+        vec3 n = v3(0, 0, 0);
+        const uint32_t *own = t == NONE ? NULL : in->indices + 3 * (size_t)t;
+        if (own && s->restorer)
+            n = resurfi_restorer_normal(s->restorer, t, b);
+        else if (own)
+            for (int k = 0; k < 3; ++k)
+                n = v3_madd(n, v3_load(in->normals + 3 * (size_t)own[k]), b[k]);
+        n = v3_normalize(n);
+        if (v3_len2(n) == 0)
+            n = v3_load(in->normals + 3 * (size_t)w);
+        v3_store(m->normals + 3 * ov, ov < o->nv ? n : v3_neg(n));
+    }
+    for (unsigned k = 0; k < m->texcoord_count; ++k) {
+        if (!m->texcoords[k])
+            continue;
+        const double *src = in->texcoords[k];
+        for (int c = 0; c < 2; ++c) {
+            double v = 0;
+            if (idx)
+                for (int i = 0; i < 3; ++i)
+                    v += b[i] * src[2 * (size_t)idx[i] + c];
+            else
+                v = src[2 * (size_t)w + c];
+            m->texcoords[k][2 * (size_t)ov + c] = v;
+        }
+    }
+    if (m->colors)
+        for (int c = 0; c < 4; ++c) {
+            double v = 0;
+            if (idx)
+                for (int i = 0; i < 3; ++i)
+                    v += b[i] * in->colors[4 * (size_t)idx[i] + c];
+            else
+                v = in->colors[4 * (size_t)w + c];
+            m->colors[4 * (size_t)ov + c] = v;
+        }
+    if (skin->count) {
+        const uint32_t own[3] = {w, w, w};
+        const double whole[3] = {1, 0, 0};
+        resurfi_skin_combine(in, skin, idx ? idx : own, idx ? b : whole, m, ov);
+    }
+    for (size_t e = 0; e < m->extra_count; ++e) {
+        const resurf_attribute *a = &in->extras[e];
+        unsigned nc = a->components;
+        if (resurfi_skin_owns(skin, e))
+            continue;
+        for (unsigned c = 0; c < nc; ++c) {
+            double v = 0;
+            if (!a->data)
+                break;
+            if (idx)
+                for (int i = 0; i < 3; ++i)
+                    v += b[i] * (double)a->data[(size_t)nc * idx[i] + c];
+            else
+                v = a->data[(size_t)nc * w + c];
+            m->extras[e].data[(size_t)nc * ov + c] = (float)v;
+        }
+    }
+}
+
 static int attribute_block(void *ctx, size_t begin, size_t end, unsigned worker)
 {
     (void)worker;
     output_job *j = ctx;
-    const simplifier *s = j->s;
-    const resurf_mesh *in = s->in;
-    resurf_mesh *m = j->m;
     resurfi_skin_sets skin; /* joints and weights: combined as influences (skin.c), never as numbers */
-    resurfi_skin_find_sets(in, &skin);
-    for (size_t ov = begin; ov < end; ++ov) {
-        double b[3];
-        uint32_t t = attribute_source(s, j->o, (uint32_t)ov, b);
-        uint32_t w = j->o->ov_wedge[ov];
-        const uint32_t *idx = t == NONE ? NULL : in->indices + 3 * (size_t)t;
-        if (m->normals && v3_len2(v3_load(in->normals + 3 * (size_t)w)) == 0 && s->flat_shaded) {
-            v3_store(m->normals + 3 * ov, v3(0, 0, 0)); /* shaded flat from the level's faces (facets_shade) */
-        } else if (m->normals) {
-            vec3 n = v3(0, 0, 0);
-            if (idx && s->restorer)
-                n = resurfi_restorer_normal(s->restorer, t, b);
-            else if (idx)
-                for (int k = 0; k < 3; ++k)
-                    n = v3_madd(n, v3_load(in->normals + 3 * (size_t)idx[k]), b[k]);
-            n = v3_normalize(n);
-            if (v3_len2(n) == 0)
-                n = v3_load(in->normals + 3 * (size_t)w);
-            v3_store(m->normals + 3 * ov, n);
-        }
-        for (unsigned k = 0; k < m->texcoord_count; ++k) {
-            if (!m->texcoords[k])
-                continue;
-            const double *src = in->texcoords[k];
-            for (int c = 0; c < 2; ++c) {
-                double v = 0;
-                if (idx)
-                    for (int i = 0; i < 3; ++i)
-                        v += b[i] * src[2 * (size_t)idx[i] + c];
-                else
-                    v = src[2 * (size_t)w + c];
-                m->texcoords[k][2 * ov + c] = v;
-            }
-        }
-        if (m->colors)
-            for (int c = 0; c < 4; ++c) {
-                double v = 0;
-                if (idx)
-                    for (int i = 0; i < 3; ++i)
-                        v += b[i] * in->colors[4 * (size_t)idx[i] + c];
-                else
-                    v = in->colors[4 * (size_t)w + c];
-                m->colors[4 * ov + c] = v;
-            }
-        if (skin.count) {
-            const uint32_t own[3] = {w, w, w};
-            const double whole[3] = {1, 0, 0};
-            resurfi_skin_combine(in, &skin, idx ? idx : own, idx ? b : whole, m, ov);
-        }
-        for (size_t e = 0; e < m->extra_count; ++e) {
-            const resurf_attribute *a = &in->extras[e];
-            unsigned nc = a->components;
-            if (resurfi_skin_owns(&skin, e))
-                continue;
-            for (unsigned c = 0; c < nc; ++c) {
-                double v = 0;
-                if (!a->data)
-                    break;
-                if (idx)
-                    for (int i = 0; i < 3; ++i)
-                        v += b[i] * (double)a->data[(size_t)nc * idx[i] + c];
-                else
-                    v = a->data[(size_t)nc * w + c];
-                m->extras[e].data[(size_t)nc * ov + c] = (float)v;
-            }
-        }
-    }
+    resurfi_skin_find_sets(j->s->in, &skin);
+    for (size_t ov = begin; ov < end; ++ov)
+        give_attributes(j->s, j->o, j->m, &skin, (uint32_t)ov);
     return 0;
 }
 
 /* Numbers the output vertices and positions of the current working mesh. */
 static resurf_status number_output(simplifier *s, output *o)
 {
-    size_t nt = s->alive_tris;
+    size_t nt = 0; /* s->alive_tris counts a sheet's mirrors too */
+    for (size_t t = 0; t < s->tri_count; ++t)
+        nt += !s->tri[t].dead;
     o->nt = nt;
     o->tris = resurfi_alloc(s->alloc, nt, sizeof *o->tris);
     o->pos_index = resurfi_alloc(s->alloc, s->pos_count, sizeof *o->pos_index);
@@ -401,6 +438,54 @@ static resurf_status number_output(simplifier *s, output *o)
             }
             o->corner_ov[3 * i + c] = ov;
         }
+    return RESURF_OK;
+}
+
+/* The back of each double-sided sheet (setup.c's keep_sheets): every output triangle whose input triangle has a
+ * mirror is written again, reversed, over mirror vertices of its own (the same positions, the mirror's attributes,
+ * the normal reversed), so a level shows both sides as the input did. */
+static resurf_status mirror_sheets(simplifier *s, output *o)
+{
+    if (!s->mirror)
+        return RESURF_OK;
+    for (size_t i = 0; i < o->nt; ++i)
+        o->mirror_nt += s->mirror[s->src[o->tris[i]]] != NONE;
+    if (!o->mirror_nt)
+        return RESURF_OK;
+    uint32_t *mirror_of = resurfi_alloc(s->alloc, o->nv, sizeof *mirror_of);
+    o->mirror_tris = resurfi_alloc(s->alloc, o->mirror_nt, sizeof *o->mirror_tris);
+    o->mirror_front = resurfi_alloc(s->alloc, 3 * o->mirror_nt, sizeof *o->mirror_front);
+    if (!mirror_of || !o->mirror_tris || !o->mirror_front) {
+        resurfi_free(s->alloc, mirror_of);
+        return RESURF_ERR_OUT_OF_MEMORY;
+    }
+    memset(mirror_of, 0xff, o->nv * sizeof *mirror_of);
+    size_t k = 0;
+    for (size_t i = 0; i < o->nt; ++i) {
+        if (s->mirror[s->src[o->tris[i]]] == NONE)
+            continue;
+        o->mirror_tris[k++] = (uint32_t)i;
+        for (int c = 0; c < 3; ++c) {
+            uint32_t ov = o->corner_ov[3 * i + c];
+            if (mirror_of[ov] == NONE) {
+                mirror_of[ov] = (uint32_t)(o->nv + o->mirror_nv);
+                o->mirror_front[o->mirror_nv++] = ov;
+            }
+        }
+    }
+    /* the mirror triangles' corners, reversed, after the front's */
+    uint32_t *corners = resurfi_alloc(s->alloc, 3 * (o->nt + o->mirror_nt), sizeof *corners);
+    if (!corners) {
+        resurfi_free(s->alloc, mirror_of);
+        return RESURF_ERR_OUT_OF_MEMORY;
+    }
+    memcpy(corners, o->corner_ov, 3 * o->nt * sizeof *corners);
+    for (size_t j = 0; j < o->mirror_nt; ++j)
+        for (int c = 0; c < 3; ++c)
+            corners[3 * (o->nt + j) + (size_t)c] = mirror_of[o->corner_ov[3 * (size_t)o->mirror_tris[j] + 2 - c]];
+    resurfi_free(s->alloc, mirror_of);
+    resurfi_free(s->alloc, o->corner_ov);
+    o->corner_ov = corners;
     return RESURF_OK;
 }
 
@@ -564,24 +649,29 @@ resurf_status build_output(simplifier *s, resurf_mesh **out, resurf_simplify_rep
     resurf_status st = number_output(s, &o);
     if (st == RESURF_OK)
         st = place_output(s, &o);
-    if (st == RESURF_OK && (st = create_like(s->alloc, s->in, o.nv, o.nt, &m, error)) != RESURF_OK) {
+    if (st == RESURF_OK)
+        st = mirror_sheets(s, &o);
+    size_t nv = o.nv + o.mirror_nv, nt = o.nt + o.mirror_nt;
+    if (st == RESURF_OK && (st = create_like(s->alloc, s->in, nv, nt, &m, error)) != RESURF_OK) {
         output_free(&o, s->alloc);
         return st;
     }
     if (st == RESURF_OK) {
-        for (size_t v = 0; v < o.nv; ++v)
-            v3_store(m->positions + 3 * v, o.final[o.ov_u[v]]);
-        memcpy(m->indices, o.corner_ov, 3 * o.nt * sizeof *m->indices);
+        for (size_t v = 0; v < nv; ++v)
+            v3_store(m->positions + 3 * v, o.final[o.ov_u[v < o.nv ? v : o.mirror_front[v - o.nv]]]);
+        memcpy(m->indices, o.corner_ov, 3 * nt * sizeof *m->indices);
         if (m->triangle_groups)
-            for (size_t i = 0; i < o.nt; ++i)
-                m->triangle_groups[i] = s->in->triangle_groups[s->src[o.tris[i]]];
+            for (size_t i = 0; i < nt; ++i) {
+                uint32_t t = s->src[o.tris[i < o.nt ? i : o.mirror_tris[i - o.nt]]];
+                m->triangle_groups[i] = s->in->triangle_groups[i < o.nt ? t : s->mirror[t]];
+            }
         if (has_attributes(s->in) && s->bvh && (st = find_sides(s, &o)) == RESURF_OK) {
             output_job job = {s, &o, m};
-            resurfi_pool_for(s->pool, o.nv, BLOCK_POSITIONS, attribute_block, &job);
+            resurfi_pool_for(s->pool, nv, BLOCK_POSITIONS, attribute_block, &job);
         }
         *rep = s->rep;
-        rep->triangles = o.nt;
-        rep->vertices = o.nv;
+        rep->triangles = nt;
+        rep->vertices = nv;
         rep->positions = o.nu;
         if (st == RESURF_OK)
             st = measure_level(s, m, rep);

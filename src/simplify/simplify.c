@@ -130,6 +130,7 @@ static void simplifier_free(simplifier *s)
     resurfi_free(s->alloc, s->remap);
     resurfi_free(s->alloc, s->tri);
     resurfi_free(s->alloc, s->src);
+    resurfi_free(s->alloc, s->mirror);
     resurfi_free(s->alloc, s->P_mem);
     resurfi_free(s->alloc, s->mark);
     resurfi_free(s->alloc, s->charts.of_input_tri);

@@ -249,6 +249,8 @@ typedef struct simplifier {
     size_t tri_count, alive_tris;
     work_tri *tri;
     uint32_t *src;     /* input triangle of each working triangle */
+    uint32_t *mirror;  /* per input triangle: the mirror of a double-sided sheet's kept side (left out of the
+                          working mesh, written back mirrored in every level), else NONE; NULL without sheets */
     uint32_t *remap;   /* while starting: position of each input vertex (resurfi_weld_exact) */
     size_t pos_count, alive_positions;
     work_pos *P;         /* inside P_mem, 64-byte aligned */
