@@ -836,8 +836,13 @@ typedef struct resurf_simplify_options {
                                      is one along which the input's normals are split (a normal seam), where the
                                      surface around is smooth (every other edge at the vertex turning by less than
                                      a quarter of this: on a noisy scan sharp edges are noise). A vertex with three
-                                     crease edges or more, or where a crease meets a border, is a corner: it never
-                                     moves. A vertex touching a crease, and every vertex that absorbs one, is
+                                     crease edges or more, or where a crease meets a border, is a corner. A corner
+                                     on a border never moves; one of creases alone holds its place until the
+                                     level's error (the largest collapse error so far) reaches a quarter of its
+                                     feature's size (the longest crease from it to the next corner), or until
+                                     nothing else can be collapsed while its feature is a detail (at most 2% of
+                                     the diagonal): a hard-surface model's small parts give way before they cost
+                                     the rest of it its triangles (docs/restoring.md §8). A vertex touching a crease, and every vertex that absorbs one, is
                                      neither restored onto S nor moved by the sag offset: the facets keep the
                                      quadric's place, on the flat faces and their sharp edges. In (0, 180]; 180 =
                                      no crease by angle; default 80 (measured in docs/restoring.md §8). An edge

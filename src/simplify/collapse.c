@@ -394,10 +394,13 @@ static int refresh_flags(simplifier *s, lane *L, uint32_t v, scratch *sc, int *c
     if (!analyse_position(s, v, sc, &f, NULL, NULL))
         return 0;
     pos_flags old = s->P[v].flags;
-    pos_flags keep = old & (POS_LOCKED | POS_LOCKED_BORDER | POS_CORNER | POS_TOUCHES_FEATURE | POS_BLOCKED);
+    pos_flags keep =
+        old & (POS_LOCKED | POS_LOCKED_BORDER | POS_CORNER | POS_TOUCHES_FEATURE | POS_BLOCKED | POS_RELEASED);
     /* lock_border freezes the input's borders only: a border created later (none: collapses keep borders) would
      * otherwise be locked as well. */
     f = (pos_flags)((f & ~POS_LOCKED_BORDER) | keep);
+    if (f & POS_RELEASED)
+        f &= (pos_flags)~POS_CORNER;
     s->P[v].flags = f;
     *changed = (f & ~POS_BLOCKED) != (old & ~POS_BLOCKED);
     return 1;
@@ -650,6 +653,28 @@ int try_candidate(simplifier *s, pending *q, lane *L, scratch *sc, int defer)
 
 /* ---- the pass loop ------------------------------------------------------------------------------------------- */
 
+/* A corner is released once the level's error (the largest collapse error so far) reaches this many times its
+ * feature's size (corners_start in curves.c), or, when nothing else can be collapsed, once its feature is a detail:
+ * at most DETAIL of the diagonal. */
+static const double CORNER_RELEASE = 0.25, DETAIL = 0.02;
+
+/* Between passes: the corners of features up to size `reached` are held no more, and their edges are planned for
+ * the next pass. Returns 0 when out of memory. */
+static int release_corners(simplifier *s, double reached)
+{
+    lane *L = &s->sched.lanes[0];
+    for (; s->release_next < s->release_count && s->release[s->release_next].size <= reached; ++s->release_next) {
+        uint32_t x = s->release[s->release_next].position;
+        if ((s->P[x].flags & (POS_DEAD | POS_CORNER)) != POS_CORNER)
+            continue;
+        s->P[x].flags = (pos_flags)((s->P[x].flags & ~(POS_CORNER | POS_BLOCKED)) | POS_RELEASED);
+        bump_gen(s, x);
+        if (!gather_fan(s, x, &L->fan_b, 1) || !push_edges(s, L, x, &L->fan_b, NONE))
+            return 0;
+    }
+    return merge_lane(s, L);
+}
+
 /* Reports the progress towards target (from start triangles); 1 when the caller cancelled. */
 static int progress_cancelled(simplifier *s, size_t start, size_t target)
 {
@@ -683,8 +708,13 @@ resurf_status collapse_until(simplifier *s, size_t target, scratch *sc, resurf_e
             continue;
         }
         if (!sched->pass_open) { /* the next pass, if any candidate is left */
-            if (!open_pass(s))
+            if (!release_corners(s, s->rep.max_error_estimate / CORNER_RELEASE) || !open_pass(s))
                 goto oom;
+            /* none: the corners of the smallest details left, one size at a time, until some collapse can go on */
+            while (!sched->pass_open && s->release_next < s->release_count &&
+                   s->release[s->release_next].size <= DETAIL * s->diagonal)
+                if (!release_corners(s, s->release[s->release_next].size) || !open_pass(s))
+                    goto oom;
             if (!sched->pass_open) {
                 r->stop = s->skipped_error ? RESURF_STOP_ERROR : RESURF_STOP_BLOCKED;
                 break;

@@ -4,6 +4,7 @@
  * the curve's tangents at M's polyline vertices (from their neighbours) and a cubic between them, whose bulge over
  * a chord is the curve's sag h²κ/8; a straight polyline has tangents along itself, and the cubic is the chord. */
 #include <math.h>
+#include <stdlib.h>
 
 #include "simplify_internal.h"
 
@@ -92,6 +93,75 @@ void curves_free(simplifier *s)
     resurfi_free(s->alloc, s->curve_nb);
     resurfi_free(s->alloc, s->curve_at);
     resurfi_free(s->alloc, s->curve_p);
+    resurfi_free(s->alloc, s->release);
+}
+
+/* ---- corners of small features ------------------------------------------------------------------------------- */
+
+/* The length of the feature curve from corner c through its neighbour n to the next corner or end (at most
+ * CURVE_WALK edges); -1 when out of memory. */
+static double run_length(simplifier *s, scratch *sc, uint32_t c, uint32_t n)
+{
+    double len = v3_dist(s->P[c].p, s->P[n].p);
+    uint32_t prev = c, cur = n;
+    for (int step = 0; step < CURVE_WALK; ++step) {
+        pos_flags f = s->P[cur].flags;
+        if ((f & (POS_CORNER | POS_LOCKED)) || !(f & POS_CREASE))
+            break;
+        uint32_t nb[3];
+        int count = curve_neighbours(s, cur, sc, nb);
+        if (count < 0)
+            return -1;
+        uint32_t next = count != 2 ? NONE : nb[0] == prev ? nb[1] : nb[1] == prev ? nb[0] : NONE;
+        if (next == NONE)
+            break;
+        len += v3_dist(s->P[cur].p, s->P[next].p);
+        prev = cur, cur = next;
+    }
+    return len;
+}
+
+static int release_order(const void *a, const void *b)
+{
+    const corner_release *x = a, *y = b;
+    if (x->size != y->size)
+        return x->size < y->size ? -1 : 1;
+    return x->position < y->position ? -1 : x->position > y->position;
+}
+
+/* The corners where crease curves meet (not on a border: a border's corners stay held), each with the size of its
+ * feature: the longest of its curves to the next corner or end. A corner holds its place while the level's error
+ * is below that size; once the collapses around err by as much, holding a detail smaller than the error keeps
+ * triangles the rest of the surface needs (a hard-surface model's greebles: docs/restoring.md §8), and the
+ * corner is left to the quadric, whose planes through it price its move (collapse.c, release_corners). */
+resurf_status corners_start(simplifier *s, scratch *sc)
+{
+    size_t count = 0;
+    for (size_t p = 0; p < s->pos_count; ++p)
+        count += (s->P[p].flags & (POS_CORNER | POS_BORDER | POS_LOCKED | POS_DEAD)) == POS_CORNER;
+    if (!count)
+        return RESURF_OK;
+    if (!(s->release = resurfi_alloc(s->alloc, count, sizeof *s->release)))
+        return RESURF_ERR_OUT_OF_MEMORY;
+    for (size_t p = 0; p < s->pos_count; ++p) {
+        if ((s->P[p].flags & (POS_CORNER | POS_BORDER | POS_LOCKED | POS_DEAD)) != POS_CORNER)
+            continue;
+        uint32_t nb[3];
+        int n = curve_neighbours(s, (uint32_t)p, sc, nb);
+        double size = 0;
+        for (int k = 0; k < n; ++k) {
+            double len = run_length(s, sc, (uint32_t)p, nb[k]);
+            if (len < 0)
+                return RESURF_ERR_OUT_OF_MEMORY;
+            size = len > size ? len : size;
+        }
+        if (n < 0)
+            return RESURF_ERR_OUT_OF_MEMORY;
+        if (n > 0)
+            s->release[s->release_count++] = (corner_release){size, (uint32_t)p};
+    }
+    qsort(s->release, s->release_count, sizeof *s->release, release_order);
+    return RESURF_OK;
 }
 
 /* The next vertex along the curve after cur, coming from prev (NONE where the curve ends at cur). */

@@ -881,6 +881,8 @@ resurf_status simplify_start(simplifier *s, scratch *scratch, resurf_error *erro
         if (s->opt.restore == RESURF_RESTORE_INLINE && curves_start(s, &scratch[0]) != RESURF_OK)
             return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
     }
+    if (corners_start(s, &scratch[0]) != RESURF_OK)
+        return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
     resurfi_free(s->alloc, s->remap);
     s->remap = NULL;
     if (services_need_bvh(s->in, &s->opt) && s->lent && s->lent->bvh) {

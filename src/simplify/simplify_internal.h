@@ -21,6 +21,12 @@ enum {
     CHUNK_THREADS = 32,           /* smaller chunks run on one thread: handing them out would cost more than it saves */
 };
 
+/* A corner of crease curves held until the level's error reaches its feature's size (curves.c). */
+typedef struct corner_release {
+    double size; /* the longest feature curve from the corner to the next corner or end */
+    uint32_t position;
+} corner_release;
+
 /* Per-position flags. */
 typedef uint16_t pos_flags;
 enum {
@@ -38,6 +44,7 @@ enum {
                               than corner_angle_deg: never moves */
     POS_TOUCHES_FEATURE = 1024, /* has a feature edge, or absorbed a position that had: neither restored nor
                               offset (the smooth-surface model does not hold there) */
+    POS_RELEASED = 2048,   /* a corner of a feature smaller than the level's error: no longer held (curves.c) */
 };
 
 /* The normals of two triangles on an edge differ by more than this (cosine of 150°, see reliable_normal in
@@ -271,6 +278,8 @@ typedef struct simplifier {
                                    border curve (NONE, NONE at a corner or where it is on none; curves.c) */
     uint32_t *curve_at;         /* per position: the vertex of M's curve it lies at or next to, or NONE */
     vec3 *curve_p;              /* per position of M: its place in M */
+    corner_release *release;    /* the corners of crease curves, smallest feature first (curves.c) */
+    size_t release_count, release_next; /* ..., and how many were released */
     charts charts;
     uint32_t *wedge_root; /* with attributes: per input vertex, the wedge it became or merged into (a union-find
                              forest: follow it to a live wedge; output.c finds the triangles of a seam's side) */
@@ -463,6 +472,7 @@ int services_need_bvh(const resurf_mesh *in, const resurf_simplify_options *o);
 resurf_status curves_start(simplifier *s, scratch *sc);
 void curves_free(simplifier *s);
 int curve_place(const simplifier *s, uint32_t a, uint32_t b, vec3 p, vec3 *out, uint32_t *out_at);
+resurf_status corners_start(simplifier *s, scratch *sc);
 
 /* attributes.c: the attribute quadrics of the wedges */
 resurf_status attributes_start(simplifier *s, scratch *scratch);
