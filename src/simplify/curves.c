@@ -2,7 +2,8 @@
  * start so that a vertex made by a collapse along such a curve is put back on it rather than left on the chord
  * between the two ends (docs/restoring.md §8, "Features: along the curve"). The 1-D analogue of the restoration:
  * the curve's tangents at M's polyline vertices (from their neighbours) and a cubic between them, whose bulge over
- * a chord is the curve's sag h²κ/8; a straight polyline has tangents along itself, and the cubic is the chord. */
+ * a chord is the curve's sag h²κ/8; a straight polyline has tangents along itself, and the cubic is the chord.
+ * The same curves give each corner of creases its feature's size, below which it gives way (corners_start). */
 #include <math.h>
 #include <stdlib.h>
 
@@ -129,25 +130,29 @@ static int release_order(const void *a, const void *b)
     return x->position < y->position ? -1 : x->position > y->position;
 }
 
-/* The corners where crease curves meet (not on a border: a border's corners stay held), each with the size of its
- * feature: the longest of its curves to the next corner or end. A corner holds its place while the level's error
- * is below that size; once the collapses around err by as much, holding a detail smaller than the error keeps
- * triangles the rest of the surface needs (a hard-surface model's greebles: docs/restoring.md §8), and the
- * corner is left to the quadric, whose planes through it price its move (collapse.c, release_corners). */
+/* A corner of creases alone, which may be released: a border's corners stay held. */
+static int releasable(pos_flags f) { return (f & (POS_CORNER | POS_BORDER | POS_LOCKED | POS_DEAD)) == POS_CORNER; }
+
+/* The corners where crease curves meet, each with the size of its feature: the longest of its curves to the next
+ * corner or end. Once the level's error is no longer small against that size, holding a detail the error has
+ * reached keeps triangles the rest of the surface needs (a hard-surface model's greebles: docs/restoring.md §8),
+ * and the corner is left to the quadric, whose planes through it price its move (collapse.c, release_corners). */
 resurf_status corners_start(simplifier *s, scratch *sc)
 {
     size_t count = 0;
     for (size_t p = 0; p < s->pos_count; ++p)
-        count += (s->P[p].flags & (POS_CORNER | POS_BORDER | POS_LOCKED | POS_DEAD)) == POS_CORNER;
+        count += releasable(s->P[p].flags);
     if (!count)
         return RESURF_OK;
     if (!(s->release = resurfi_alloc(s->alloc, count, sizeof *s->release)))
         return RESURF_ERR_OUT_OF_MEMORY;
     for (size_t p = 0; p < s->pos_count; ++p) {
-        if ((s->P[p].flags & (POS_CORNER | POS_BORDER | POS_LOCKED | POS_DEAD)) != POS_CORNER)
+        if (!releasable(s->P[p].flags))
             continue;
         uint32_t nb[3];
         int n = curve_neighbours(s, (uint32_t)p, sc, nb);
+        if (n < 0)
+            return RESURF_ERR_OUT_OF_MEMORY;
         double size = 0;
         for (int k = 0; k < n; ++k) {
             double len = run_length(s, sc, (uint32_t)p, nb[k]);
@@ -155,8 +160,6 @@ resurf_status corners_start(simplifier *s, scratch *sc)
                 return RESURF_ERR_OUT_OF_MEMORY;
             size = len > size ? len : size;
         }
-        if (n < 0)
-            return RESURF_ERR_OUT_OF_MEMORY;
         if (n > 0)
             s->release[s->release_count++] = (corner_release){size, (uint32_t)p};
     }

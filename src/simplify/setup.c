@@ -163,8 +163,8 @@ static int same_group(const resurf_mesh *in, uint32_t t, uint32_t u)
  * triangle uses, and at most SHEET_ATTACHED that one does, is a sheet: of each of its opposite pairs the
  * first-written triangle stays (exporters write one side, then its mirror) and the sheet is simplified as one
  * side; the other triangle of the pair is its mirror (s->mirror), and every level writes the mirror of each
- * triangle descended from that side back, so the back of a card with a one-sided material stays visible. A sheet attached along a longer line stays dropped: kept, its line would be non-manifold edges, which are
- * locked (XGL_Wuson's crest, 15 positions of its own along 15 on the body: kept, the 25% level's Hausdorff distance
+ * triangle descended from that side back, so the back of a card with a one-sided material stays visible. A sheet
+ * attached along a longer line stays dropped: kept, its line would be non-manifold edges, which are locked (XGL_Wuson's crest, 15 positions of its own along 15 on the body: kept, the 25% level's Hausdorff distance
  * fell from 1.69% to 0.71% of the diagonal, but the locked line raised the 10% level's from 3.40% to 5.83%). */
 enum { SHEET_OWN = 4, SHEET_ATTACHED = 2 };
 
@@ -178,12 +178,9 @@ static resurf_status keep_sheets(simplifier *s, const uint32_t *remap, const uin
     uint32_t *group = resurfi_alloc(s->alloc, pc, sizeof *group);
     uint32_t *count = resurfi_calloc(s->alloc, 2 * pc, sizeof *count);
     uint8_t *use = resurfi_calloc(s->alloc, pc, 1);
-    if (!group || !count || !use) {
-        resurfi_free(s->alloc, group);
-        resurfi_free(s->alloc, count);
-        resurfi_free(s->alloc, use);
-        return RESURF_ERR_OUT_OF_MEMORY;
-    }
+    resurf_status st = RESURF_ERR_OUT_OF_MEMORY;
+    if (!group || !count || !use)
+        goto done;
     enum { USE_KEPT = 1, USE_DROPPED = 2 };
     for (size_t p = 0; p < pc; ++p)
         group[p] = (uint32_t)p;
@@ -236,7 +233,7 @@ static resurf_status keep_sheets(simplifier *s, const uint32_t *remap, const uin
                     continue;
                 if (!s->mirror) {
                     if (!(s->mirror = resurfi_alloc(s->alloc, nt, sizeof *s->mirror)))
-                        goto oom;
+                        goto done;
                     memset(s->mirror, 0xff, nt * sizeof *s->mirror);
                 }
                 s->mirror[t] = m;
@@ -245,15 +242,12 @@ static resurf_status keep_sheets(simplifier *s, const uint32_t *remap, const uin
                 break;
             }
         }
+    st = RESURF_OK;
+done:
     resurfi_free(s->alloc, group);
     resurfi_free(s->alloc, count);
     resurfi_free(s->alloc, use);
-    return RESURF_OK;
-oom:
-    resurfi_free(s->alloc, group);
-    resurfi_free(s->alloc, count);
-    resurfi_free(s->alloc, use);
-    return RESURF_ERR_OUT_OF_MEMORY;
+    return st;
 }
 
 /* The triangles drop_fins leaves out (see resurf_simplify_options): (*out_drop)[t] == FIN_DROP for them, or

@@ -468,7 +468,8 @@ resurf_status services_build_bvh(const resurf_mesh *in, const resurf_simplify_op
 int services_need_bvh(const resurf_mesh *in, const resurf_simplify_options *o);
 
 /* curves.c: M's crease and border curves, and a collapse's place on them (curve_place: 0 when a and b are not on
- * one curve of M within reach; else *out on it and *out_at the curve's vertex of M next to it) */
+ * one curve of M within reach; else *out on it and *out_at the curve's vertex of M next to it); the corners of
+ * creases and their features' sizes (corners_start), released by collapse.c's pass loop */
 resurf_status curves_start(simplifier *s, scratch *sc);
 void curves_free(simplifier *s);
 int curve_place(const simplifier *s, uint32_t a, uint32_t b, vec3 p, vec3 *out, uint32_t *out_at);
