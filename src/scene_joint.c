@@ -53,7 +53,7 @@ double resurfi_joint_input(const resurfi_chain_job *job, size_t m, const resurf_
     for (size_t q = 0, v0 = 0; *st == RESURF_OK && any && q < n; v0 += in[q++]->vertex_count)
         if (w->locks[first + q]) /* in the order resurfi_mesh_join_parts puts the vertices */
             memcpy(*lock + v0, w->locks[first + q], in[q]->vertex_count);
-    resurfi_run_options(job, base, scale, area, *lock, sim, bounds);
+    resurfi_run_options(job, base, m, scale, area, *lock, sim, bounds);
     if (in != parts)
         resurfi_free(w->alloc, in);
     return scale;

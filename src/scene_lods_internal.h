@@ -55,8 +55,8 @@ resurf_status resurfi_make_chain(const resurf_mesh *in, const double *ratios, si
                                  resurf_simplify_report *reports, resurf_error *e);
 size_t resurfi_levels_that_help(const resurf_mesh *in, const resurf_simplify_report *rep, const double *ratios,
                                 size_t count, int *why);
-void resurfi_run_options(const resurfi_chain_job *job, const resurf_simplify_options *base, double scale, double area,
-                         const uint8_t *lock, resurf_simplify_options *sim, double *bounds);
+void resurfi_run_options(const resurfi_chain_job *job, const resurf_simplify_options *base, size_t m, double scale,
+                         double area, const uint8_t *lock, resurf_simplify_options *sim, double *bounds);
 resurf_status resurfi_make_primitive_chain(resurfi_chain_job *job, size_t p, const resurf_simplify_options *base);
 
 /* ---- shared borders (scene_borders.c) ---- */

@@ -2,6 +2,7 @@
  * checked against analytic truth: meshes whose texture coordinates and colours are known functions of the
  * position, so the level's interpolated values can be compared with the exact ones anywhere on its surface. */
 #include <math.h>
+#include <stdlib.h>
 
 #include "testutil.h"
 
@@ -182,6 +183,41 @@ START_TEST(a_uv_seam_stays_a_seam)
 }
 END_TEST
 
+/* The same cylinder when no texture samples its texcoords (unsampled_texcoords, which resurf_scene_build_lods sets
+ * from the materials): the seam holds nothing back. Every level has one vertex per position (nothing split: the
+ * seamed run above keeps both sides of the seam apart), still carries texcoords, each within the input's range,
+ * and its surface is no farther from the input than the seamed level's. */
+START_TEST(an_unsampled_seam_holds_nothing)
+{
+    unsigned nth = tu_light() ? 32 : 96, nz = tu_light() ? 12 : 32;
+    resurf_mesh *m = seamed_cylinder(nth, nz);
+    double ratios[2] = {0.25, 0.1};
+    resurf_mesh *free_levels[2] = {NULL, NULL}, *seamed[2] = {NULL, NULL};
+    resurf_simplify_options o = resurf_simplify_options_default();
+    resurf_error e;
+    ck_assert_msg(resurf_simplify_lods(m, ratios, 2, &o, seamed, NULL, &e) == RESURF_OK, "%s", e.message);
+    o.unsampled_texcoords = 1;
+    ck_assert_msg(resurf_simplify_lods(m, ratios, 2, &o, free_levels, NULL, &e) == RESURF_OK, "%s", e.message);
+    for (int l = 0; l < 2; ++l) {
+        const resurf_mesh *r = free_levels[l];
+        ck_assert_ptr_nonnull(r->texcoords[0]);
+        uint32_t *remap = malloc(r->vertex_count * sizeof *remap);
+        size_t positions = 0;
+        ck_assert_int_eq(resurfi_weld_exact(NULL, r->positions, r->vertex_count, remap, &positions), RESURF_OK);
+        ck_assert_uint_eq(positions, r->vertex_count);
+        free(remap);
+        for (size_t v = 0; v < 2 * r->vertex_count; ++v)
+            ck_assert(r->texcoords[0][v] >= 0 && r->texcoords[0][v] <= 1);
+        double h_free = tu_compare(m, r, 20000).hausdorff, h_seamed = tu_compare(m, seamed[l], 20000).hausdorff;
+        ck_assert_msg(h_free <= h_seamed * (1 + 1e-9), "level %d: %g from the input, seamed %g", l + 1, h_free,
+                      h_seamed);
+        resurf_mesh_free(free_levels[l]);
+        resurf_mesh_free(seamed[l]);
+    }
+    resurf_mesh_free(m);
+}
+END_TEST
+
 START_TEST(weights_are_checked)
 {
     resurf_mesh *m = graded_grid(4);
@@ -208,6 +244,7 @@ Suite *make_suite(void)
     tcase_add_test(tc, texcoords_in_the_cost_follow_the_gradient);
     tcase_add_test(tc, colours_in_the_cost_keep_their_edge);
     tcase_add_test(tc, a_uv_seam_stays_a_seam);
+    tcase_add_test(tc, an_unsampled_seam_holds_nothing);
     tcase_add_test(tc, weights_are_checked);
     suite_add_tcase(s, tc);
     return s;

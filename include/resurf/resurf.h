@@ -894,6 +894,11 @@ typedef struct resurf_simplify_options {
      *   (one thread) 1.11–1.21 s -> 1.46 s of CPU and 89 -> 103 MB peak; at 1M triangles 341 -> 402 MB. */
     double normal_weight;         /* NORMAL (3 components); default 0 (off) */
     double texcoord_weight;       /* every texcoord set (2 components each); default 0.25 */
+    uint32_t unsampled_texcoords; /* bit n set: no texture samples TEXCOORD_n (resurf_scene_build_lods sets it for
+                                     each set its mesh's materials never sample, as exporters write texcoords for
+                                     untextured materials): the set costs nothing and splits no vertex, so its
+                                     seams hold nothing back; the levels still carry it, interpolated at each
+                                     vertex's closest point of the input. Default 0 */
     double color_weight;          /* COLOR_0 (3 or 4 components); default 0.25 */
     double skin_weight;           /* JOINTS_n / WEIGHTS_n pairs (extras named so): the vertex's influences as one
                                      vector of weights over the joints, each weight times its joint's reach (half

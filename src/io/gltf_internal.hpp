@@ -50,6 +50,7 @@ struct resurfi_gltf_doc {
     std::vector<std::vector<const char *>> prim_extensions;
     std::vector<resurfi_gltf_image> images;
     std::vector<resurfi_gltf_material> materials;
+    std::vector<unsigned> material_texcoords; // per material: the TEXCOORD_n sets its textures sample (bit n)
     std::vector<resurfi_gltf_texture> textures;
 };
 

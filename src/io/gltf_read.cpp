@@ -137,6 +137,41 @@ void all_extensions(const nlohmann::json &j, std::vector<std::string> &out)
     }
 }
 
+// The TEXCOORD_n sets a material's textures sample (bit n), wherever they are: every textureInfo (an object with
+// an "index") of the material and of its extensions samples its "texCoord" (default 0), and KHR_texture_transform
+// may name another.
+void texcoords_sampled(const nlohmann::json &j, unsigned &bits)
+{
+    if (j.is_object()) {
+        auto set = [&bits](const nlohmann::json &o) {
+            auto tc = o.find("texCoord");
+            long long n = tc == o.end() ? 0 : tc->is_number_integer() ? tc->get<long long>() : -1;
+            if (n >= 0 && n < 32)
+                bits |= 1u << n;
+        };
+        if (j.contains("index") && j["index"].is_number())
+            set(j);
+        auto transform = j.find("KHR_texture_transform");
+        if (transform != j.end() && transform->is_object() && transform->contains("texCoord"))
+            set(*transform);
+    }
+    if (j.is_object() || j.is_array())
+        for (const nlohmann::json &x : j)
+            texcoords_sampled(x, bits);
+}
+
+void material_texcoords(const nlohmann::json &root, std::vector<unsigned> &out)
+{
+    auto materials = root.find("materials");
+    if (materials == root.end() || !materials->is_array())
+        return;
+    for (const nlohmann::json &mat : *materials) {
+        unsigned bits = 0;
+        texcoords_sampled(mat, bits);
+        out.push_back(bits);
+    }
+}
+
 void outside_extensions(const nlohmann::json &root, std::vector<std::string> &out)
 {
     add_extension_names(root, out);
@@ -501,7 +536,8 @@ void build_view(resurfi_gltf_doc *doc)
         add_texture_ref(doc, where + ".normalTexture", mat.normalTexture.index);
         add_texture_ref(doc, where + ".occlusionTexture", mat.occlusionTexture.index);
         add_texture_ref(doc, where + ".emissiveTexture", mat.emissiveTexture.index);
-        resurfi_gltf_material c{{1, 1, 1, 1}, RESURFI_GLTF_NONE, 0};
+        resurfi_gltf_material c{{1, 1, 1, 1}, RESURFI_GLTF_NONE, 0,
+                                i < doc->material_texcoords.size() ? doc->material_texcoords[i] : 0};
         const std::vector<double> &factor = mat.pbrMetallicRoughness.baseColorFactor;
         for (size_t j = 0; j < 4 && j < factor.size(); ++j)
             c.base_color[j] = factor[j];
@@ -655,6 +691,7 @@ resurf_status parse(const char *json, size_t json_size, const unsigned char *bin
     std::string where;
     find_nonfinite(root, where, doc->nonfinite_count, doc->first_nonfinite);
     outside_extensions(root, doc->outside_extensions);
+    material_texcoords(root, doc->material_texcoords);
     std::string rewritten;
     if (take_draco(root, doc->draco) || integers_rewritten)
         rewritten = root.dump();

@@ -128,11 +128,13 @@ typedef struct resurfi_gltf_image {
     size_t size;
 } resurfi_gltf_image;
 
-/* What a material shows where it is lit (the preview draws it): pbrMetallicRoughness's base colour. */
+/* What a material shows where it is lit (the preview draws it): pbrMetallicRoughness's base colour; and which
+ * texcoord sets it uses at all. */
 typedef struct resurfi_gltf_material {
     double base_color[4];      /* baseColorFactor (linear RGBA; default 1, 1, 1, 1) */
     long long base_color_texture; /* its baseColorTexture's texture, or RESURFI_GLTF_NONE */
     int base_color_texcoord;   /* ... and the TEXCOORD_n set it samples (default 0) */
+    unsigned texcoords_used;   /* bit n: some texture of it (core or extension) samples TEXCOORD_n */
 } resurfi_gltf_material;
 
 /* A texture: its image and its sampler's wrap modes (glTF numbers: 10497 REPEAT (default), 33071 CLAMP_TO_EDGE,

@@ -166,7 +166,7 @@ static void choose_components(simplifier *s)
             q->src[q->count] = in->normals, q->step[q->count] = 3, q->offset[q->count] = k,
             q->scale[q->count++] = s->opt.normal_weight * d;
     for (unsigned t = 0; t < in->texcoord_count && t < RESURF_MAX_TEXCOORD_SETS; ++t)
-        if (in->texcoords[t] && s->opt.texcoord_weight > 0)
+        if (in->texcoords[t] && s->opt.texcoord_weight > 0 && !(s->opt.unsampled_texcoords >> t & 1))
             for (unsigned k = 0; k < 2; ++k)
                 q->src[q->count] = in->texcoords[t], q->step[q->count] = 2, q->offset[q->count] = k,
                 q->scale[q->count++] = s->opt.texcoord_weight * d;

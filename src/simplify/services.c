@@ -51,6 +51,7 @@ resurf_status services_build_bvh(const resurf_mesh *in, const resurf_simplify_op
 typedef struct analysis_key {
     double feature_angle_deg, corner_angle_deg, border_weight;
     int lock_border, drop_fins;
+    uint32_t unsampled_texcoords; /* the wedges, hence the seams */
 } analysis_key;
 
 typedef struct analysis_entry {
@@ -76,6 +77,7 @@ static analysis_key key_of(const resurf_simplify_options *o)
     k.border_weight = o->border_weight;
     k.lock_border = o->lock_border != 0;
     k.drop_fins = o->drop_fins != 0;
+    k.unsampled_texcoords = o->unsampled_texcoords;
     return k;
 }
 

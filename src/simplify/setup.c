@@ -72,12 +72,12 @@ size_t fan_pairs(const simplifier *s, const u32vec *fan, scratch *sc)
 /* ---- the working mesh ---------------------------------------------------------------------------------------- */
 
 /* Do input vertices u and v carry the same attributes (bit for bit)? */
-static int same_attributes(const resurf_mesh *m, uint32_t u, uint32_t v)
+static int same_attributes(const resurf_mesh *m, uint32_t u, uint32_t v, uint32_t unsampled_texcoords)
 {
     if (m->normals && memcmp(m->normals + 3 * (size_t)u, m->normals + 3 * (size_t)v, 3 * sizeof(double)))
         return 0;
     for (unsigned k = 0; k < m->texcoord_count && k < RESURF_MAX_TEXCOORD_SETS; ++k)
-        if (m->texcoords[k] &&
+        if (m->texcoords[k] && !(unsampled_texcoords >> k & 1) &&
             memcmp(m->texcoords[k] + 2 * (size_t)u, m->texcoords[k] + 2 * (size_t)v, 2 * sizeof(double)))
             return 0;
     if (m->colors && memcmp(m->colors + 4 * (size_t)u, m->colors + 4 * (size_t)v, 4 * sizeof(double)))
@@ -393,7 +393,7 @@ static resurf_status prepare_mesh(simplifier *s, resurf_error *error)
             continue;
         }
         for (uint32_t u = first[remap[v]]; u < v; u = chain[u])
-            if (same_attributes(in, u, (uint32_t)v)) {
+            if (same_attributes(in, u, (uint32_t)v, s->opt.unsampled_texcoords)) {
                 rep[v] = rep[u];
                 break;
             }
