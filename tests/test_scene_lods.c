@@ -5,6 +5,7 @@
  * distances resurf_compare measures independently; a failed or cancelled call leaves the scene as it was. */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
@@ -693,6 +694,95 @@ START_TEST(scene_lods_triangles_go_where_the_error_is)
 }
 END_TEST
 
+/* An open cylinder x² + y² = 1, z in [−1, 1] (48 × 12 quads), u = θ / 2π, v = (z + 1) / 2, its UV seam at θ = 0
+ * (the column of vertices there doubled: u = 0 on one side, 1 on the other), shown by two meshes over the same
+ * accessors: meshes[0] with an untextured material, meshes[1] with one whose KHR_materials_clearcoat texture samples
+ * TEXCOORD_0 (an extension's texture counts as the core's do). Returns the path (malloc'ed). */
+static char *write_seamed_pair_gltf(const char *dir)
+{
+    enum { NTH = 48, NZ = 12 };
+    size_t nv = (NTH + 1) * (NZ + 1), nt = 2 * NTH * NZ;
+    size_t pos = 12 * nv, uv = 8 * nv, idx = 12 * nt, total = pos + uv + idx;
+    unsigned char *buf = malloc(total);
+    for (unsigned j = 0; j <= NZ; ++j)
+        for (unsigned i = 0; i <= NTH; ++i) {
+            size_t v = (size_t)j * (NTH + 1) + i;
+            double th = 2 * M_PI * (i % NTH) / NTH, z = -1 + 2.0 * j / NZ;
+            float p[3] = {(float)cos(th), (float)sin(th), (float)z}, t[2] = {(float)i / NTH, (float)(0.5 * (z + 1))};
+            memcpy(buf + 12 * v, p, 12);
+            memcpy(buf + pos + 8 * v, t, 8);
+        }
+    uint32_t *ix = malloc(idx);
+    for (unsigned j = 0, k = 0; j < NZ; ++j)
+        for (unsigned i = 0; i < NTH; ++i) {
+            uint32_t a = j * (NTH + 1) + i, b = a + 1, c = a + NTH + 2, d = a + NTH + 1;
+            ix[k++] = a, ix[k++] = b, ix[k++] = c, ix[k++] = a, ix[k++] = c, ix[k++] = d;
+        }
+    memcpy(buf + pos + uv, ix, idx);
+    char *b64 = malloc(total / 3 * 4 + 8);
+    base64(buf, total, b64);
+    const char *prim = "{\"attributes\":{\"POSITION\":0,\"TEXCOORD_0\":1},\"indices\":2,\"material\":%d}";
+    char p0[128], p1[128];
+    snprintf(p0, sizeof p0, prim, 0);
+    snprintf(p1, sizeof p1, prim, 1);
+    char *json = tu_strf(
+        "{\"asset\":{\"version\":\"2.0\"},\"extensionsUsed\":[\"KHR_materials_clearcoat\"],\"scene\":0,"
+        "\"scenes\":[{\"nodes\":[0,1]}],\"nodes\":[{\"mesh\":0},{\"mesh\":1,\"translation\":[3,0,0]}],"
+        "\"meshes\":[{\"primitives\":[%s]},{\"primitives\":[%s]}],"
+        "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorFactor\":[0.1,0.1,0.7,1]}},"
+        "{\"extensions\":{\"KHR_materials_clearcoat\":{\"clearcoatFactor\":1,\"clearcoatTexture\":{\"index\":0}}}}],"
+        "\"textures\":[{}],"
+        "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC3\",\"min\":[-1,-1,-1],"
+        "\"max\":[1,1,1]},{\"bufferView\":1,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC2\"},"
+        "{\"bufferView\":2,\"componentType\":5125,\"count\":%zu,\"type\":\"SCALAR\"}],"
+        "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":%zu},"
+        "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu},{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu}],"
+        "\"buffers\":[{\"byteLength\":%zu,\"uri\":\"data:application/octet-stream;base64,%s\"}]}",
+        p0, p1, nv, nv, 3 * nt, pos, pos, uv, pos + uv, idx, total, b64);
+    char *path = tu_path(dir, "seamed.gltf");
+    ck_assert_int_eq(tu_write_file(path, json, strlen(json)), 0);
+    free(json);
+    free(b64);
+    free(ix);
+    free(buf);
+    return path;
+}
+
+/* Texcoords that no texture samples hold no seam (resurf_simplify_options.unsampled_texcoords, set per mesh from
+ * its materials): the untextured cylinder's level has one vertex per position, the textured one keeps its seam's
+ * vertices doubled (more vertices than positions), and both levels still carry their texcoords. */
+START_TEST(scene_lods_unsampled_texcoords_hold_no_seam)
+{
+    char *dir = tu_tempdir();
+    char *path = write_seamed_pair_gltf(dir);
+    resurf_scene *s = load(path);
+    const double ratios[1] = {0.25};
+    resurf_simplify_options so = fast_options();
+    resurf_scene_lod_options lo = resurf_scene_lod_options_default();
+    lo.share_triangles = false;
+    resurf_error e;
+    ck_assert_msg(resurf_scene_build_lods(s, ratios, 1, &so, &lo, NULL, NULL, &e) == RESURF_OK, "%s", e.message);
+    for (size_t p = 0; p < 2; ++p) {
+        ck_assert_uint_eq(s->prims[p].lod_count, 1);
+        const resurf_mesh *level = s->prims[p].lods[0];
+        ck_assert_ptr_nonnull(level->texcoords[0]);
+        uint32_t *remap = malloc(level->vertex_count * sizeof *remap);
+        size_t positions = 0;
+        ck_assert_int_eq(resurfi_weld_exact(NULL, level->positions, level->vertex_count, remap, &positions),
+                         RESURF_OK);
+        free(remap);
+        if (p == 0)
+            ck_assert_uint_eq(level->vertex_count, positions);
+        else
+            ck_assert_uint_gt(level->vertex_count, positions);
+    }
+    resurf_scene_free(s);
+    tu_rmtree(dir);
+    free(path);
+    free(dir);
+}
+END_TEST
+
 Suite *make_suite(void)
 {
     Suite *s = suite_create("scene_lods");
@@ -703,6 +793,7 @@ Suite *make_suite(void)
     tcase_add_test(tc, scene_lods_errors_named_and_scene_unchanged);
     tcase_add_test(tc, scene_lods_cli_max_triangles_and_errors);
     tcase_add_loop_test(tc, scene_lods_triangles_go_where_the_error_is, 0, 2);
+    tcase_add_test(tc, scene_lods_unsampled_texcoords_hold_no_seam);
     suite_add_tcase(s, tc);
     return s;
 }
