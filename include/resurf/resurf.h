@@ -979,7 +979,8 @@ typedef struct resurf_simplify_report {
      * sample of the result, the texture-space distance between the result's UV interpolated there and the input's
      * UV interpolated at the closest point of the input's surface; the mean and the 95th percentile (nearest
      * rank) over the samples. Across a UV seam the closest point can fall on the other chart, so samples within
-     * the distance error of a seam can count a chart's jump. NaN without UVs or when nothing is measured. */
+     * the distance error of a seam can count a chart's jump. NaN without UVs, when the set is one no texture
+     * samples (unsampled_texcoords bit 0) or when nothing is measured. */
     double uv_error_mean, uv_error_p95;
     double diagonal;                 /* of the input's bounding box */
 

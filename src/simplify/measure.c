@@ -325,6 +325,7 @@ resurf_status measure_level(simplifier *s, const resurf_mesh *m, resurf_simplify
                   s->measure.in_used_count, RESURFI_FACET_POINTS * s->in->triangle_count, 3, level_bvh, m,
                   s->measure.in_rep, NULL, 0, 0, NULL, NULL, NULL, NULL, NULL};
     if (st == RESURF_OK && result.samples && resurfi_has_uv0(s->in) && resurfi_has_uv0(m) &&
+        !(s->opt.unsampled_texcoords & 1) && /* a set nothing shows has no error to report */
         !(uv = result.uv = resurfi_alloc(s->alloc, result.samples, sizeof *uv)))
         st = RESURF_ERR_OUT_OF_MEMORY;
     if (st == RESURF_OK)
