@@ -208,9 +208,10 @@ START_TEST(an_unsampled_seam_holds_nothing)
         free(remap);
         for (size_t v = 0; v < 2 * r->vertex_count; ++v)
             ck_assert(r->texcoords[0][v] >= 0 && r->texcoords[0][v] <= 1);
-        double h_free = tu_compare(m, r, 20000).hausdorff, h_seamed = tu_compare(m, seamed[l], 20000).hausdorff;
-        ck_assert_msg(h_free <= h_seamed * (1 + 1e-9), "level %d: %g from the input, seamed %g", l + 1, h_free,
-                      h_seamed);
+        resurf_compare_report d_free = tu_compare(m, r, 20000), d_seamed = tu_compare(m, seamed[l], 20000);
+        /* a level on the input to rounding on both runs (the light run's 25%) compares rounding: its floor */
+        ck_assert_msg(d_free.hausdorff <= d_seamed.hausdorff * (1 + 1e-9) + 1e-12 * d_free.diagonal,
+                      "level %d: %g from the input, seamed %g", l + 1, d_free.hausdorff, d_seamed.hausdorff);
         resurf_mesh_free(free_levels[l]);
         resurf_mesh_free(seamed[l]);
     }
