@@ -140,11 +140,6 @@ resurf_status resurfi_scene_check_document(load_ctx *c)
     if (v->nonfinite_count)
         return FAIL(c, "%zu numbers of the JSON are not finite (the first at %s)", v->nonfinite_count,
                     v->first_nonfinite);
-    for (size_t i = 0; i < v->extension_required_count; ++i)
-        if (!resurfi_scene_extension_known(v->extensions_required[i]))
-            return resurfi_fail(c->error, RESURF_ERR_UNSUPPORTED, c->path, 0, -1,
-                                "the document requires the extension %s, which resurf does not support",
-                                v->extensions_required[i]);
     for (size_t i = 0; i < v->buffer_count; ++i)
         c->buffer_bytes += v->buffers[i].size;
     resurf_status status = check_buffer_views(c);

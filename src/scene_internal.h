@@ -254,8 +254,8 @@ static inline double resurfi_gltf_read_component(const unsigned char *p, int typ
 long long resurfi_json_too_deep(const char *p, size_t size);
 
 /* The checks of a parsed document (c->v) before any of its primitives is decoded: every number finite, every
- * required extension known, every bufferView and accessor in range (sparse indices included), every reference the
- * shim recorded in range. Sets c->buffer_bytes. */
+ * bufferView and accessor in range (sparse indices included), every reference the shim recorded in range (the
+ * required extensions were checked by the shim). Sets c->buffer_bytes. */
 resurf_status resurfi_scene_check_document(load_ctx *c);
 /* The node graph: meshes, children and scene roots in range, one parent per node, no cycle, roots are roots; then
  * each node's world matrix into s->world. */

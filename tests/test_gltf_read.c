@@ -726,6 +726,38 @@ START_TEST(gltf_hostile_draco_fails_cleanly)
 }
 END_TEST
 
+/* A document that requires EXT_meshopt_compression (gltfpack -c, gltf-transform meshopt) is refused for that
+ * extension. Its buffers are laid out as those tools write them: the compressed bytes, far fewer than the buffer's
+ * byteLength, and a fallback buffer with no bytes at all. tinygltf, reading first, blamed the byteLength. */
+START_TEST(gltf_meshopt_compressed_input_is_refused_for_its_extension)
+{
+    char *dir = tu_tempdir();
+    tu_bytes d = {calloc(16, 1), 16};
+    const char *json =
+        "{\"asset\":{\"version\":\"2.0\"},\"extensionsUsed\":[\"EXT_meshopt_compression\"],"
+        "\"extensionsRequired\":[\"EXT_meshopt_compression\"],\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}],"
+        "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0}}]}],"
+        "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\","
+        "\"min\":[0,0,0],\"max\":[1,1,0]}],"
+        "\"bufferViews\":[{\"buffer\":1,\"byteLength\":36,\"byteStride\":12,\"extensions\":{"
+        "\"EXT_meshopt_compression\":{\"buffer\":0,\"byteLength\":16,\"byteStride\":12,\"count\":3,"
+        "\"mode\":\"ATTRIBUTES\"}}}],"
+        "\"buffers\":[{\"byteLength\":16,\"uri\":\"m.bin\"},"
+        "{\"byteLength\":36,\"extensions\":{\"EXT_meshopt_compression\":{\"fallback\":true}}}]}";
+    char *path = tu_write_gltf(dir, "m", json, &d);
+    resurf_scene *s = NULL;
+    resurf_error e;
+    ck_assert_int_eq(resurf_scene_load(path, NULL, &s, &e), RESURF_ERR_UNSUPPORTED);
+    ck_assert_ptr_null(s);
+    ck_assert_str_eq(e.message,
+                     "the document requires the extension EXT_meshopt_compression, which resurf does not support");
+    free(path);
+    free(d.data);
+    tu_rmtree(dir);
+    free(dir);
+}
+END_TEST
+
 /* Inputs the fuzz harnesses (tests/fuzz/fuzz_scene.c) found, kept in tests/corpus-gltf/: each fails with its status
  * and exact message, from its path and from memory alike. The messages were checked against the bytes by other
  * means: draco_decoder decodes drc_face_past_points.drc to 22 points with face 3 on point 249 (0-based); byte 7
@@ -841,6 +873,7 @@ Suite *make_suite(void)
     tcase_add_test(hostile, gltf_hostile_documents_fail_cleanly);
     tcase_add_test(hostile, gltf_hostile_draco_fails_cleanly);
     tcase_add_test(hostile, gltf_hostile_glb_container);
+    tcase_add_test(hostile, gltf_meshopt_compressed_input_is_refused_for_its_extension);
     tcase_add_test(hostile, gltf_fuzz_findings_fail_with_their_messages);
     suite_add_tcase(s, hostile);
     return s;

@@ -679,6 +679,15 @@ resurf_status parse(const char *json, size_t json_size, const unsigned char *bin
     if (problem_count > doc->warnings.size())
         doc->warnings.push_back(std::to_string(problem_count - doc->warnings.size()) +
                                 " more problems with the glTF schema");
+    // A required extension resurf cannot read refuses the document before tinygltf reads what it changes: the
+    // buffers of EXT_meshopt_compression are longer than their bytes, and tinygltf would blame a byteLength.
+    auto required = root.find("extensionsRequired");
+    if (required != root.end() && required->is_array())
+        for (const nlohmann::json &e : *required)
+            if (e.is_string() && !resurfi_scene_extension_known(e.get_ref<const std::string &>().c_str()))
+                return resurfi_fail(error, RESURF_ERR_UNSUPPORTED, name, 0, -1,
+                                    "the document requires the extension %s, which resurf does not support",
+                                    e.get_ref<const std::string &>().c_str());
     if (!base_dir) {
         std::string uri;
         long long b = external_buffer(root, &uri);

@@ -17,6 +17,8 @@ extern "C" {
 /* From src/internal.h, which C++ cannot include (its vector header uses C compound literals). */
 resurf_status resurfi_fail(resurf_error *error, resurf_status status, const char *path, long long line,
                            long long offset, const char *fmt, ...) __attribute__((format(printf, 6, 7)));
+/* From src/scene_internal.h (scene_extensions.c): is the extension one resurf reads or carries? */
+int resurfi_scene_extension_known(const char *name);
 #endif
 
 /* ---- reading: a parsed document and a flat C view of it ---------------------------------------------------- */
