@@ -103,11 +103,13 @@ static resurf_status rerun(budget_memo *memo, const resurfi_budget_prim *b, size
         resurf_simplify_options o = b->sim;
         o.target_ratio = 0;
         o.target_triangles = t;
-        /* A level is made again the way its chain's level was (inline or plain): one run, not the two of the
-           measured choice. */
+        /* A level is made again the way its chain's level was (inline or plain, its attached sheets kept or
+           dropped): one run, not the measured choice's. */
         if (o.restore == RESURF_RESTORE_MEASURED && (b->reports[k].restore_used == RESURF_RESTORE_INLINE ||
-                                                     b->reports[k].restore_used == RESURF_RESTORE_NONE))
+                                                     b->reports[k].restore_used == RESURF_RESTORE_NONE)) {
             o.restore = b->reports[k].restore_used;
+            o.attached_sheets = b->reports[k].attached_sheets_used;
+        }
         if (b->bounds[k] > 0)
             o.max_error = o.max_error > 0 ? fmin(o.max_error, b->bounds[k]) : b->bounds[k];
         resurfi_simplify_services **services = &memo->services[b - memo->prims];

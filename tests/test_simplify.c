@@ -947,6 +947,80 @@ static resurf_mesh *tube(unsigned sides, unsigned rings, double radius, double l
     return m;
 }
 
+/* A double-sided sheet attached along a line: a closed tube (radius 0.5, length 2) with a fin, a flat panel written
+ * twice with opposite windings, hanging from 16 of the tube's vertices along a line and reaching 1 outward, in the
+ * plane y = 0 (a crest, a dewlap). Dropped with the fins, the level loses the fin, whose far edge lies 1 from the
+ * tube; kept, its line holds still and the fin, a flat rectangle, stays whole. The measured default makes both and
+ * keeps the nearer: at 50% that is the fin kept, its level within a tenth of the dropped one's distance. A single
+ * restoring mode drops it unless attached_sheets says KEEP. */
+START_TEST(simplify_chooses_attached_sheets_by_measure)
+{
+    enum { SIDES = 24, RINGS = 20, FIRST = 2, COLUMNS = 16, ROWS = 4 };
+    resurf_mesh *body = tube(SIDES, RINGS, 0.5, 2, 0.5, 0), *m = NULL;
+    size_t nv = body->vertex_count, nt = body->triangle_count, fin = 2 * 2 * (COLUMNS - 1) * ROWS;
+    ck_assert_int_eq(resurf_mesh_create(nv + COLUMNS * ROWS, nt + fin, 0, &m, NULL), RESURF_OK);
+    memcpy(m->positions, body->positions, 3 * nv * sizeof(double));
+    memcpy(m->indices, body->indices, 3 * nt * sizeof(uint32_t));
+    /* fin vertex (column c, row j): row 0 is the tube's vertex of side 0 on ring FIRST + c, rows 1..ROWS new */
+#define FIN_V(c, j) ((j) == 0 ? (uint32_t)((FIRST + (c)) * SIDES) : (uint32_t)(nv + (size_t)(c) * ROWS + (j) - 1))
+    for (int c = 0; c < COLUMNS; ++c)
+        for (int j = 1; j <= ROWS; ++j) {
+            vec3 base = resurfi_position(body, FIN_V(c, 0));
+            v3_store(m->positions + 3 * FIN_V(c, j), v3(base.x + (double)j / ROWS, 0, base.z));
+        }
+    uint32_t *t = m->indices + 3 * nt;
+    for (int side = 0; side < 2; ++side)
+        for (int c = 0; c + 1 < COLUMNS; ++c)
+            for (int j = 0; j < ROWS; ++j) {
+                uint32_t q[4] = {FIN_V(c, j), FIN_V(c + 1, j), FIN_V(c + 1, j + 1), FIN_V(c, j + 1)};
+                uint32_t tri[2][3] = {{q[0], q[1], q[2]}, {q[0], q[2], q[3]}};
+                for (int h = 0; h < 2; ++h)
+                    for (int k = 0; k < 3; ++k)
+                        *t++ = tri[h][side ? 2 - k : k];
+            }
+#undef FIN_V
+    ck_assert_ptr_eq(t, m->indices + 3 * (nt + fin));
+
+    resurf_simplify_options o = resurf_simplify_options_default();
+    o.target_ratio = 0.5;
+    resurf_simplify_report chosen, dropped, kept;
+    resurf_mesh *out = simplify_ok(m, &o, &chosen);
+    o.attached_sheets = RESURF_SHEETS_DROP;
+    resurf_mesh *out_dropped = simplify_ok(m, &o, &dropped);
+    ck_assert_uint_eq(dropped.dropped_fins, fin);
+    ck_assert_int_eq(dropped.attached_sheets_used, RESURF_SHEETS_DROP);
+    ck_assert_double_ge(dropped.input_to_result_max, 0.95); /* the fin's far edge, 1 from the tube */
+    ck_assert_int_eq(chosen.attached_sheets_used, RESURF_SHEETS_KEEP);
+    ck_assert_uint_eq(chosen.dropped_fins, 0);
+    ck_assert_double_le(chosen.max_distance, 0.1 * dropped.max_distance);
+    ck_assert_uint_le(chosen.triangles, m->triangle_count / 2);
+    /* the fin's far corners are still there: border corners hold */
+    vec3 ends[2] = {v3(1.5, 0, 2.0 * FIRST / (RINGS - 1)), v3(1.5, 0, 2.0 * (FIRST + COLUMNS - 1) / (RINGS - 1))};
+    for (int e = 0; e < 2; ++e) {
+        int found = 0;
+        for (size_t v = 0; v < out->vertex_count; ++v)
+            found |= v3_dist(resurfi_position(out, (uint32_t)v), ends[e]) < 1e-12;
+        ck_assert_msg(found, "the fin's far corner %d moved", e);
+    }
+    /* one restoring mode: dropped unless kept on request */
+    o.restore = RESURF_RESTORE_INLINE;
+    o.attached_sheets = RESURF_SHEETS_CHOOSE;
+    resurf_mesh *out_inline = simplify_ok(m, &o, &kept);
+    ck_assert_int_eq(kept.attached_sheets_used, RESURF_SHEETS_DROP);
+    ck_assert_uint_eq(kept.dropped_fins, fin);
+    resurf_mesh_free(out_inline);
+    o.attached_sheets = RESURF_SHEETS_KEEP;
+    out_inline = simplify_ok(m, &o, &kept);
+    ck_assert_int_eq(kept.attached_sheets_used, RESURF_SHEETS_KEEP);
+    ck_assert_double_le(kept.max_distance, 0.1 * dropped.max_distance);
+    resurf_mesh_free(out_inline);
+    resurf_mesh_free(out_dropped);
+    resurf_mesh_free(out);
+    resurf_mesh_free(m);
+    resurf_mesh_free(body);
+}
+END_TEST
+
 /* A pencil: a thin closed hexagonal tube (radius 0.01, length 1) with short cone tips, 100 times longer than wide:
  * a thin feature must keep its length at 10% (its tips' cone planes pin them) whether or not it is restored. The
  * tip guard's own case, a scan's spike whose tip quadrics let shrink over many collapses, is the next test: no
@@ -1204,6 +1278,10 @@ START_TEST(simplify_rejects_bad_input_and_options)
     o.placement = RESURF_PLACEMENT_COUNT;
     ck_assert_int_eq(resurf_simplify(m, &o, &out, NULL, &e), RESURF_ERR_INVALID_OPTIONS);
     o = resurf_simplify_options_default();
+    o.attached_sheets = RESURF_SHEETS_COUNT;
+    ck_assert_int_eq(resurf_simplify(m, &o, &out, NULL, &e), RESURF_ERR_INVALID_OPTIONS);
+    ck_assert(strstr(e.message, "attached_sheets"));
+    o = resurf_simplify_options_default();
     o.max_error = NAN;
     ck_assert_int_eq(resurf_simplify(m, &o, &out, NULL, &e), RESURF_ERR_INVALID_OPTIONS);
     o = resurf_simplify_options_default();
@@ -1400,6 +1478,7 @@ Suite *make_suite(void)
     tcase_add_test(guards, simplify_nonmanifold_input);
     tcase_add_test(guards, simplify_drops_fins);
     tcase_add_test(guards, simplify_keeps_double_sided_sheets);
+    tcase_add_test(guards, simplify_chooses_attached_sheets_by_measure);
     tcase_add_test(guards, simplify_keeps_a_pencils_length);
     tcase_add_test(guards, simplify_keeps_a_scanned_spike);
     tcase_add_test(guards, simplify_restored_scan_covers_its_tips);

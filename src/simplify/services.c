@@ -50,7 +50,7 @@ resurf_status services_build_bvh(const resurf_mesh *in, const resurf_simplify_op
 /* What analyse_position reads of the options (besides the input): a later call with other values analyses anew. */
 typedef struct analysis_key {
     double feature_angle_deg, corner_angle_deg, border_weight;
-    int lock_border, drop_fins;
+    int lock_border, drop_fins, keep_attached_sheets;
     uint32_t unsampled_texcoords; /* the wedges, hence the seams */
 } analysis_key;
 
@@ -77,6 +77,7 @@ static analysis_key key_of(const resurf_simplify_options *o)
     k.border_weight = o->border_weight;
     k.lock_border = o->lock_border != 0;
     k.drop_fins = o->drop_fins != 0;
+    k.keep_attached_sheets = o->attached_sheets == RESURF_SHEETS_KEEP;
     k.unsampled_texcoords = o->unsampled_texcoords;
     return k;
 }

@@ -164,8 +164,10 @@ static int same_group(const resurf_mesh *in, uint32_t t, uint32_t u)
  * first-written triangle stays (exporters write one side, then its mirror) and the sheet is simplified as one
  * side; the other triangle of the pair is its mirror (s->mirror), and every level writes the mirror of each
  * triangle descended from that side back, so the back of a card with a one-sided material stays visible. A sheet
- * attached along a longer line stays dropped: kept, its line would be non-manifold edges, which are locked (XGL_Wuson's crest, 15 positions of its own along 15 on the body: kept, the 25% level's Hausdorff distance
- * fell from 1.69% to 0.71% of the diagonal, but the locked line raised the 10% level's from 3.40% to 5.83%). */
+ * attached along a longer line is kept so only with attached_sheets KEEP: its line is then non-manifold edges,
+ * which hold still (XGL_Wuson's dewlap, 15 positions of its own along 15 of the body: kept, the 25% level's
+ * Hausdorff distance falls from 1.66% to 0.70% of the diagonal, but the held line raises the 10% level's from 4.4%
+ * to 6.5%); the measured default makes both and keeps the nearer (simplify.c). */
 enum { SHEET_OWN = 4, SHEET_ATTACHED = 2 };
 
 static resurf_status keep_sheets(simplifier *s, const uint32_t *remap, const uint32_t *filed, const uint32_t *offset,
@@ -199,12 +201,17 @@ static resurf_status keep_sheets(simplifier *s, const uint32_t *remap, const uin
     for (size_t p = 0; p < pc; ++p)
         if (use[p] & USE_DROPPED)
             count[2 * resurfi_uf_find(group, (uint32_t)p) + (use[p] != USE_DROPPED)]++;
+    for (size_t p = 0; p < pc; ++p) {
+        const uint32_t *c = count + 2 * p;
+        s->attached_sheets += resurfi_uf_find(group, (uint32_t)p) == p && c[0] >= SHEET_OWN && c[1] > SHEET_ATTACHED;
+    }
+    size_t attached_max = s->opt.attached_sheets == RESURF_SHEETS_KEEP ? SIZE_MAX : SHEET_ATTACHED;
     /* in a sheet, the first-written triangle of every set over the same three positions stays */
     for (size_t p = 0; p < pc; ++p)
         for (uint32_t x = offset[p]; x < offset[p + 1]; ++x) {
             uint32_t t = filed[x], lo, hi;
             const uint32_t *c = count + 2 * resurfi_uf_find(group, (uint32_t)p);
-            if (drop[t] != FIN_DROP || c[0] < SHEET_OWN || c[1] > SHEET_ATTACHED)
+            if (drop[t] != FIN_DROP || c[0] < SHEET_OWN || c[1] > attached_max)
                 continue;
             fin_key(in, remap, t, (uint32_t)p, &lo, &hi);
             int first = 1;

@@ -98,6 +98,8 @@ static resurf_status check_options(const resurf_simplify_options *o, resurf_erro
         bad = "placement is not a resurf_placement";
     else if ((unsigned)o->restore >= RESURF_RESTORE_MODE_COUNT)
         bad = "restore is not a resurf_restore_mode";
+    else if ((unsigned)o->attached_sheets >= RESURF_SHEETS_COUNT)
+        bad = "attached_sheets is not a resurf_attached_sheets";
     else if (!(o->sag_offset >= 0 && o->sag_offset <= 4))
         bad = "sag_offset must be in [0, 4]";
     else if (!(o->min_angle_deg >= 0 && o->min_angle_deg < 60))
@@ -152,13 +154,21 @@ static void simplifier_free(simplifier *s)
     resurf_mesh_free(s->own_derived);
 }
 
+/* How one run treats attached sheets: CHOOSE is a choice between two runs, and one run alone drops them. */
+static resurf_attached_sheets sheets_used(const resurf_simplify_options *o)
+{
+    return o->attached_sheets == RESURF_SHEETS_KEEP ? RESURF_SHEETS_KEEP : RESURF_SHEETS_DROP;
+}
+
 /* The shared worker: one run of collapses, a snapshot at each target (non-increasing). With `ends`, a level for
  * which ends() says so after its collapses ends the chain there: it gets a report without a mesh (triangles, stop
- * and blocked_* as they were; vertices, positions 0; distances NaN, not measured) and no later level is made. */
+ * and blocked_* as they were; vertices, positions 0; distances NaN, not measured) and no later level is made.
+ * *out_attached_sheets (when not NULL): the input's sheets attached along a line (setup.c), kept or not. */
 static resurf_status simplify_levels(const resurf_mesh *in, const resurf_simplify_options *options,
                                      const size_t *targets, size_t count, resurf_mesh **outs,
                                      resurf_simplify_report *reports, const resurfi_chain_end *ends,
-                                     const resurfi_simplify_services *services, resurf_error *error)
+                                     const resurfi_simplify_services *services, size_t *out_attached_sheets,
+                                     resurf_error *error)
 {
     simplifier s;
     memset(&s, 0, sizeof s);
@@ -198,6 +208,7 @@ static resurf_status simplify_levels(const resurf_mesh *in, const resurf_simplif
                 reports[i].input_to_result_max = reports[i].input_to_result_mean = NAN;
                 reports[i].uv_error_mean = reports[i].uv_error_p95 = NAN;
                 reports[i].restore_used = s.opt.restore;
+                reports[i].attached_sheets_used = sheets_used(&s.opt);
             }
             break;
         }
@@ -208,11 +219,16 @@ static resurf_status simplify_levels(const resurf_mesh *in, const resurf_simplif
         resurf_simplify_report rep;
         if (st == RESURF_OK)
             st = build_output(&s, &outs[i], &rep, error);
-        if (st == RESURF_OK && reports)
-            reports[i] = rep, reports[i].restore_used = s.opt.restore;
+        if (st == RESURF_OK && reports) {
+            reports[i] = rep;
+            reports[i].restore_used = s.opt.restore;
+            reports[i].attached_sheets_used = sheets_used(&s.opt);
+        }
     }
     if (st == RESURF_OK && resurfi_progress(&s.opt.progress, RESURF_STAGE_FINISH, 1))
         st = resurfi_error(error, RESURF_ERR_CANCELLED, "simplification cancelled");
+    if (out_attached_sheets)
+        *out_attached_sheets = s.attached_sheets;
     for (unsigned w = 0; w < s.threads; ++w)
         scratch_free(&sc[w]);
     resurfi_free(s.alloc, sc);
@@ -246,6 +262,16 @@ static int plain_is_better(const resurf_simplify_report *plain, const resurf_sim
     return !(restored->max_distance <= plain->max_distance && restored->mean_distance <= plain->mean_distance);
 }
 
+/* A level that keeps the attached sheets replaces the one that drops them only where it is at least as near the
+ * input in both the maximum and the mean (and within the same counts): dropping is what a scan's stray fins need,
+ * and keeping holds a line still. */
+static int kept_sheets_are_better(const resurf_simplify_report *kept, const resurf_simplify_report *dropped,
+                                  size_t target, size_t before)
+{
+    return plain_is_better(kept, dropped, target, before) && kept->max_distance <= dropped->max_distance &&
+           kept->mean_distance <= dropped->mean_distance;
+}
+
 /* The plain run's progress: the inline run has reported every stage to its end, so the plain one only asks the
  * caller's callback again at FINISH 1 (which stays monotonic), that a cancel still stops it. */
 static bool plain_run_progress(void *user, resurf_stage stage, double fraction)
@@ -255,25 +281,40 @@ static bool plain_run_progress(void *user, resurf_stage stage, double fraction)
     return caller->fn(caller->user, RESURF_STAGE_FINISH, 1.0);
 }
 
-static resurf_status simplify_measured(const resurf_mesh *in, const resurf_simplify_options *options,
-                                       const size_t *targets, size_t count, resurf_mesh **outs,
-                                       resurf_simplify_report *reports, const resurfi_chain_end *ends,
-                                       const resurfi_simplify_services *services, resurf_error *error)
+typedef int (*better_fn)(const resurf_simplify_report *alt, const resurf_simplify_report *cur, size_t target,
+                         size_t before);
+
+/* Level i of alt in place of level i of outs wherever better() says so (alt's meshes freed). */
+static void keep_nearer(resurf_mesh **outs, resurf_simplify_report *reps, resurf_mesh **alt,
+                        const resurf_simplify_report *alt_reps, const size_t *targets, size_t made, better_fn better)
+{
+    for (size_t i = 0, before = SIZE_MAX; i < made; before = reps[i++].triangles) {
+        if (alt[i] && better(&alt_reps[i], &reps[i], targets[i], before)) {
+            resurf_mesh *t = outs[i];
+            outs[i] = alt[i], alt[i] = t;
+            reps[i] = alt_reps[i];
+        }
+        resurf_mesh_free(alt[i]);
+        alt[i] = NULL;
+    }
+}
+
+/* The levels made inline, then plain to the levels the first run made, the nearer of each kept (reps: count
+ * entries; *attached: the input's attached sheets, from the first run). */
+static resurf_status simplify_pair(const resurf_mesh *in, const resurf_simplify_options *options,
+                                   const size_t *targets, size_t count, resurf_mesh **outs,
+                                   resurf_simplify_report *reps, const resurfi_chain_end *ends,
+                                   const resurfi_simplify_services *services, size_t *attached, resurf_error *error)
 {
     resurf_simplify_options o = *options;
     o.restore = RESURF_RESTORE_INLINE;
     const resurf_allocator *alloc = resurfi_allocator_of(o.allocator, in);
-    resurf_simplify_report *reps = resurfi_calloc(alloc, count ? 2 * count : 1, sizeof *reps); /* unmade levels: zero */
+    resurf_simplify_report *plain_reps = resurfi_calloc(alloc, count ? count : 1, sizeof *plain_reps);
     resurf_mesh **plain = resurfi_calloc(alloc, count ? count : 1, sizeof *plain);
-    resurf_status st = reps && plain ? RESURF_OK : resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
-    /* The two runs read the same services over M (and the plain one copies the inline one's analysis): built once
-       here when the caller lent none. */
-    resurfi_simplify_services *own = NULL;
-    if (st == RESURF_OK && !services && o.measure_samples &&
-        (st = resurfi_simplify_services_build(in, &o, &own, error)) == RESURF_OK)
-        services = own;
+    resurf_status st = plain_reps && plain ? RESURF_OK
+                                           : resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
     if (st == RESURF_OK)
-        st = simplify_levels(in, &o, targets, count, outs, reps, ends, services, error);
+        st = simplify_levels(in, &o, targets, count, outs, reps, ends, services, attached, error);
     size_t made = 0;
     while (st == RESURF_OK && made < count && outs[made])
         made++;
@@ -282,23 +323,58 @@ static resurf_status simplify_measured(const resurf_mesh *in, const resurf_simpl
         o.restore = RESURF_RESTORE_NONE;
         if (caller.fn)
             o.progress = (resurf_progress){plain_run_progress, (void *)&caller};
-        st = simplify_levels(in, &o, targets, made, plain, reps + count, NULL, services, error);
+        st = simplify_levels(in, &o, targets, made, plain, plain_reps, NULL, services, NULL, error);
     }
-    for (size_t i = 0, before = SIZE_MAX; st == RESURF_OK && i < made; before = reps[i++].triangles)
-        if (plain[i] && plain_is_better(&reps[count + i], &reps[i], targets[i], before)) {
-            resurf_mesh *t = outs[i];
-            outs[i] = plain[i], plain[i] = t;
-            reps[i] = reps[count + i];
-        }
+    if (st == RESURF_OK)
+        keep_nearer(outs, reps, plain, plain_reps, targets, made, plain_is_better);
     for (size_t i = 0; plain && i < count; ++i)
         resurf_mesh_free(plain[i]);
+    resurfi_free(alloc, plain);
+    resurfi_free(alloc, plain_reps);
+    return st;
+}
+
+/* RESURF_RESTORE_MEASURED: the pair above; with attached_sheets CHOOSE and an input that has attached sheets, a
+ * second pair that keeps them, whose level is taken where kept_sheets_are_better. */
+static resurf_status simplify_measured(const resurf_mesh *in, const resurf_simplify_options *options,
+                                       const size_t *targets, size_t count, resurf_mesh **outs,
+                                       resurf_simplify_report *reports, const resurfi_chain_end *ends,
+                                       const resurfi_simplify_services *services, resurf_error *error)
+{
+    resurf_simplify_options o = *options;
+    const resurf_allocator *alloc = resurfi_allocator_of(o.allocator, in);
+    resurf_simplify_report *reps = resurfi_calloc(alloc, count ? 2 * count : 1, sizeof *reps); /* unmade levels: zero */
+    resurf_mesh **alt = resurfi_calloc(alloc, count ? count : 1, sizeof *alt);
+    resurf_status st = reps && alt ? RESURF_OK : resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
+    /* The runs read the same services over M (and the plain ones copy the first's analysis): built once here when
+       the caller lent none. */
+    resurfi_simplify_services *own = NULL;
+    if (st == RESURF_OK && !services && o.measure_samples &&
+        (st = resurfi_simplify_services_build(in, &o, &own, error)) == RESURF_OK)
+        services = own;
+    size_t attached = 0, made = 0;
+    if (st == RESURF_OK)
+        st = simplify_pair(in, &o, targets, count, outs, reps, ends, services, &attached, error);
+    while (st == RESURF_OK && made < count && outs[made])
+        made++;
+    if (st == RESURF_OK && made && attached && o.measure_samples && o.attached_sheets == RESURF_SHEETS_CHOOSE) {
+        const resurf_progress caller = options->progress;
+        o.attached_sheets = RESURF_SHEETS_KEEP;
+        if (caller.fn)
+            o.progress = (resurf_progress){plain_run_progress, (void *)&caller};
+        st = simplify_pair(in, &o, targets, made, alt, reps + count, NULL, services, NULL, error);
+        if (st == RESURF_OK)
+            keep_nearer(outs, reps, alt, reps + count, targets, made, kept_sheets_are_better);
+    }
+    for (size_t i = 0; alt && i < count; ++i)
+        resurf_mesh_free(alt[i]);
     if (st != RESURF_OK)
         for (size_t i = 0; i < count; ++i)
             resurf_mesh_free(outs[i]), outs[i] = NULL;
     else if (reports)
         memcpy(reports, reps, count * sizeof *reports);
     resurfi_simplify_services_free(own);
-    resurfi_free(alloc, plain);
+    resurfi_free(alloc, alt);
     resurfi_free(alloc, reps);
     return st;
 }
@@ -312,7 +388,7 @@ static resurf_status simplify_chain(const resurf_mesh *in, const resurf_simplify
     resurf_simplify_options o = options ? *options : resurf_simplify_options_default();
     if (o.restore == RESURF_RESTORE_MEASURED)
         return simplify_measured(in, &o, targets, count, outs, reports, ends, services, error);
-    return simplify_levels(in, &o, targets, count, outs, reports, ends, services, error);
+    return simplify_levels(in, &o, targets, count, outs, reports, ends, services, NULL, error);
 }
 
 resurf_status resurf_simplify(const resurf_mesh *in, const resurf_simplify_options *options, resurf_mesh **out,

@@ -241,6 +241,7 @@ typedef struct simplifier {
     const resurf_mesh *in;       /* M: the caller's mesh, or its copy with flat shading dropped (facets.c) */
     resurf_mesh *own_derived;    /* that copy when the call made it */
     int flat_shaded;             /* in is such a copy: the levels are shaded flat where it has no normals */
+    size_t attached_sheets;      /* double-sided sheets attached along a line that the input has (kept or not) */
     resurf_simplify_options opt;
     const resurf_allocator *alloc; /* the call's (options, else the input's): temporaries and the output */
     unsigned threads;

@@ -60,6 +60,7 @@ int cli_parse_choice(const char *command, const char *option, const char *text, 
                      int *out);
 /* The names of resurf_restore_mode, in its order (simplify and lod --restore, their reports). */
 extern const char *const cli_restore_names[RESURF_RESTORE_MODE_COUNT];
+extern const char *const cli_sheet_names[RESURF_SHEETS_COUNT];
 /* The names of resurf_simplify_stop, in its order (simplify and lod reports). */
 extern const char *const cli_stop_names[RESURF_STOP_COUNT];
 

@@ -106,6 +106,7 @@ int cli_parse_choice(const char *command, const char *option, const char *text, 
 
 const char *const cli_restore_names[RESURF_RESTORE_MODE_COUNT] = {"inline", "post", "none", "measured"};
 const char *const cli_stop_names[RESURF_STOP_COUNT] = {"target", "error", "blocked"};
+const char *const cli_sheet_names[RESURF_SHEETS_COUNT] = {"choose", "drop", "keep"};
 
 int cli_parse_unsigned(const char *command, const char *option, const char *text, unsigned long *out)
 {

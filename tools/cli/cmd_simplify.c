@@ -32,6 +32,9 @@ static const char usage[] =
     "                            facing opposite ways goes whole, a same-facing repeat goes alone; a\n"
     "                            free-standing double-sided sheet is simplified as one side and written with\n"
     "                            both)\n"
+    "  --attached-sheets S       such a sheet attached along a line (a crest, a fin): choose (default: with\n"
+    "                            --restore measured, each level made with it dropped and kept, the one as near\n"
+    "                            IN in max and mean kept; else drop), drop, keep (its line then holds still)\n"
     "  --min-angle DEG           refuse collapses that make a triangle angle smaller than DEG (default off)\n"
     "  --max-normal-change DEG   refuse collapses that turn a triangle by more than DEG (default: the library's)\n"
     "  --attribute-weights N,UV,C[,S]  weights of normals, texture coordinates, colours and skin influences\n"
@@ -83,6 +86,8 @@ static void print_text(const char *out, const resurf_simplify_report *r)
     printf("max error estimate   %.9g\n", r->max_error_estimate);
     printf("restored             %zu (left alone %zu; made %s)\n", r->restored, r->restore_left,
            cli_restore_names[r->restore_used]);
+    if (r->attached_sheets_used == RESURF_SHEETS_KEEP)
+        printf("attached sheets      kept\n");
     printf("blocked: link        %zu\n", r->blocked_link);
     printf("blocked: flip        %zu\n", r->blocked_flip);
     printf("blocked: min angle   %zu\n", r->blocked_min_angle);
@@ -125,7 +130,8 @@ static void print_json_report(const char *out, const resurf_simplify_report *r)
     cli_json_number(stdout, r->diagonal);
     printf(", \"max_error_estimate\": ");
     cli_json_number(stdout, r->max_error_estimate);
-    printf(", \"restore_used\": \"%s\"", cli_restore_names[r->restore_used]);
+    printf(", \"restore_used\": \"%s\", \"attached_sheets_used\": \"%s\"", cli_restore_names[r->restore_used],
+           cli_sheet_names[r->attached_sheets_used]);
     printf(", \"restored\": %zu, \"restore_left\": %zu, \"blocked\": {\"link\": %zu, \"flip\": %zu, \"min_angle\": %zu, "
            "\"distance\": %zu, \"border\": %zu, \"seam\": %zu, \"feature\": %zu, \"nonmanifold\": %zu}, "
            "\"skipped_error\": %zu}",
@@ -148,6 +154,7 @@ int cmd_simplify(int argc, char **argv)
         {"sag-offset", required_argument, NULL, 'S'},
         {"lock-border", no_argument, NULL, 'b'},
         {"keep-fins", no_argument, NULL, 'k'},
+        {"attached-sheets", required_argument, NULL, 'A'},
         {"min-angle", required_argument, NULL, 'a'},
         {"max-normal-change", required_argument, NULL, 'N'},
         {"attribute-weights", required_argument, NULL, 'W'},
@@ -223,6 +230,11 @@ int cmd_simplify(int argc, char **argv)
             break;
         case 'k':
             o.drop_fins = false;
+            break;
+        case 'A':
+            if (cli_parse_choice("simplify", "attached-sheets", optarg, cli_sheet_names, RESURF_SHEETS_COUNT, &choice))
+                return CLI_USAGE;
+            o.attached_sheets = (resurf_attached_sheets)choice;
             break;
         case 'a':
             if (cli_parse_double("simplify", "min-angle", optarg, &o.min_angle_deg))
