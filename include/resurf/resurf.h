@@ -851,21 +851,23 @@ typedef struct resurf_simplify_options {
                                      surface around is smooth (every other edge at the vertex turning by less than
                                      a quarter of this: on a noisy scan sharp edges are noise). A vertex with three
                                      crease edges or more, or where a crease meets a border, is a corner. A corner
-                                     on a border never moves; one of creases alone holds its place until the
-                                     level's error (the largest collapse error so far) reaches a quarter of its
-                                     feature's size (the longest crease from it to the next corner), or until
-                                     nothing else can be collapsed while its feature is a detail (at most 2% of
-                                     the diagonal): a hard-surface model's small parts give way before they cost
-                                     the rest of it its triangles (docs/restoring.md §8). A vertex touching a crease, and every vertex that absorbs one, is
+                                     holds its place until the level's error (the largest collapse error so far)
+                                     reaches a quarter of its feature's size (of creases alone: the longest crease
+                                     from it to the next corner; on a border: its connected part's bounding-box
+                                     diagonal, so a large part's border corners never move), or until nothing else
+                                     can be collapsed while its feature is a detail (at most 2% of the diagonal): a
+                                     hard-surface model's small parts and a tuft's hair cards give way before they
+                                     cost the rest of it its triangles (docs/restoring.md §8). A vertex touching a
+                                     crease, and every vertex that absorbs one, is
                                      neither restored onto S nor moved by the sag offset: the facets keep the
                                      quadric's place, on the flat faces and their sharp edges. In (0, 180]; 180 =
                                      no crease by angle; default 80 (measured in docs/restoring.md §8). An edge
                                      between two triangle_groups (materials) is a crease at any angle and in any
                                      surface: the border between materials stays where it is, and where it turns by
                                      more than corner_angle_deg it has a corner */
-    double corner_angle_deg;      /* a border that turns by more than this at a vertex makes it a corner that never
-                                     moves (the corners of a flat panel; a crease's sharp turn is none: on scans
-                                     such turns are noise); in (0, 180]; 180 = none; default 80 */
+    double corner_angle_deg;      /* a border that turns by more than this at a vertex makes it a corner (the
+                                     corners of a flat panel, held as feature_angle_deg says; a crease's sharp turn
+                                     is none: on scans such turns are noise); in (0, 180]; 180 = none; default 80 */
     double border_weight;         /* weight of the planes through border and seam edges, perpendicular to their
                                      triangles, relative to the triangles' own planes; >= 0; default 1 */
     bool drop_fins;               /* true (default): triangles over the same three positions as another are left out

@@ -8,6 +8,7 @@
 #include <stdlib.h>
 
 #include "simplify_internal.h"
+#include "../union_find.h"
 
 /* Steps walked along the curve from one end's vertex of M looking for the other's, each way. Where the surface is
  * decimated evenly by a ratio r, an edge of S spans about 1/√r edges of M (7 at 2%; the capped cylinder's rims keep
@@ -130,39 +131,88 @@ static int release_order(const void *a, const void *b)
     return x->position < y->position ? -1 : x->position > y->position;
 }
 
-/* A corner of creases alone, which may be released: a border's corners stay held. */
-static int releasable(pos_flags f) { return (f & (POS_CORNER | POS_BORDER | POS_LOCKED | POS_DEAD)) == POS_CORNER; }
+/* A corner that may be released: where creases meet, or where a border turns (its feature: the whole part). */
+static int releasable(pos_flags f) { return (f & (POS_CORNER | POS_LOCKED | POS_DEAD)) == POS_CORNER; }
 
-/* The corners where crease curves meet, each with the size of its feature: the longest of its curves to the next
- * corner or end. Once the level's error is no longer small against that size, holding a detail the error has
- * reached keeps triangles the rest of the surface needs (a hard-surface model's greebles: docs/restoring.md §8),
- * and the corner is left to the quadric, whose planes through it price its move (collapse.c, release_corners). */
+/* Per position, the diagonal of the bounding box of its connected part of the working mesh (what a border corner
+ * holds: a hair card, a rivet's open cap, a small panel), or NULL when out of memory. */
+static double *part_sizes(simplifier *s)
+{
+    size_t pc = s->pos_count;
+    uint32_t *root = resurfi_alloc(s->alloc, pc + 1, sizeof *root);
+    double *box = resurfi_alloc(s->alloc, 6 * pc + 1, sizeof *box), *size = resurfi_alloc(s->alloc, pc + 1, sizeof *size);
+    if (!root || !box || !size) {
+        resurfi_free(s->alloc, root), resurfi_free(s->alloc, box), resurfi_free(s->alloc, size);
+        return NULL;
+    }
+    for (size_t p = 0; p < pc; ++p)
+        root[p] = (uint32_t)p;
+    for (size_t t = 0; t < s->tri_count; ++t) {
+        resurfi_uf_union(root, TV(3 * t), TV(3 * t + 1));
+        resurfi_uf_union(root, TV(3 * t), TV(3 * t + 2));
+    }
+    for (size_t p = 0; p < pc; ++p)
+        for (int k = 0; k < 3; ++k)
+            box[6 * p + k] = INFINITY, box[6 * p + 3 + k] = -INFINITY;
+    for (size_t p = 0; p < pc; ++p) {
+        if (s->P[p].flags & POS_DEAD)
+            continue;
+        double *b = box + 6 * (size_t)resurfi_uf_find(root, (uint32_t)p), q[3] = {s->P[p].p.x, s->P[p].p.y, s->P[p].p.z};
+        for (int k = 0; k < 3; ++k)
+            b[k] = fmin(b[k], q[k]), b[3 + k] = fmax(b[3 + k], q[k]);
+    }
+    for (size_t p = 0; p < pc; ++p) {
+        const double *b = box + 6 * (size_t)resurfi_uf_find(root, (uint32_t)p);
+        size[p] = sqrt((b[3] - b[0]) * (b[3] - b[0]) + (b[4] - b[1]) * (b[4] - b[1]) + (b[5] - b[2]) * (b[5] - b[2]));
+    }
+    resurfi_free(s->alloc, root);
+    resurfi_free(s->alloc, box);
+    return size;
+}
+
+/* The corners that may give way, each with the size of its feature: where crease curves meet, the longest of its
+ * curves to the next corner or end; where a border turns, the diagonal of its part (a tail's tuft of 44 hair cards,
+ * 4 to 8 triangles each, held every corner and took 200 of the 372 triangles of XGL_Wuson's 10% level). Once the
+ * level's error is no longer small against that size, holding a detail the error has reached keeps triangles the
+ * rest of the surface needs (a hard-surface model's greebles: docs/restoring.md §8), and the corner is left to the
+ * quadric, whose planes through it price its move (collapse.c, release_corners). A border corner of a large part
+ * never gets there: its part's size is the level's scale. */
 resurf_status corners_start(simplifier *s, scratch *sc)
 {
-    size_t count = 0;
-    for (size_t p = 0; p < s->pos_count; ++p)
+    size_t count = 0, borders = 0;
+    for (size_t p = 0; p < s->pos_count; ++p) {
         count += releasable(s->P[p].flags);
+        borders += releasable(s->P[p].flags) && (s->P[p].flags & POS_BORDER);
+    }
     if (!count)
         return RESURF_OK;
-    if (!(s->release = resurfi_alloc(s->alloc, count, sizeof *s->release)))
+    double *part = borders ? part_sizes(s) : NULL;
+    if (!(s->release = resurfi_alloc(s->alloc, count, sizeof *s->release)) || (borders && !part)) {
+        resurfi_free(s->alloc, part);
         return RESURF_ERR_OUT_OF_MEMORY;
+    }
     for (size_t p = 0; p < s->pos_count; ++p) {
         if (!releasable(s->P[p].flags))
             continue;
+        if (s->P[p].flags & POS_BORDER) {
+            s->release[s->release_count++] = (corner_release){part[p], (uint32_t)p};
+            continue;
+        }
         uint32_t nb[3];
         int n = curve_neighbours(s, (uint32_t)p, sc, nb);
-        if (n < 0)
-            return RESURF_ERR_OUT_OF_MEMORY;
         double size = 0;
-        for (int k = 0; k < n; ++k) {
+        for (int k = 0; k < n && size >= 0; ++k) {
             double len = run_length(s, sc, (uint32_t)p, nb[k]);
-            if (len < 0)
-                return RESURF_ERR_OUT_OF_MEMORY;
-            size = len > size ? len : size;
+            size = len < 0 || len > size ? len : size;
+        }
+        if (n < 0 || size < 0) {
+            resurfi_free(s->alloc, part);
+            return RESURF_ERR_OUT_OF_MEMORY;
         }
         if (n > 0)
             s->release[s->release_count++] = (corner_release){size, (uint32_t)p};
     }
+    resurfi_free(s->alloc, part);
     qsort(s->release, s->release_count, sizeof *s->release, release_order);
     return RESURF_OK;
 }
