@@ -33,6 +33,9 @@
 /* Donor runs per step: a scene of hundreds of primitives must not try them all (2CylinderEngine's steps take at most
  * 3). */
 #define DONOR_RUNS 8
+/* A run asked for c triangles leaves at least c - OVERSHOOT: it stops at the first collapse that reaches c, and a
+ * collapse takes at most 2 triangles, 4 on a double-sided sheet (mirrors count). */
+#define OVERSHOOT 4
 
 static size_t shown_triangles(const resurfi_budget_prim *b, size_t k)
 {
@@ -254,6 +257,22 @@ static int donor_first(const void *x, const void *y)
     return (a[1] > b[1]) - (a[1] < b[1]);
 }
 
+/* The most triangles a step at level k could pay back for the worst primitive's gain: the level's room left and
+ * what each primitive that may donate (2. below: error under the bound, more than one triangle above its next
+ * level) could give at most. */
+static size_t pay_capacity(const resurfi_budget_prim *prims, size_t n, size_t k, size_t worst, double bound,
+                           size_t allowed)
+{
+    size_t total = level_total(prims, n, k), capacity = total < allowed ? allowed - total : 0;
+    for (size_t p = 0; p < n; ++p) {
+        const resurfi_budget_prim *d = &prims[p];
+        size_t now = shown_triangles(d, k), next = *d->kept > k + 1 ? d->chain[k + 1]->triangle_count : 0;
+        if (p != worst && *d->kept >= k && now > next + 1 && shown_error(d, k) < bound)
+            capacity += now - next - 1;
+    }
+    return capacity;
+}
+
 /* One step at level k toward the error second^(1 - reach) · top^reach (second: the largest but the worst's, top:
  * the worst's): 1 done (the maximum fell), 0 not possible, or -1 with *st set. */
 static int step(resurfi_budget_prim *prims, size_t n, size_t k, size_t count, const size_t *allowed, double reach,
@@ -273,6 +292,12 @@ static int step(resurfi_budget_prim *prims, size_t n, size_t k, size_t count, co
     if (!w || !(second > 0) || !(top > second) || *w->kept <= k)
         return 0;
     double bound = pow(second, 1 - reach) * pow(top, reach); /* the scene's maximum after the step */
+    /* Whatever the worst gains must be paid back (2.) from the level's room left and the donors: the runs of a gain
+       beyond that would all be undone (Collada_human's two primitives: 2.1 s of runs, its only donor's bound being
+       its own error at r = 0), so the search stops as soon as the gain is sure to be too large. */
+    size_t capacity = pay_capacity(prims, n, k, worst, bound, allowed[k]), t0 = w->chain[k]->triangle_count;
+    if (!capacity)
+        return 0;
     /* 1. More triangles for the worst, below its level before. */
     size_t before = k ? w->chain[k - 1]->triangle_count : w->input->triangle_count;
     size_t t = w->chain[k]->triangle_count, used = 0;
@@ -289,8 +314,12 @@ static int step(resurfi_budget_prim *prims, size_t n, size_t k, size_t count, co
         m = NULL;
         low = t;
     }
-    if (!m)
+    /* A run to count c leaves at least c - OVERSHOOT triangles, so every count the halvings can find gains more than
+       low - OVERSHOOT - t0. */
+    if (!m || (low > t0 + OVERSHOOT && low - OVERSHOOT - t0 > capacity)) {
+        resurf_mesh_free(m);
         return 0;
+    }
     /* Doubling overshoots: a few halvings of the interval toward the fewest triangles that suffice. */
     for (int i = 0; i < BISECTIONS && t > low + 1; ++i) {
         size_t mid = low + (t - low) / 2;
@@ -307,6 +336,10 @@ static int step(resurfi_budget_prim *prims, size_t n, size_t k, size_t count, co
             resurf_mesh_free(m2);
             low = mid;
         }
+    }
+    if (m->triangle_count > t0 && m->triangle_count - t0 > capacity) {
+        resurf_mesh_free(m);
+        return 0;
     }
     apply(w, k, m, &rep, &changes[used++], worst);
     /* 2. The gain taken back from the largest primitives that can spare it. */
