@@ -1,4 +1,5 @@
 /* The resurf command-line tool: exit statuses, one-line errors, output safety, info and convert. */
+#include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
@@ -189,6 +190,56 @@ START_TEST(cli_failed_convert_leaves_nothing)
 }
 END_TEST
 
+/* The number after the n-th (0-based) `"key": ` in a JSON text, or NAN. */
+static double json_nth(const char *json, const char *key, int n)
+{
+    char needle[128];
+    snprintf(needle, sizeof needle, "\"%s\": ", key);
+    const char *p = json;
+    for (int i = 0; p && i <= n; ++i)
+        if ((p = strstr(i ? p + 1 : p, needle)) == NULL)
+            return NAN;
+    char *end = NULL;
+    double v = strtod(p + strlen(needle), &end);
+    return end == p + strlen(needle) ? NAN : v;
+}
+
+/* compare reads scenes whole in world space, a level of detail with --level: a sphere as OBJ and as a one-mesh
+ * .glb measure apart by the glTF's float rounding only; `resurf lod`'s 25% level, measured by compare from the files, is the two-sided error lod
+ * printed for it within 10% (two measurements: lod's with its facet points and climb, compare's with 200k samples
+ * a side), and its level 0 is the OBJ to float rounding (no Draco). --level on a mesh file is a usage error. */
+START_TEST(cli_compare_reads_scenes)
+{
+    resurf_mesh *m = shape_mesh(SHAPE_SPHERE, 2000, 0.3, 1, 0);
+    char *obj = tu_path(dir, "s.obj"), *glb = tu_path(dir, "s.glb"), *lod = tu_path(dir, "l.glb");
+    ck_assert_int_eq(resurf_mesh_save(m, obj, NULL, NULL), RESURF_OK);
+    resurf_scene *scene = NULL;
+    ck_assert_int_eq(resurf_scene_from_mesh(m, &scene, NULL), RESURF_OK);
+    tu_save_scene_ok(scene, glb, NULL, NULL);
+    resurf_scene_free(scene);
+    resurf_mesh_free(m);
+    char *out;
+    ck_assert_int_eq(cli(&out, "compare %s %s --json", obj, glb), 0);
+    ck_assert_double_le(json_nth(out, "hausdorff_rel", 0), 1e-6);
+    free(out);
+    ck_assert_int_eq(cli(&out, "lod %s -o %s --levels 0.25 --no-draco --json", glb, lod), 0);
+    double printed = json_nth(out, "error_rel", 1); /* level 1's: level 0's comes first */
+    free(out);
+    ck_assert_double_gt(printed, 0);
+    ck_assert_int_eq(cli(&out, "compare %s %s --level 1 --json", glb, lod), 0);
+    double measured = json_nth(out, "hausdorff_rel", 0);
+    free(out);
+    ck_assert_msg(fabs(measured - printed) <= 0.1 * printed, "compare %g, lod printed %g", measured, printed);
+    ck_assert_int_eq(cli(&out, "compare %s %s --level 0 --json", obj, lod), 0);
+    ck_assert_double_le(json_nth(out, "hausdorff_rel", 0), 1e-6);
+    free(out);
+    ck_assert_int_eq(cli(&out, "compare %s %s --level 1", glb, obj), 2);
+    ck_assert_ptr_nonnull(strstr(out, "--level needs TEST to be a scene"));
+    free(out);
+    free(obj), free(glb), free(lod);
+}
+END_TEST
+
 Suite *make_suite(void)
 {
     Suite *s = suite_create("cli");
@@ -201,6 +252,7 @@ Suite *make_suite(void)
     tcase_add_test(tc, cli_convert_chain);
     tcase_add_test(tc, cli_convert_never_overwrites_input);
     tcase_add_test(tc, cli_failed_convert_leaves_nothing);
+    tcase_add_test(tc, cli_compare_reads_scenes);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -121,6 +121,12 @@ int cli_check_mesh_output(const char *command, const char *output, const char *c
 
 /* Loads a mesh or prints the error; returns 0 or CLI_FAILED. Honours --max-triangles and interrupts. */
 int cli_load(const char *path, resurf_format format, resurf_mesh **out);
+/* Is the file a scene by its name (.gltf, .glb, .drc, any case)? */
+int cli_is_scene(const char *path);
+/* Loads a scene and takes its whole scene at `level` as one world-space mesh (resurf_scene_world_mesh: every
+ * instance, node transforms applied; MSFT_lod levels), or prints the error; returns 0 or CLI_FAILED. Honours
+ * --max-triangles, --lenient (printing the scene's warnings) and interrupts. */
+int cli_load_world(const char *path, int level, resurf_mesh **out);
 /* Saves a mesh or prints the error; returns 0 or CLI_FAILED. Writes nothing after an interrupt, and installs
  * cli_progress() when options->progress has no callback (options may be NULL). */
 int cli_save(const resurf_mesh *mesh, const char *path, const resurf_save_options *options);

@@ -247,6 +247,43 @@ int cli_load(const char *path, resurf_format format, resurf_mesh **out)
     return s == RESURF_OK ? 0 : cli_fail_error(&error);
 }
 
+static int ends_with(const char *s, const char *suffix)
+{
+    size_t n = strlen(s), k = strlen(suffix);
+    if (n < k)
+        return 0;
+    for (size_t i = 0; i < k; ++i)
+        if ((s[n - k + i] | 0x20) != suffix[i])
+            return 0;
+    return 1;
+}
+
+int cli_is_scene(const char *path)
+{
+    return ends_with(path, ".gltf") || ends_with(path, ".glb") || ends_with(path, ".drc");
+}
+
+int cli_load_world(const char *path, int level, resurf_mesh **out)
+{
+    if (interrupted_by)
+        return CLI_FAILED;
+    resurf_load_options lo = resurf_load_options_default();
+    lo.max_triangles = max_triangles;
+    lo.lenient = cli_lenient();
+    lo.progress = cli_progress();
+    resurf_scene *scene = NULL;
+    resurf_error error;
+    resurf_status s = resurf_scene_load(path, &lo, &scene, &error);
+    cli_progress_done();
+    if (s == RESURF_OK) {
+        for (size_t i = 0; i < resurf_scene_warning_count(scene); ++i)
+            fprintf(stderr, "resurf: warning: %s\n", resurf_scene_warning(scene, i));
+        s = resurf_scene_world_mesh(scene, level, NULL, out, &error);
+    }
+    resurf_scene_free(scene);
+    return s == RESURF_OK ? 0 : cli_fail_error(&error);
+}
+
 int cli_save(const resurf_mesh *mesh, const char *path, const resurf_save_options *options)
 {
     if (interrupted_by)

@@ -7,7 +7,7 @@
 #include "cli.h"
 
 static const char usage[] =
-    "usage: resurf compare REF TEST [--json] [--samples N] [--seed S] [--threads N]\n"
+    "usage: resurf compare REF TEST [--json] [--samples N] [--seed S] [--threads N] [--level K]\n"
     "                      [--heatmap OUT.ply] [--heatmap-max D] [--max-triangles N]\n\n"
     "Measures how far TEST's surface is from REF's: two-sided Hausdorff, mean and RMS distance (area-uniform\n"
     "samples plus all vertices and every triangle's centroid and edge midpoints, exact point-triangle\n"
@@ -16,16 +16,20 @@ static const char usage[] =
     "between TEST's face normals and REF's and, when both carry texture coordinates (set 0), the UV error at\n"
     "TEST's samples (mean and 95th percentile of the distance in texture space to REF's UV at the closest\n"
     "point). Distances are given in the meshes' units and relative to REF's bounding-box diagonal. The\n"
-    "figures depend only on the inputs, --samples and --seed, not on the thread count.\n\n"
+    "figures depend only on the inputs, --samples and --seed, not on the thread count. A scene (.gltf, .glb,\n"
+    ".drc) is measured whole in world space: every instance of every triangle primitive, node transforms\n"
+    "applied, as 'resurf lod' measures its levels.\n\n"
     "  --json             machine-readable output on stdout\n"
     "  --samples N        random points per surface, besides the vertices and facet points (default 200000)\n"
     "  --seed S           sample seed (default 1)\n"
     "  --threads N        worker threads (default 0 = all cores)\n"
+    "  --level K          TEST a scene: measure its level of detail K (MSFT_lod, as 'resurf lod' writes it;\n"
+    "                     default 0, full detail) against REF's full detail\n"
     "  --heatmap OUT.ply  write TEST with vertex colours from its vertices' distance to REF:\n"
     "                     blue (0) - cyan - green - yellow - red (the largest distance, or --heatmap-max)\n"
     "  --heatmap-max D    distance shown as red (default: the largest vertex distance); larger ones are red too\n"
     "  --format FMT       read both meshes as obj|ply|off|stl whatever their names say\n"
-    CLI_MAX_TRIANGLES_HELP;
+    CLI_MAX_TRIANGLES_HELP CLI_LENIENT_HELP;
 
 /* Blue → cyan → green → yellow → red for t in [0, 1]: a ramp whose hue tells the distance at a glance. */
 static void ramp(double t, double rgb[3])
@@ -152,11 +156,13 @@ int cmd_compare(int argc, char **argv)
         {"heatmap", required_argument, NULL, 'm'},
         {"heatmap-max", required_argument, NULL, 'x'},
         {"format", required_argument, NULL, 'f'},
+        {"level", required_argument, NULL, 'L'},
         CLI_MAX_TRIANGLES_OPTION,
+        CLI_LENIENT_OPTION,
         {"help", no_argument, NULL, 'h'},
         {NULL, 0, NULL, 0},
     };
-    int json = 0;
+    int json = 0, level = -1;
     const char *heatmap = NULL;
     double heatmap_max = 0;
     resurf_format format = RESURF_FORMAT_AUTO;
@@ -188,6 +194,13 @@ int cmd_compare(int argc, char **argv)
         case 'm':
             heatmap = optarg;
             break;
+        case 'L':
+            if (cli_parse_unsigned("compare", "level", optarg, &n))
+                return CLI_USAGE;
+            if (n >= RESURF_SCENE_MAX_LEVELS)
+                return cli_usage("compare", "--level must be below %d, not %s", RESURF_SCENE_MAX_LEVELS, optarg);
+            level = (int)n;
+            break;
         case 'x':
             if (cli_parse_double("compare", "heatmap-max", optarg, &heatmap_max))
                 return CLI_USAGE;
@@ -205,10 +218,16 @@ int cmd_compare(int argc, char **argv)
     if (heatmap && cli_check_output(heatmap, inputs, 2))
         return CLI_FAILED;
 
+    int scene[2];
+    for (int i = 0; i < 2; ++i)
+        scene[i] = format == RESURF_FORMAT_AUTO && cli_is_scene(inputs[i]);
+    if (level >= 0 && !scene[1])
+        return cli_usage("compare", "--level needs TEST to be a scene (.gltf, .glb, .drc)");
+
     resurf_mesh *ref = NULL, *test = NULL;
-    if (cli_load(inputs[0], format, &ref))
+    if (scene[0] ? cli_load_world(inputs[0], 0, &ref) : cli_load(inputs[0], format, &ref))
         return CLI_FAILED;
-    if (cli_load(inputs[1], format, &test)) {
+    if (scene[1] ? cli_load_world(inputs[1], level > 0 ? level : 0, &test) : cli_load(inputs[1], format, &test)) {
         resurf_mesh_free(ref);
         return CLI_FAILED;
     }

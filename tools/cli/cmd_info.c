@@ -83,17 +83,6 @@ static void print_json(const char *path, const resurf_mesh *m, const resurf_vali
     printf("]}, \"groups\": %zu}\n", m->group_count);
 }
 
-static int ends_with(const char *s, const char *suffix)
-{
-    size_t n = strlen(s), k = strlen(suffix);
-    if (n < k)
-        return 0;
-    for (size_t i = 0; i < k; ++i)
-        if ((s[n - k + i] | 0x20) != suffix[i])
-            return 0;
-    return 1;
-}
-
 /* A scene: the library's description of it. */
 static int scene_info(const char *path, int json)
 {
@@ -159,7 +148,7 @@ int cmd_info(int argc, char **argv)
     if (argc - optind != 1)
         return cli_usage("info", "expected one FILE");
     const char *path = argv[optind];
-    if (format == RESURF_FORMAT_AUTO && (ends_with(path, ".gltf") || ends_with(path, ".glb") || ends_with(path, ".drc")))
+    if (format == RESURF_FORMAT_AUTO && cli_is_scene(path))
         return scene_info(path, json);
 
     resurf_mesh *mesh = NULL;
