@@ -94,8 +94,6 @@ void cli_progress_done(void);
 #define CLI_MAX_TRIANGLES_HELP                                                                                  \
     "  --max-triangles N  refuse inputs with more than N triangles (default 100000000; 0 = no limit)\n"
 int cli_set_max_triangles(const char *command, const char *text);
-/* The limit in force, for commands that load through other calls (resurf_scene_load: load options' max_triangles). */
-size_t cli_max_triangles(void);
 
 /* --lenient, taken by every command that loads scenes (info, lod, preview): a glTF document that breaks the glTF
  * 2.0 schema loads with a warning per problem instead of failing (resurf_load_options.lenient). Add
@@ -123,6 +121,9 @@ int cli_check_mesh_output(const char *command, const char *output, const char *c
 int cli_load(const char *path, resurf_format format, resurf_mesh **out);
 /* Is the file a scene by its name (.gltf, .glb, .drc, any case)? */
 int cli_is_scene(const char *path);
+/* Loads a scene with the shared options (--max-triangles, --lenient, progress) and allow_missing_images, printing
+ * its warnings, or prints the error; returns 0 or CLI_FAILED. */
+int cli_load_scene(const char *path, bool allow_missing_images, resurf_scene **out);
 /* Loads a scene and takes its whole scene at `level` as one world-space mesh (resurf_scene_world_mesh: every
  * instance, node transforms applied; MSFT_lod levels), or prints the error; returns 0 or CLI_FAILED. Honours
  * --max-triangles, --lenient (printing the scene's warnings) and interrupts. */

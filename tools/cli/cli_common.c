@@ -225,8 +225,6 @@ int cli_set_max_triangles(const char *command, const char *text)
     return 0;
 }
 
-size_t cli_max_triangles(void) { return max_triangles; }
-
 static bool lenient = false; /* resurf_load_options_default()'s, until --lenient says */
 
 void cli_set_lenient(void) { lenient = true; }
@@ -263,23 +261,33 @@ int cli_is_scene(const char *path)
     return ends_with(path, ".gltf") || ends_with(path, ".glb") || ends_with(path, ".drc");
 }
 
-int cli_load_world(const char *path, int level, resurf_mesh **out)
+int cli_load_scene(const char *path, bool allow_missing_images, resurf_scene **out)
 {
+    *out = NULL;
     if (interrupted_by)
         return CLI_FAILED;
     resurf_load_options lo = resurf_load_options_default();
     lo.max_triangles = max_triangles;
     lo.lenient = cli_lenient();
+    lo.allow_missing_images = allow_missing_images;
     lo.progress = cli_progress();
-    resurf_scene *scene = NULL;
     resurf_error error;
-    resurf_status s = resurf_scene_load(path, &lo, &scene, &error);
+    resurf_status s = resurf_scene_load(path, &lo, out, &error);
     cli_progress_done();
-    if (s == RESURF_OK) {
-        for (size_t i = 0; i < resurf_scene_warning_count(scene); ++i)
-            fprintf(stderr, "resurf: warning: %s\n", resurf_scene_warning(scene, i));
-        s = resurf_scene_world_mesh(scene, level, NULL, out, &error);
-    }
+    if (s != RESURF_OK)
+        return cli_fail_error(&error);
+    for (size_t i = 0; i < resurf_scene_warning_count(*out); ++i)
+        fprintf(stderr, "resurf: warning: %s\n", resurf_scene_warning(*out, i));
+    return 0;
+}
+
+int cli_load_world(const char *path, int level, resurf_mesh **out)
+{
+    resurf_scene *scene = NULL;
+    if (cli_load_scene(path, false, &scene))
+        return CLI_FAILED;
+    resurf_error error;
+    resurf_status s = resurf_scene_world_mesh(scene, level, NULL, out, &error);
     resurf_scene_free(scene);
     return s == RESURF_OK ? 0 : cli_fail_error(&error);
 }

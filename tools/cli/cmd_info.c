@@ -86,22 +86,13 @@ static void print_json(const char *path, const resurf_mesh *m, const resurf_vali
 /* A scene: the library's description of it. */
 static int scene_info(const char *path, int json)
 {
-    resurf_load_options lo = resurf_load_options_default();
-    lo.max_triangles = cli_max_triangles();
-    lo.allow_missing_images = 1; /* a missing image is part of what info reports ("missing") */
-    lo.lenient = cli_lenient();
-    lo.progress = cli_progress();
     resurf_scene *scene = NULL;
-    resurf_error error;
-    resurf_status s = resurf_scene_load(path, &lo, &scene, &error);
-    cli_progress_done();
-    if (s != RESURF_OK)
-        return cli_fail_error(&error);
-    for (size_t i = 0; i < resurf_scene_warning_count(scene); ++i)
-        fprintf(stderr, "resurf: warning: %s\n", resurf_scene_warning(scene, i));
+    if (cli_load_scene(path, true /* a missing image is part of what info reports ("missing") */, &scene))
+        return CLI_FAILED;
     size_t length = 0;
     char *text = NULL;
-    s = resurf_scene_describe(scene, json, NULL, 0, &length, &error);
+    resurf_error error;
+    resurf_status s = resurf_scene_describe(scene, json, NULL, 0, &length, &error);
     int rc = s == RESURF_OK ? CLI_OK : cli_fail_error(&error);
     if (rc == CLI_OK && !(text = malloc(length + 1)))
         rc = cli_fail("out of memory");

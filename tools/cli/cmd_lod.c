@@ -307,21 +307,12 @@ int cmd_lod(int argc, char **argv)
             return CLI_FAILED;
     }
 
-    resurf_load_options lo = resurf_load_options_default();
-    lo.max_triangles = cli_max_triangles();
-    lo.lenient = cli_lenient();
-    lo.allow_missing_images = allow_missing_images;
-    resurf_error error;
     resurf_scene *scene = NULL;
-    lo.progress = cli_progress();
     double load_start = cli_seconds();
-    resurf_status s = resurf_scene_load(input, &lo, &scene, &error);
+    if (cli_load_scene(input, allow_missing_images, &scene))
+        return CLI_FAILED;
     double load_seconds = cli_seconds() - load_start;
-    cli_progress_done();
-    if (s != RESURF_OK)
-        return cli_fail_error(&error);
-    for (size_t i = 0; i < resurf_scene_warning_count(scene); ++i)
-        fprintf(stderr, "resurf: warning: %s\n", resurf_scene_warning(scene, i));
+    resurf_error error;
 
     /* Every triangle primitive's chain and each mesh's MSFT_screencoverage, in one library call. */
     resurf_scene_lod_options lod = resurf_scene_lod_options_default();
@@ -339,7 +330,7 @@ int cmd_lod(int argc, char **argv)
         resurf_scene_free(scene);
         return cli_fail("out of memory");
     }
-    s = resurf_scene_build_lods(scene, level_ratios, ratio_count, &sim, &lod, &lod_report, prim_reports, &error);
+    resurf_status s = resurf_scene_build_lods(scene, level_ratios, ratio_count, &sim, &lod, &lod_report, prim_reports, &error);
     cli_progress_done();
     if (s != RESURF_OK)
         rc = cli_fail_error(&error);

@@ -198,19 +198,10 @@ int cmd_preview(int argc, char **argv)
     if (cli_check_output(out, &input, 1))
         return CLI_FAILED;
 
-    resurf_load_options lo = resurf_load_options_default();
-    lo.max_triangles = cli_max_triangles();
-    lo.lenient = cli_lenient();
-    lo.progress = cli_progress();
-    lo.allow_missing_images = true; /* drawn untextured: the sheet shows the geometry, with the loader's warning */
-    resurf_error error;
     resurf_scene *scene = NULL;
-    resurf_status s = resurf_scene_load(input, &lo, &scene, &error);
-    cli_progress_done();
-    if (s != RESURF_OK)
-        return cli_fail_error(&error);
-    for (size_t i = 0; i < resurf_scene_warning_count(scene); ++i)
-        fprintf(stderr, "resurf: warning: %s\n", resurf_scene_warning(scene, i));
+    /* a missing image is drawn untextured: the sheet shows the geometry, with the loader's warning */
+    if (cli_load_scene(input, true, &scene))
+        return CLI_FAILED;
     int rc = cli_write_preview(scene, out, &o, 2);
     resurf_scene_free(scene);
     return rc;
