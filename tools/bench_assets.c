@@ -33,6 +33,8 @@
  *             point (resurf_compare's uv_error_mean), and the ratio of the 95th percentiles (uv_error_p95); "n/a"
  *             when the original or the level has no texture coordinates (TEXCOORD_0)
  *   prt/haus  the error resurf prints for the level (resurf_scene_lod_report.level_error_rel) / its measured haus
+ *             (where the two differ by more than 20%, over a measurement with 20x the samples, at least 2M:
+ *             printed_ratio)
  *   bytes     the output file: resurf's one-level Draco .glb; gltfpack's -noq .glb, and its -c .glb (bytes_gc)
  *   time      wall seconds: resurf's chain build (one call for every level, so the same on each level's row) plus
  *             that level's save; gltfpack's run for that level (node's start-up, about 0.1 s, included)
@@ -89,6 +91,8 @@ typedef struct row {
     judged r, g;
     judged n; /* resurf with restore = none, for the target "the default is never worse than none" */
     double printed; /* resurf's own figure for the level (level_error_rel) */
+    double dense;   /* resurf's level measured again with DENSE_FACTOR x the samples, where the printed figure and
+                       the judged one differ by more than 20%; else NaN */
     size_t input_triangles; /* the original's, in world space */
 } row;
 
@@ -255,6 +259,18 @@ static void judge(const config *cfg, const resurf_mesh *original, const resurf_m
     j->uv_p95 = cr.uv_error_p95;
 }
 
+/* The printed error is checked against a dense measurement (issue 19): where the judge's figure and the printed
+ * one differ by more than 20%, the judge's samples may have missed the farthest point (2CylinderEngine at 25%: the
+ * judge's 100k samples found 0.83 of the printed figure, 2M samples 0.998), so that level is measured again with
+ * this many times the samples, at least DENSE_MIN, and the check uses that figure. */
+enum { DENSE_FACTOR = 20, DENSE_MIN = 2000000 };
+
+static double printed_ratio(const row *rw)
+{
+    double measured = isnan(rw->dense) ? rw->r.haus : rw->dense;
+    return measured > floor_rel ? rw->printed / measured : NAN;
+}
+
 static judged judged_empty(void)
 {
     judged j = {0, NAN, NAN, NAN, NAN, NAN, NAN, NAN, ""};
@@ -414,7 +430,7 @@ static bool bench_asset(const config *cfg, const asset *a, const char *dir, row 
         rw->asset = a->name;
         rw->r = judged_empty();
         rw->g = judged_empty();
-        rw->printed = NAN;
+        rw->printed = rw->dense = NAN;
         rw->input_triangles = original->triangle_count;
         if (s != RESURF_OK) {
             resurf_format_error(rw->r.why, sizeof rw->r.why, &error);
@@ -444,6 +460,13 @@ static bool bench_asset(const config *cfg, const asset *a, const char *dir, row 
             resurf_format_error(rw->r.why, sizeof rw->r.why, &error);
         else
             judge(cfg, original, mesh, &rw->r);
+        if (mesh && rw->r.haus > floor_rel && fabs(log(rw->printed / rw->r.haus)) > log(1.2)) {
+            config dense = *cfg;
+            dense.samples = cfg->samples * DENSE_FACTOR > DENSE_MIN ? cfg->samples * DENSE_FACTOR : DENSE_MIN;
+            judged again = judged_empty();
+            judge(&dense, original, mesh, &again);
+            rw->dense = again.haus;
+        }
         resurf_mesh_free(mesh);
         mesh = NULL;
 
@@ -528,7 +551,7 @@ static void print_row(double ratio, const row *rw)
     print_ratio(ratio_of(rw->r.uv_mean, rw->g.uv_mean), 6);
     print_ratio(ratio_of(rw->r.uv_p95, rw->g.uv_p95), 6);
     printf(" |");
-    print_ratio(rw->r.haus > floor_rel ? rw->printed / rw->r.haus : NAN, 8);
+    print_ratio(printed_ratio(rw), 8);
     printf(" |");
     print_value(rw->r.bytes, " %*.0f", 9);
     print_value(rw->g.bytes, " %*.0f", 9);
@@ -624,7 +647,7 @@ static void level_means(const row *rows, size_t stride, size_t assets, size_t k,
         geo_add(&t[1], ratio_of(rw->r.haus, rw->g.haus));
         geo_add(&t[2], ratio_of(rw->r.mean, rw->g.mean));
         geo_add(&t[3], ratio_of(rw->r.uv_mean, rw->g.uv_mean));
-        geo_add(&t[4], rw->r.haus > floor_rel ? rw->printed / rw->r.haus : NAN);
+        geo_add(&t[4], printed_ratio(rw));
         geo_add(&t[5], rw->r.bytes / rw->g.bytes);
         geo_add(&t[6], rw->r.bytes / rw->g.bytes_c);
         geo_add(&t[7], ratio_of(rw->r.uv_p95, rw->g.uv_p95));
@@ -677,9 +700,9 @@ static void print_summary(const config *cfg, const row *rows, size_t assets)
         const char *worst_asset = "";
         for (size_t i = 0; i < assets; ++i) {
             const row *rw = &rows[i * stride + k];
-            if (!(rw->r.haus > floor_rel) || isnan(rw->printed))
+            double q = printed_ratio(rw);
+            if (isnan(q))
                 continue;
-            double q = rw->printed / rw->r.haus;
             ++n;
             if (q < 0.8 || q > 1.2)
                 ++off;
