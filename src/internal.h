@@ -268,6 +268,18 @@ resurf_status resurfi_simplify_lods_until(const resurf_mesh *in, const double *r
 resurf_status resurfi_simplify_lent(const resurf_mesh *in, const resurf_simplify_options *options,
                                     const resurfi_simplify_services *services, resurf_mesh **out,
                                     resurf_simplify_report *out_report, resurf_error *error);
+/* A run kept alive between its levels: resurfi_simplify_run_to takes it to `target` triangles (at most the last
+ * one) and returns the snapshot there with its measured report, the same mesh and report a call of that target
+ * makes (resurfi_simplify_lent). One restoring mode (not RESURF_RESTORE_MEASURED); options as the call's, targets
+ * given to run_to. The scene budget keeps a primitive's run to ask it for fewer triangles than before. */
+typedef struct resurfi_simplify_run resurfi_simplify_run;
+resurf_status resurfi_simplify_run_open(const resurf_mesh *in, const resurf_simplify_options *options,
+                                        const resurfi_simplify_services *services, resurfi_simplify_run **out,
+                                        resurf_error *error);
+resurf_status resurfi_simplify_run_to(resurfi_simplify_run *run, size_t target, resurf_mesh **out,
+                                      resurf_simplify_report *report, resurf_error *error);
+size_t resurfi_simplify_run_reached(const resurfi_simplify_run *run); /* the last target; SIZE_MAX before one */
+void resurfi_simplify_run_free(resurfi_simplify_run *run);            /* NULL is fine */
 /* A simplified surface's facet points, RESURFI_FACET_POINTS per triangle: its centroid, then the midpoints of its
  * edges that run from a lower to a higher vertex index (an edge two triangles share is taken once). Where a coarse
  * facet leaves the surface it spans, it leaves it most at those: a chord's sag peaks at its middle, a facet's at its

@@ -72,12 +72,25 @@ typedef struct budget_run {
     resurf_simplify_report report;
 } budget_run;
 
+/* A primitive's simplification kept where its last run stopped: the budget mostly asks a primitive for fewer
+ * triangles than the time before (the halvings toward the fewest that suffice, a donor giving more at each step),
+ * and a kept run goes on from there to the same mesh and report a new one would make. LIVE_RUNS are kept at a
+ * time (each holds its primitive's working mesh), the least recently asked one giving way. */
+#define LIVE_RUNS 4
+
+typedef struct live_run {
+    resurfi_simplify_run *run;
+    size_t prim, used;
+} live_run;
+
 typedef struct budget_memo {
     budget_run *runs;
     size_t count, capacity;
     const resurf_allocator *alloc;
     const resurfi_budget_prim *prims;
     resurfi_simplify_services **services; /* per primitive, built at its first run, kept for all levels */
+    live_run live[LIVE_RUNS];             /* runs of this level */
+    size_t clock;
 } budget_memo;
 
 static void memo_clear(budget_memo *memo)
@@ -85,6 +98,44 @@ static void memo_clear(budget_memo *memo)
     for (size_t i = 0; i < memo->count; ++i)
         resurf_mesh_free(memo->runs[i].mesh);
     memo->count = 0;
+    for (int i = 0; i < LIVE_RUNS; ++i) {
+        resurfi_simplify_run_free(memo->live[i].run);
+        memo->live[i].run = NULL;
+    }
+}
+
+/* Primitive p's input simplified with options o to t triangles: by its kept run when that stands above t, else by a
+ * new run (kept). */
+static resurf_status simplify_to(budget_memo *memo, size_t p, const resurf_simplify_options *o, size_t t,
+                                 resurf_mesh **out, resurf_simplify_report *rep, resurf_error *e)
+{
+    const resurf_mesh *in = memo->prims[p].input;
+    if (o->restore == RESURF_RESTORE_MEASURED) /* a choice between two runs: made whole */
+        return resurfi_simplify_lent(in, o, memo->services[p], out, rep, e);
+    live_run *slot = NULL;
+    for (int i = 0; i < LIVE_RUNS && !slot; ++i)
+        if (memo->live[i].run && memo->live[i].prim == p)
+            slot = &memo->live[i];
+    if (slot && resurfi_simplify_run_reached(slot->run) < t) {
+        resurfi_simplify_run_free(slot->run);
+        slot->run = NULL;
+    }
+    for (int i = 0; i < LIVE_RUNS && !slot; ++i)
+        if (!memo->live[i].run)
+            slot = &memo->live[i];
+    for (int i = 0; i < LIVE_RUNS && !slot; ++i)
+        if (!slot || memo->live[i].used < slot->used)
+            slot = &memo->live[i];
+    if (!slot->run || slot->prim != p) {
+        resurfi_simplify_run_free(slot->run);
+        slot->run = NULL;
+        slot->prim = p;
+        resurf_status st = resurfi_simplify_run_open(in, o, memo->services[p], &slot->run, e);
+        if (st != RESURF_OK)
+            return st;
+    }
+    slot->used = ++memo->clock;
+    return resurfi_simplify_run_to(slot->run, t, out, rep, e);
 }
 
 /* Primitive b's level k (0-based) simplified again from its input to at most t triangles: *out and *rep. */
@@ -123,7 +174,7 @@ static resurf_status rerun(budget_memo *memo, const resurfi_budget_prim *b, size
         }
         run = &memo->runs[memo->count];
         run->prim = b, run->t = t, run->mesh = NULL;
-        resurf_status st = resurfi_simplify_lent(b->input, &o, *services, &run->mesh, &run->report, e);
+        resurf_status st = simplify_to(memo, (size_t)(b - memo->prims), &o, t, &run->mesh, &run->report, e);
         if (st != RESURF_OK)
             return st;
         memo->count++;
@@ -404,7 +455,7 @@ resurf_status resurfi_scene_budget(resurfi_budget_prim *prims, size_t n, const d
     }
     /* Toward the next error first; when the others cannot pay for that, part of the way. */
     static const double reach[] = {0, 0.5};
-    budget_memo memo = {NULL, 0, 0, alloc, prims, services};
+    budget_memo memo = {.alloc = alloc, .prims = prims, .services = services};
     for (size_t k = 0; k < count && st == RESURF_OK; ++k) {
         for (int s = 0, done = 1; s < BUDGET_STEPS && done == 1; ++s) {
             done = 0;

@@ -1,7 +1,8 @@
 /* src/simplify/services.c, the services over the original built once and lent to several simplifications: a call
  * that borrows them makes the same level and the same report, bit for bit, as one that builds its own, in every
  * restoring mode, with and without attributes, with or without a measured report; services built for one mesh
- * are refused for another; bad input fails the build with the simplifier's own error. */
+ * are refused for another; bad input fails the build with the simplifier's own error. A run kept between targets
+ * (resurfi_simplify_run, the scene budget's) makes each target's level as a call does. */
 #include <string.h>
 
 #include "internal.h"
@@ -105,12 +106,62 @@ START_TEST(services_belong_to_their_mesh)
 }
 END_TEST
 
+/* A run kept between targets and asked for fewer triangles each time makes, at each, the level and report a call to
+ * that target makes; it refuses to go back up and the measured choice (two runs). */
+static void check_run(const resurf_mesh *in, resurf_restore_mode mode)
+{
+    resurf_simplify_options o = resurf_simplify_options_default();
+    o.restore = mode;
+    resurfi_simplify_services *sv = NULL;
+    resurfi_simplify_run *run = NULL;
+    resurf_error e;
+    ck_assert_int_eq(resurfi_simplify_services_build(in, &o, &sv, &e), RESURF_OK);
+    ck_assert_int_eq(resurfi_simplify_run_open(in, &o, sv, &run, &e), RESURF_OK);
+    ck_assert_uint_eq(resurfi_simplify_run_reached(run), SIZE_MAX);
+    const size_t n = in->triangle_count, targets[] = {n / 2, n / 2 - 1, n / 5, n / 20};
+    for (size_t k = 0; k < sizeof targets / sizeof *targets; ++k) {
+        resurf_mesh *call = NULL, *kept = NULL;
+        resurf_simplify_report rc, rk;
+        o.target_triangles = targets[k];
+        ck_assert_int_eq(resurf_simplify(in, &o, &call, &rc, &e), RESURF_OK);
+        ck_assert_int_eq(resurfi_simplify_run_to(run, targets[k], &kept, &rk, &e), RESURF_OK);
+        ck_assert_msg(same_mesh(call, kept), "%zu triangles: the kept run's level differs from a call's", targets[k]);
+        ck_assert_msg(same_report(&rc, &rk), "%zu triangles: the kept run's report differs from a call's", targets[k]);
+        ck_assert_uint_eq(rk.restore_used, mode);
+        ck_assert_uint_eq(resurfi_simplify_run_reached(run), targets[k]);
+        resurf_mesh_free(call);
+        resurf_mesh_free(kept);
+    }
+    resurf_mesh *up = NULL;
+    ck_assert_int_eq(resurfi_simplify_run_to(run, n / 10, &up, NULL, &e), RESURF_ERR_INVALID_ARGUMENT);
+    ck_assert_ptr_null(up);
+    resurfi_simplify_run_free(run);
+    o.restore = RESURF_RESTORE_MEASURED;
+    ck_assert_int_eq(resurfi_simplify_run_open(in, &o, sv, &run, &e), RESURF_ERR_INVALID_ARGUMENT);
+    ck_assert_ptr_null(run);
+    resurfi_simplify_services_free(sv);
+}
+
+START_TEST(a_kept_run_makes_each_call_s_level)
+{
+    resurf_mesh *torus = shape_mesh(SHAPE_TORUS, 4000, 0.2, 3, 1);
+    resurf_mesh *cube = shape_mesh(SHAPE_CUBE, 3000, 0, 1, 0);
+    ck_assert(torus && cube);
+    check_run(torus, RESURF_RESTORE_INLINE);
+    check_run(cube, RESURF_RESTORE_INLINE);
+    check_run(torus, RESURF_RESTORE_NONE);
+    resurf_mesh_free(torus);
+    resurf_mesh_free(cube);
+}
+END_TEST
+
 Suite *make_suite(void)
 {
     Suite *s = suite_create("simplify_services");
     TCase *tc = tcase_create("core");
     tcase_add_test(tc, lent_services_change_nothing);
     tcase_add_test(tc, services_belong_to_their_mesh);
+    tcase_add_test(tc, a_kept_run_makes_each_call_s_level);
     suite_add_tcase(s, tc);
     return s;
 }

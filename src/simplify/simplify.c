@@ -160,6 +160,129 @@ static resurf_attached_sheets sheets_used(const resurf_simplify_options *o)
     return o->attached_sheets == RESURF_SHEETS_KEEP ? RESURF_SHEETS_KEEP : RESURF_SHEETS_DROP;
 }
 
+/* A run: one simplifier taken to one target after another, each no larger than the one before, with a snapshot at
+ * each. A level a run passes is the one a call to its target makes (a pass that one target interrupts goes on at the
+ * next), so a chain's levels come from one run, and the scene budget asks a kept run for a smaller count rather than
+ * simplify the input again. */
+struct resurfi_simplify_run {
+    simplifier s;
+    scratch *sc;
+    size_t reached; /* the last target, SIZE_MAX before the first */
+};
+
+void resurfi_simplify_run_free(resurfi_simplify_run *r)
+{
+    if (!r)
+        return;
+    const resurf_allocator *alloc = r->s.alloc;
+    for (unsigned w = 0; r->sc && w < r->s.threads; ++w)
+        scratch_free(&r->sc[w]);
+    resurfi_free(alloc, r->sc);
+    simplifier_free(&r->s);
+    resurfi_free(alloc, r);
+}
+
+/* The simplifier over `in` set up to its first collapse (simplify_start). */
+static resurf_status run_open(const resurf_mesh *in, const resurf_simplify_options *options,
+                              const resurfi_simplify_services *services, resurfi_simplify_run **out,
+                              resurf_error *error)
+{
+    *out = NULL;
+    const resurf_allocator *alloc = resurfi_allocator_of(options->allocator, in);
+    resurfi_simplify_run *r = resurfi_calloc(alloc, 1, sizeof *r);
+    if (!r)
+        return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory starting the simplification");
+    simplifier *s = &r->s;
+    s->in = in;
+    s->lent = services;
+    s->opt = *options;
+    s->threads = resurfi_thread_count(s->opt.threads);
+    s->alloc = alloc;
+    s->queue.alloc = alloc;
+    r->reached = SIZE_MAX;
+    r->sc = resurfi_calloc(alloc, s->threads, sizeof *r->sc);
+    if (!r->sc) {
+        resurfi_free(alloc, r);
+        return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory starting the simplification");
+    }
+    for (unsigned w = 0; w < s->threads; ++w)
+        r->sc[w].alloc = alloc;
+    resurf_status st = resurfi_pool_create(alloc, s->threads, s->opt.thread_pool, &s->pool);
+    if (st != RESURF_OK)
+        st = resurfi_error(error, st, "out of memory starting the simplification");
+    else if (resurfi_progress(&s->opt.progress, RESURF_STAGE_PREPARE, 0))
+        st = resurfi_error(error, RESURF_ERR_CANCELLED, "simplification cancelled");
+    if (st == RESURF_OK)
+        st = simplify_start(s, r->sc, error);
+    if (st != RESURF_OK) {
+        resurfi_simplify_run_free(r);
+        return st;
+    }
+    *out = r;
+    return RESURF_OK;
+}
+
+/* The collapses from where the run stands to `target` triangles. */
+static resurf_status run_collapse(resurfi_simplify_run *r, size_t target, resurf_error *error)
+{
+    r->reached = target;
+    if (!r->s.tri_count) {
+        r->s.rep.stop = RESURF_STOP_TARGET;
+        return RESURF_OK;
+    }
+    return collapse_until(&r->s, target, r->sc, error);
+}
+
+/* The snapshot where the run stands, and its report (measured). */
+static resurf_status run_output(resurfi_simplify_run *r, resurf_mesh **out, resurf_simplify_report *report,
+                                resurf_error *error)
+{
+    resurf_simplify_report rep;
+    resurf_status st = build_output(&r->s, out, &rep, error);
+    if (st == RESURF_OK && report) {
+        *report = rep;
+        report->restore_used = r->s.opt.restore;
+        report->attached_sheets_used = sheets_used(&r->s.opt);
+    }
+    return st;
+}
+
+resurf_status resurfi_simplify_run_open(const resurf_mesh *in, const resurf_simplify_options *options,
+                                        const resurfi_simplify_services *services, resurfi_simplify_run **out,
+                                        resurf_error *error)
+{
+    resurfi_clear_error(error);
+    if (!out || !in || !options)
+        return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "a run needs an input, options and out");
+    *out = NULL;
+    resurf_status st = check_options(options, error);
+    if (st != RESURF_OK)
+        return st;
+    if (options->restore == RESURF_RESTORE_MEASURED)
+        return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "a run is one restoring mode, not the measured choice");
+    if (services && services->in != in)
+        return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "the services were built for another mesh");
+    return run_open(in, options, services, out, error);
+}
+
+size_t resurfi_simplify_run_reached(const resurfi_simplify_run *r) { return r ? r->reached : 0; }
+
+resurf_status resurfi_simplify_run_to(resurfi_simplify_run *r, size_t target, resurf_mesh **out,
+                                      resurf_simplify_report *report, resurf_error *error)
+{
+    resurfi_clear_error(error);
+    if (!r || !out)
+        return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "the run or out is NULL");
+    *out = NULL;
+    if (target > r->reached)
+        return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "a run cannot go back to %zu triangles from %zu",
+                             target, r->reached);
+    resurf_status st = run_collapse(r, target, error);
+    if (st == RESURF_OK && resurfi_progress(&r->s.opt.progress, RESURF_STAGE_FINISH, 1))
+        st = resurfi_error(error, RESURF_ERR_CANCELLED, "simplification cancelled");
+    return st == RESURF_OK ? run_output(r, out, report, error) : st;
+}
+
 /* The shared worker: one run of collapses, a snapshot at each target (non-increasing). With `ends`, a level for
  * which ends() says so after its collapses ends the chain there: it gets a report without a mesh (triangles, stop
  * and blocked_* as they were; vertices, positions 0; distances NaN, not measured) and no later level is made.
@@ -170,69 +293,41 @@ static resurf_status simplify_levels(const resurf_mesh *in, const resurf_simplif
                                      const resurfi_simplify_services *services, size_t *out_attached_sheets,
                                      resurf_error *error)
 {
-    simplifier s;
-    memset(&s, 0, sizeof s);
-    s.in = in;
-    s.lent = services;
-    s.opt = options ? *options : resurf_simplify_options_default();
-    s.threads = resurfi_thread_count(s.opt.threads);
-    s.alloc = resurfi_allocator_of(s.opt.allocator, in);
-    s.queue.alloc = s.alloc;
-    scratch *sc = resurfi_calloc(s.alloc, s.threads, sizeof *sc);
-    if (!sc)
-        return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory starting the simplification");
-    for (unsigned w = 0; w < s.threads; ++w)
-        sc[w].alloc = s.alloc;
-    resurf_status st = resurfi_pool_create(s.alloc, s.threads, s.opt.thread_pool, &s.pool);
-    if (st != RESURF_OK)
-        st = resurfi_error(error, st, "out of memory starting the simplification");
-    else if (resurfi_progress(&s.opt.progress, RESURF_STAGE_PREPARE, 0))
-        st = resurfi_error(error, RESURF_ERR_CANCELLED, "simplification cancelled");
-    if (st == RESURF_OK)
-        st = simplify_start(&s, sc, error);
+    const resurf_simplify_options o = options ? *options : resurf_simplify_options_default();
+    resurfi_simplify_run *r = NULL;
+    resurf_status st = run_open(in, &o, services, &r, error);
     for (size_t i = 0; i < count && st == RESURF_OK; ++i) {
-        if (s.tri_count)
-            st = collapse_until(&s, targets[i], sc, error);
-        else
-            s.rep.stop = RESURF_STOP_TARGET;
-        if (st == RESURF_OK && resurfi_progress(&s.opt.progress, RESURF_STAGE_FINISH, (double)i / (double)count))
+        simplifier *s = &r->s;
+        st = run_collapse(r, targets[i], error);
+        if (st == RESURF_OK && resurfi_progress(&s->opt.progress, RESURF_STAGE_FINISH, (double)i / (double)count))
             st = resurfi_error(error, RESURF_ERR_CANCELLED, "simplification cancelled");
-        if (st == RESURF_OK && ends && ends->fn(ends->ctx, i, s.alive_tris, s.rep.stop)) {
+        if (st == RESURF_OK && ends && ends->fn(ends->ctx, i, s->alive_tris, s->rep.stop)) {
             if (reports) {
-                reports[i] = s.rep;
-                reports[i].triangles = s.alive_tris;
+                reports[i] = s->rep;
+                reports[i].triangles = s->alive_tris;
                 reports[i].vertices = reports[i].positions = 0;
                 reports[i].max_distance = reports[i].mean_distance = NAN;
                 reports[i].max_distance_rel = reports[i].mean_distance_rel = NAN;
                 reports[i].result_to_input_max = reports[i].result_to_input_mean = NAN;
                 reports[i].input_to_result_max = reports[i].input_to_result_mean = NAN;
                 reports[i].uv_error_mean = reports[i].uv_error_p95 = NAN;
-                reports[i].restore_used = s.opt.restore;
-                reports[i].attached_sheets_used = sheets_used(&s.opt);
+                reports[i].restore_used = s->opt.restore;
+                reports[i].attached_sheets_used = sheets_used(&s->opt);
             }
             break;
         }
         if (i + 1 == count) { /* no more collapses: the queue's memory goes before the output's comes */
-            s.last_level = 1;
-            simp_queue_free(&s.queue);
+            s->last_level = 1;
+            simp_queue_free(&s->queue);
         }
-        resurf_simplify_report rep;
         if (st == RESURF_OK)
-            st = build_output(&s, &outs[i], &rep, error);
-        if (st == RESURF_OK && reports) {
-            reports[i] = rep;
-            reports[i].restore_used = s.opt.restore;
-            reports[i].attached_sheets_used = sheets_used(&s.opt);
-        }
+            st = run_output(r, &outs[i], reports ? &reports[i] : NULL, error);
     }
-    if (st == RESURF_OK && resurfi_progress(&s.opt.progress, RESURF_STAGE_FINISH, 1))
+    if (st == RESURF_OK && resurfi_progress(&o.progress, RESURF_STAGE_FINISH, 1))
         st = resurfi_error(error, RESURF_ERR_CANCELLED, "simplification cancelled");
     if (out_attached_sheets)
-        *out_attached_sheets = s.attached_sheets;
-    for (unsigned w = 0; w < s.threads; ++w)
-        scratch_free(&sc[w]);
-    resurfi_free(s.alloc, sc);
-    simplifier_free(&s);
+        *out_attached_sheets = r ? r->s.attached_sheets : 0;
+    resurfi_simplify_run_free(r);
     if (st != RESURF_OK)
         for (size_t i = 0; i < count; ++i) {
             resurf_mesh_free(outs[i]);
