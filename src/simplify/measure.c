@@ -46,6 +46,7 @@ typedef struct side {
                                    when every vertex is measured */
     uint32_t *nearest;          /* per measured vertex of from: its closest triangle of to_mesh (the facet bound) */
     double *nearest_d;          /* and its distance to it */
+    double vertex_floor;        /* the samples' maximum: a vertex within it of a triangle cannot raise the maximum */
     double facet_floor;         /* a facet point whose bound is at most this cannot raise the maximum: skipped */
     size_t first;               /* the first point of the running phase */
     double *block_max, *block_sum, *block_vertex_sum; /* per block of BLOCK_SAMPLES points */
@@ -104,6 +105,19 @@ static int facet_within(const side *sd, uint32_t t, vec3 p, double floor)
     return 0;
 }
 
+typedef struct within_hit {
+    uint32_t t;
+    double d2;
+} within_hit;
+
+static int first_within(void *ctx, uint32_t t, vec3 point, const double bary[3], double d2)
+{
+    (void)point, (void)bary;
+    within_hit *hit = ctx;
+    hit->t = t, hit->d2 = d2;
+    return 1;
+}
+
 static int measure_block(void *ctx, size_t begin, size_t end, unsigned worker)
 {
     (void)worker;
@@ -131,7 +145,14 @@ static int measure_block(void *ctx, size_t begin, size_t end, unsigned worker)
             p = resurfi_position(sd->from, v);
         }
         int uv = is_sample && sd->uv;
-        uint32_t c = resurfi_bvh_closest(sd->to, p, INFINITY, NULL, uv ? cb : NULL, &d2);
+        uint32_t c = NONE;
+        if (!is_sample && !is_facet && sd->vertex_floor > 0) { /* any triangle within the floor will do */
+            within_hit hit = {NONE, 0};
+            resurfi_bvh_within(sd->to, p, sd->vertex_floor * sd->vertex_floor, first_within, &hit);
+            c = hit.t, d2 = hit.d2;
+        }
+        if (c == NONE)
+            c = resurfi_bvh_closest(sd->to, p, INFINITY, NULL, uv ? cb : NULL, &d2);
         double d = c == NONE ? INFINITY : sqrt(d2);
         mx = d > mx ? d : mx;
         if (is_sample || is_facet)
@@ -283,10 +304,13 @@ static resurf_status run_phase(simplifier *s, side *sd, size_t first, size_t cou
     return st;
 }
 
-/* A side's max and mean (over the samples, else over the vertices). The samples and vertices run first; then the
- * facet points, each skipped when its distance to the triangles its corners are closest to (an upper bound of its
- * distance) is at most the maximum so far: it cannot raise it, so the maximum is the one over every facet point,
- * exactly, at a few point-triangle tests for most of them. Last the climb from the best points. */
+/* A side's max and mean (over the samples, else over the vertices). The samples run first. Then the vertices,
+ * which serve the maximum only: a vertex within the samples' maximum of some triangle cannot raise it, so its
+ * search stops at the first such triangle (kept as its closest for the facet points' bound, an upper bound of its
+ * distance as that bound needs); the others are measured exactly. Then the facet points, each skipped when its
+ * distance to the triangles its corners are closest to (an upper bound of its distance) is at most the maximum so
+ * far: it cannot raise it, so the maximum is the one over every facet point, exactly, at a few point-triangle tests
+ * for most of them. Last the climb from the best points. */
 static resurf_status run_side(simplifier *s, side *sd, double *out_max, double *out_mean)
 {
     size_t points = sd->samples + sd->vertex_count, total = points + sd->facets;
@@ -302,7 +326,10 @@ static resurf_status run_side(simplifier *s, side *sd, double *out_max, double *
     }
     for (size_t v = 0; v < sd->from->vertex_count; ++v)
         sd->nearest[v] = NONE;
-    resurf_status st = run_phase(s, sd, 0, points, acc, &starts);
+    resurf_status st = run_phase(s, sd, 0, sd->samples, acc, &starts);
+    sd->vertex_floor = acc[0];
+    if (st == RESURF_OK)
+        st = run_phase(s, sd, sd->samples, sd->vertex_count, acc, &starts);
     sd->facet_floor = acc[0];
     if (st == RESURF_OK)
         st = run_phase(s, sd, points, sd->facets, acc, &starts);
