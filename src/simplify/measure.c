@@ -80,7 +80,7 @@ static vec3 sample_point(const side *sd, size_t i, uint32_t *out_t, double b[3])
 /* Is facet point p (of from's triangle t) certainly no farther from to_mesh than floor? Its distance is at most
  * its distance to the triangles its corners are closest to, and that to the triangle of corner c is at most
  * |p - c| + c's own distance (the triangle inequality): that bound costs no search and settles most points; the
- * few it does not are tried on the three triangles. No where no corner was measured. */
+ * few it does not are tried on the three triangles (a corner not measured gives no bound). */
 static int facet_within(const side *sd, uint32_t t, vec3 p, double floor)
 {
     const uint32_t *f = sd->from->indices + 3 * (size_t)t;
