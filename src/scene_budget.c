@@ -74,9 +74,11 @@ typedef struct budget_run {
 
 /* A primitive's simplification kept where its last run stopped: the budget mostly asks a primitive for fewer
  * triangles than the time before (the halvings toward the fewest that suffice, a donor giving more at each step),
- * and a kept run goes on from there to the same mesh and report a new one would make. LIVE_RUNS are kept at a
- * time (each holds its primitive's working mesh), the least recently asked one giving way. */
+ * and a kept run goes on from there to the same mesh and report a new one would make. At most LIVE_RUNS are kept
+ * at a time, over at most LIVE_TRIANGLES input triangles in all besides the newest (each holds its primitive's
+ * working mesh, about 200 bytes a triangle), the least recently asked giving way. */
 #define LIVE_RUNS 4
+#define LIVE_TRIANGLES ((size_t)1 << 21)
 
 typedef struct live_run {
     resurfi_simplify_run *run;
@@ -104,6 +106,29 @@ static void memo_clear(budget_memo *memo)
     }
 }
 
+/* A slot for a new run: the least recently asked runs give way while all LIVE_RUNS are kept or the kept ones hold
+ * more than LIVE_TRIANGLES input triangles. */
+static live_run *make_room(budget_memo *memo)
+{
+    for (;;) {
+        live_run *free_slot = NULL, *oldest = NULL;
+        size_t held = 0;
+        for (int i = 0; i < LIVE_RUNS; ++i) {
+            live_run *l = &memo->live[i];
+            if (!l->run) {
+                free_slot = free_slot ? free_slot : l;
+                continue;
+            }
+            held += memo->prims[l->prim].input->triangle_count;
+            oldest = !oldest || l->used < oldest->used ? l : oldest;
+        }
+        if (free_slot && held <= LIVE_TRIANGLES)
+            return free_slot;
+        resurfi_simplify_run_free(oldest->run);
+        oldest->run = NULL;
+    }
+}
+
 /* Primitive p's input simplified with options o to t triangles: by its kept run when that stands above t, else by a
  * new run (kept). */
 static resurf_status simplify_to(budget_memo *memo, size_t p, const resurf_simplify_options *o, size_t t,
@@ -116,19 +141,13 @@ static resurf_status simplify_to(budget_memo *memo, size_t p, const resurf_simpl
     for (int i = 0; i < LIVE_RUNS && !slot; ++i)
         if (memo->live[i].run && memo->live[i].prim == p)
             slot = &memo->live[i];
-    if (slot && resurfi_simplify_run_reached(slot->run) < t) {
+    if (slot && resurfi_simplify_run_reached(slot->run) < t) { /* it stands below t: a new run */
         resurfi_simplify_run_free(slot->run);
         slot->run = NULL;
+        slot = NULL;
     }
-    for (int i = 0; i < LIVE_RUNS && !slot; ++i)
-        if (!memo->live[i].run)
-            slot = &memo->live[i];
-    for (int i = 0; i < LIVE_RUNS && !slot; ++i)
-        if (!slot || memo->live[i].used < slot->used)
-            slot = &memo->live[i];
-    if (!slot->run || slot->prim != p) {
-        resurfi_simplify_run_free(slot->run);
-        slot->run = NULL;
+    if (!slot) {
+        slot = make_room(memo);
         slot->prim = p;
         resurf_status st = resurfi_simplify_run_open(in, o, memo->services[p], &slot->run, e);
         if (st != RESURF_OK)
