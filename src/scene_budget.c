@@ -83,6 +83,10 @@ typedef struct budget_run {
 typedef struct live_run {
     resurfi_simplify_run *run;
     size_t prim, used;
+    /* the options a level's runs of a primitive share: asked with others, the run is made again */
+    resurf_restore_mode restore;
+    resurf_attached_sheets sheets;
+    double max_error;
 } live_run;
 
 typedef struct budget_memo {
@@ -141,14 +145,15 @@ static resurf_status simplify_to(budget_memo *memo, size_t p, const resurf_simpl
     for (int i = 0; i < LIVE_RUNS && !slot; ++i)
         if (memo->live[i].run && memo->live[i].prim == p)
             slot = &memo->live[i];
-    if (slot && resurfi_simplify_run_reached(slot->run) < t) { /* it stands below t: a new run */
+    if (slot && (resurfi_simplify_run_reached(slot->run) < t || slot->restore != o->restore ||
+                 slot->sheets != o->attached_sheets || slot->max_error != o->max_error)) { /* below t, or other */
         resurfi_simplify_run_free(slot->run);
         slot->run = NULL;
         slot = NULL;
     }
     if (!slot) {
         slot = make_room(memo);
-        slot->prim = p;
+        slot->prim = p, slot->restore = o->restore, slot->sheets = o->attached_sheets, slot->max_error = o->max_error;
         resurf_status st = resurfi_simplify_run_open(in, o, memo->services[p], &slot->run, e);
         if (st != RESURF_OK)
             return st;
