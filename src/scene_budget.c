@@ -99,12 +99,14 @@ typedef struct budget_memo {
     size_t clock;
 } budget_memo;
 
-static void memo_clear(budget_memo *memo)
+/* The runs made (their meshes and reports) are a level's: the next level's have other bounds. The kept runs may
+ * serve it too (a run asked with other options is made again), and go with `live`. */
+static void memo_clear(budget_memo *memo, int live)
 {
     for (size_t i = 0; i < memo->count; ++i)
         resurf_mesh_free(memo->runs[i].mesh);
     memo->count = 0;
-    for (int i = 0; i < LIVE_RUNS; ++i) {
+    for (int i = 0; live && i < LIVE_RUNS; ++i) {
         resurfi_simplify_run_free(memo->live[i].run);
         memo->live[i].run = NULL;
     }
@@ -489,9 +491,9 @@ resurf_status resurfi_scene_budget(resurfi_budget_prim *prims, size_t n, const d
             for (size_t i = 0; i < sizeof reach / sizeof *reach && done == 0; ++i)
                 done = step(prims, n, k, count, allowed, reach[i], changes, donors, &memo, &st, e);
         }
-        memo_clear(&memo); /* the next level's runs have other bounds */
+        memo_clear(&memo, 0);
     }
-    memo_clear(&memo);
+    memo_clear(&memo, 1);
     st = units_close(prims, n, count, st, alloc, e);
     resurfi_free(alloc, memo.runs);
     for (size_t p = 0; services && p < n; ++p)
