@@ -77,7 +77,7 @@ typedef struct budget_run {
  * and a kept run goes on from there to the same mesh and report a new one would make. At most LIVE_RUNS are kept
  * at a time, over at most LIVE_TRIANGLES input triangles in all besides the newest (each holds its primitive's
  * working mesh, about 200 bytes a triangle), the least recently asked giving way. */
-#define LIVE_RUNS 4
+#define LIVE_RUNS 16
 #define LIVE_TRIANGLES ((size_t)1 << 21)
 
 typedef struct live_run {
@@ -95,7 +95,7 @@ typedef struct budget_memo {
     const resurf_allocator *alloc;
     const resurfi_budget_prim *prims;
     resurfi_simplify_services **services; /* per primitive, built at its first run, kept for all levels */
-    live_run live[LIVE_RUNS];             /* runs of this level */
+    live_run live[LIVE_RUNS];             /* the kept runs (they serve the next level too) */
     size_t clock;
 } budget_memo;
 
