@@ -260,10 +260,21 @@ typedef struct resurfi_simplify_services resurfi_simplify_services;
 resurf_status resurfi_simplify_services_build(const resurf_mesh *in, const resurf_simplify_options *options,
                                               resurfi_simplify_services **out, resurf_error *error);
 void resurfi_simplify_services_free(resurfi_simplify_services *services); /* NULL is fine */
+/* With RESURF_RESTORE_MEASURED, the first pair's plain levels (simplify.c): what a RESURF_RESTORE_NONE run makes to
+ * the targets the restored run reached, without the chain's end (levels[i] and reports[i], count entries each, the
+ * caller's; NULL where not made). A scene that makes the RESTORE_NONE chain too starts from them. */
+typedef struct resurfi_plain_half {
+    resurf_mesh **levels;
+    resurf_simplify_report *reports;
+} resurfi_plain_half;
 resurf_status resurfi_simplify_lods_until(const resurf_mesh *in, const double *ratios, size_t count,
                                           const resurf_simplify_options *options, const resurfi_chain_end *ends,
-                                          const resurfi_simplify_services *services, resurf_mesh **out_levels,
-                                          resurf_simplify_report *out_reports, resurf_error *error);
+                                          const resurfi_simplify_services *services, resurfi_plain_half *half,
+                                          resurf_mesh **out_levels, resurf_simplify_report *out_reports,
+                                          resurf_error *error);
+/* A report's measured figures as "not measured" (distances NaN; vertices, positions 0): a level that ended its
+ * chain was not built. */
+void resurfi_report_unmeasured(resurf_simplify_report *r);
 /* resurf_simplify with services built by resurfi_simplify_services_build for `in` (or NULL: its own). */
 resurf_status resurfi_simplify_lent(const resurf_mesh *in, const resurf_simplify_options *options,
                                     const resurfi_simplify_services *services, resurf_mesh **out,

@@ -79,8 +79,10 @@ resurf_status resurfi_make_joint_chain(resurfi_chain_job *job, size_t m, const r
     double bounds[RESURF_SCENE_MAX_LEVELS - 1];
     if (st == RESURF_OK)
         resurfi_joint_input(job, m, base, &joined, &joint_lock, &sim, bounds, &st, e);
+    resurfi_plain_half *keep = st == RESURF_OK ? resurfi_half_to_keep(job, first, true, &st, e) : NULL;
     if (st == RESURF_OK)
-        st = resurfi_make_chain(joined, job->ratios, count, bounds, &sim, chain, reports, e);
+        st = resurfi_make_chain(joined, job->ratios, count, bounds, &sim, chain, reports, keep,
+                                resurfi_half_to_use(job, first, true), e);
     if (st == RESURF_OK)
         kept = resurfi_levels_that_help(joined, reports, job->ratios, count, &why);
     /* Split every level into the primitives: w->chains[first + q][k]. */

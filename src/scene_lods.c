@@ -174,21 +174,50 @@ static int ends_chain(void *ctx, size_t k, size_t triangles, resurf_simplify_sto
     return 0;
 }
 
+/* The chain a RESURF_RESTORE_NONE run of `in` makes, from the plain half that a measured chain with the same options
+ * made (its levels moved out): the same levels, ended by the same rule. 0 when the half lacks a level it needs. */
+static int chain_from_half(const resurf_mesh *in, const double *ratios, size_t count, resurfi_plain_half *half,
+                           resurf_mesh **chain, resurf_simplify_report *reports)
+{
+    size_t before = in->triangle_count, end = count;
+    for (size_t k = 0; k < count && end == count; ++k) {
+        if (!half->levels[k])
+            return 0;
+        const resurf_simplify_report *r = &half->reports[k];
+        if (level_ends_chain(in->triangle_count, before, r->triangles, ratios, k, r->stop))
+            end = k;
+        before = r->triangles;
+    }
+    for (size_t k = 0; k < count && k <= end; ++k) {
+        reports[k] = half->reports[k];
+        if (k == end)
+            resurfi_report_unmeasured(&reports[k]);
+        else
+            chain[k] = half->levels[k], half->levels[k] = NULL;
+    }
+    return 1;
+}
+
 /* One primitive's chain: one resurf_simplify_lods run when every level has the same bound and a ratio, else one
  * resurf_simplify run per level from the original (a bound that grows from level to level cannot be one run: a
- * candidate skipped for its error leaves the queue). */
+ * candidate skipped for its error leaves the queue). A measured run keeps its plain half in `keep`; a plain one
+ * starts from `from` where that holds every level it needs (both optional). */
 resurf_status resurfi_make_chain(const resurf_mesh *in, const double *ratios, size_t count, const double *bounds,
                                  const resurf_simplify_options *sim, resurf_mesh **chain,
-                                 resurf_simplify_report *reports, resurf_error *e)
+                                 resurf_simplify_report *reports, resurfi_plain_half *keep, resurfi_plain_half *from,
+                                 resurf_error *e)
 {
     int one_run = ratios != NULL;
     for (size_t k = 1; k < count; ++k)
         one_run = one_run && bounds[k] == bounds[0];
     if (one_run) {
         resurf_simplify_options o = level_options(sim, bounds[0]);
+        if (from && o.restore == RESURF_RESTORE_NONE && chain_from_half(in, ratios, count, from, chain, reports))
+            return RESURF_OK;
         chain_rule rule = {in->triangle_count, in->triangle_count, ratios};
         resurfi_chain_end end = {ends_chain, &rule};
-        return resurfi_simplify_lods_until(in, ratios, count, &o, &end, NULL, chain, reports, e);
+        return resurfi_simplify_lods_until(in, ratios, count, &o, &end, NULL,
+                                           o.restore == RESURF_RESTORE_MEASURED ? keep : NULL, chain, reports, e);
     }
     /* The services over the original once for all the levels. */
     resurfi_simplify_services *services = NULL;
@@ -246,6 +275,15 @@ static size_t primitive_samples(size_t budget, double world_area, double scene_a
     return n < (double)budget ? (size_t)n : budget;
 }
 
+static void half_free(const resurf_allocator *alloc, resurfi_chain_half *h, size_t count)
+{
+    for (size_t k = 0; h->half.levels && k < count; ++k)
+        resurf_mesh_free(h->half.levels[k]);
+    resurfi_free(alloc, h->half.levels);
+    resurfi_free(alloc, h->half.reports);
+    memset(h, 0, sizeof *h);
+}
+
 static void lod_work_free(resurfi_lod_work *w, size_t prim_count, size_t mesh_count, size_t count)
 {
     free_chains(w->alloc, w->chains, prim_count, count);
@@ -264,6 +302,9 @@ static void lod_work_free(resurfi_lod_work *w, size_t prim_count, size_t mesh_co
     resurfi_free(w->alloc, w->kept);
     resurf_mesh_free(w->full);
     resurfi_free(w->alloc, w->list.items);
+    for (size_t p = 0; w->halves && p < prim_count; ++p)
+        half_free(w->alloc, &w->halves[p], count);
+    resurfi_free(w->alloc, w->halves);
 }
 
 /* ---- the chains of all primitives ---- */
@@ -322,6 +363,30 @@ static double primitive_options(const resurfi_chain_job *job, size_t p, const re
     return scale;
 }
 
+resurfi_plain_half *resurfi_half_to_keep(resurfi_chain_job *job, size_t p, bool joined, resurf_status *st,
+                                         resurf_error *e)
+{
+    resurfi_lod_work *w = job->w;
+    if (!w->halves)
+        return NULL;
+    resurfi_chain_half *h = &w->halves[p];
+    half_free(w->alloc, h, job->count); /* a mesh that was to go joined and goes primitive by primitive */
+    h->joined = joined;
+    h->half.levels = resurfi_calloc(w->alloc, job->count, sizeof *h->half.levels);
+    h->half.reports = resurfi_calloc(w->alloc, job->count, sizeof *h->half.reports);
+    if (h->half.levels && h->half.reports)
+        return &h->half;
+    half_free(w->alloc, h, job->count);
+    *st = resurfi_error(e, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
+    return NULL;
+}
+
+resurfi_plain_half *resurfi_half_to_use(resurfi_chain_job *job, size_t p, bool joined)
+{
+    resurfi_chain_half *h = job->from_halves ? &job->from_halves[p] : NULL;
+    return h && h->half.levels && h->joined == joined ? &h->half : NULL;
+}
+
 /* Primitive p's chain with options sim (threads and progress as the caller chose): w->chains[p] and its reports, or
  * status[p] and errors[p]. A primitive of a mesh simplified together makes the whole mesh's chains. */
 resurf_status resurfi_make_primitive_chain(resurfi_chain_job *job, size_t p, const resurf_simplify_options *base)
@@ -338,8 +403,10 @@ resurf_status resurfi_make_primitive_chain(resurfi_chain_job *job, size_t p, con
     resurf_error *e = &job->errors[p];
     resurf_mesh **chain = resurfi_calloc(w->alloc, count, sizeof *chain);
     resurf_status st = chain ? RESURF_OK : resurfi_error(e, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
+    resurfi_plain_half *keep = st == RESURF_OK ? resurfi_half_to_keep(job, p, false, &st, e) : NULL;
     if (st == RESURF_OK)
-        st = resurfi_make_chain(prim->mesh, job->ratios, count, bounds, &sim, chain, job->reports + p * count, e);
+        st = resurfi_make_chain(prim->mesh, job->ratios, count, bounds, &sim, chain, job->reports + p * count, keep,
+                                resurfi_half_to_use(job, p, false), e);
     for (size_t k = 0; k < count && st == RESURF_OK; ++k)
         if (chain[k] && !same_layout(prim->mesh, chain[k]))
             st = resurfi_error(e, RESURF_ERR_INTERNAL, "level %zu lost an attribute of the input", k + 1);
@@ -380,7 +447,7 @@ static int chain_block(void *ctx, size_t begin, size_t end, unsigned worker)
         resurfi_make_primitive_chain(job, p, job->sim);
         pthread_mutex_lock(&job->lock);
         job->done += weight;
-        double f = job->total > 0 ? job->done / job->total : 1;
+        double f = job->from + job->span * (job->total > 0 ? job->done / job->total : 1);
         /* Not asked again once a cancel was asked for. */
         int stop = atomic_load(&job->cancelled) ||
                    resurfi_progress(&job->o->progress, RESURF_STAGE_SIMPLIFY, f > 1 ? 1 : f) != 0;
@@ -419,24 +486,19 @@ static resurf_status check_arguments(const double *ratios, size_t count, const r
     return RESURF_OK;
 }
 
-resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios, size_t count,
-                                      const resurf_simplify_options *simplify, const resurf_scene_lod_options *options,
-                                      resurf_scene_lod_report *out_report,
-                                      resurf_simplify_report *out_primitive_reports, resurf_error *error)
+/* One pass of the levels with sim's restoring mode (phases 1 and 2): every primitive's chain, the scene's budget,
+ * the world errors. *wp and *reports_out (count per primitive) are the caller's to free, also after a failure.
+ * The caller's progress runs from `from` to `to`. The default pass that a plain one follows keeps its chains' plain
+ * halves (keep_halves); the plain pass starts its chains from them (from_halves). */
+static resurf_status make_levels(resurf_scene *scene, const double *ratios, size_t count, resurf_simplify_options sim,
+                                 const resurf_scene_lod_options *options, double from, double to,
+                                 bool keep_halves, resurfi_chain_half *from_halves, resurfi_lod_work *wp,
+                                 resurf_simplify_report **reports_out, resurf_scene_lod_report *out,
+                                 resurf_error *error)
 {
-    if (!scene)
-        return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "scene is NULL");
-    RESURFI_CHECK_OPTIONS_ALLOC(simplify, resurf_simplify_options, error);
-    RESURFI_CHECK_OPTIONS(options, resurf_scene_lod_options, error);
-    const resurf_scene_lod_options o = options ? *options : resurf_scene_lod_options_default();
-    resurf_simplify_options sim = simplify ? *simplify : resurf_simplify_options_default();
-    resurf_status st = check_arguments(ratios, count, &sim, &o, error);
-    if (st != RESURF_OK)
-        return st;
-
+    const resurf_scene_lod_options o = *options;
     const size_t prim_count = scene->prim_count, mesh_count = scene->mesh_count;
-    if (out_primitive_reports)
-        memset(out_primitive_reports, 0, prim_count * count * sizeof *out_primitive_reports);
+    resurf_status st = RESURF_OK;
     resurf_scene_lod_report report;
     memset(&report, 0, sizeof report);
 
@@ -454,6 +516,8 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
     w.together = resurfi_calloc(alloc, mesh_count + 1, sizeof *w.together);
     w.joint_kept = resurfi_calloc(alloc, prim_count + 1, sizeof *w.joint_kept);
     w.joint_why = resurfi_calloc(alloc, prim_count + 1, sizeof *w.joint_why);
+    if (keep_halves && !(w.halves = resurfi_calloc(alloc, prim_count + 1, sizeof *w.halves)))
+        st = resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory building levels of detail");
     if (!w.locks || !w.together || !w.joint_kept || !w.joint_why || !w.kept || !w.mesh_scale || !w.mesh_levels || !w.errors || !w.coverage ||
         resurfi_scene_gather(scene, alloc, &w.list) != RESURF_OK)
         st = resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory building levels of detail");
@@ -501,7 +565,7 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
     double chains_start = seconds_now();
     resurfi_chain_job job = {.scene = scene, .ratios = ratios, .count = count, .sim = &sim, .o = &o, .w = &w,
                      .diagonal = report.diagonal, .sample_budget = sample_budget, .scene_area = scene_area,
-                     .total = total};
+                     .total = total, .from = from, .span = to - from, .from_halves = from_halves};
     pthread_mutex_init(&job.lock, NULL);
     atomic_init(&job.cancelled, 0);
     job.reports = resurfi_calloc(alloc, prim_count * count + 1, sizeof *job.reports);
@@ -545,15 +609,15 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
         resurfi_parallel_for(tri_prims, 1, threads, chain_block, &job);
         job.sim = &sim;
     } else if (st == RESURF_OK) {
-        scene_progress sp = {&o.progress, 0, 0, 0};
+        scene_progress sp = {&o.progress, 0, 0, from};
         sim.progress.fn = o.progress.fn ? forward_progress : NULL;
         sim.progress.user = &sp;
         double done = 0;
         for (size_t i = 0; i < tri_prims; ++i) {
             size_t p = order[i];
             double weight = chain_weight(&job, p);
-            sp.base = done / total;
-            sp.span = weight / total;
+            sp.base = from + (to - from) * done / total;
+            sp.span = (to - from) * weight / total;
             done += weight;
             if (resurfi_make_primitive_chain(&job, p, &sim) != RESURF_OK)
                 break;
@@ -619,15 +683,13 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
             report.level_unreduced[kept + 1]++;
         else if (kept < count && w.joint_why[p] == 2)
             report.level_missed[kept + 1]++;
-        for (size_t k = 0; out_primitive_reports && k < count && k <= kept; ++k)
-            out_primitive_reports[p * count + k] = job.reports[p * count + k];
     }
     resurfi_free(alloc, order);
     resurfi_free(alloc, job.status);
     resurfi_free(alloc, job.errors);
     pthread_mutex_destroy(&job.lock);
     /* A cancel after the last progress call of the last primitive still cancels. */
-    if (st == RESURF_OK && resurfi_progress(&o.progress, RESURF_STAGE_FINISH, 1.0))
+    if (st == RESURF_OK && resurfi_progress(&o.progress, to < 1 ? RESURF_STAGE_SIMPLIFY : RESURF_STAGE_FINISH, to))
         st = resurfi_error(error, RESURF_ERR_CANCELLED, "cancelled");
 
     size_t levels = 1;
@@ -645,132 +707,86 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
 
     report.chains_seconds = seconds_now() - chains_start;
     double errors_start = seconds_now();
-    /* Phase 2: the errors in world space, of the whole scene and of each mesh with levels as its first node shows
-     * it, with the chains as they will be set. */
-    resurfi_scene_levels stand_in = {(resurf_mesh *const *const *)w.chains, w.kept};
-    resurf_compare_options co = resurf_compare_options_default();
-    sim.measure_samples = sample_budget;
-    co.samples = sim.measure_samples;
-    co.threads = sim.threads;
-    co.allocator = alloc;
-    /* Composed from the primitives' own two-sided reports when every instance is a similarity of its mesh (the
-     * usual case): their points already cover the scene by area at the same budget, so measuring the world again
-     * would only repeat them (on 2CylinderEngine that was 3 of the call's 4 CPU seconds). Else measured. */
-    double *areas = st == RESURF_OK ? resurfi_calloc(alloc, prim_count * (count + 1) + 1, sizeof *areas) : NULL;
-    resurfi_lod_levels_view view = {(resurf_mesh *const *const *)w.chains, w.kept, job.reports, areas, count};
-    int composed = areas && job.reports && sim.measure_samples > 0;
-    for (size_t p = 0; composed && p < prim_count; ++p) {
-        if (!scene->prims[p].mesh)
-            continue;
-        areas[p * (count + 1)] = resurfi_mesh_area(scene->prims[p].mesh);
-        for (size_t j = 0; w.chains[p] && j < w.kept[p]; ++j)
-            areas[p * (count + 1) + j + 1] = resurfi_mesh_area(w.chains[p][j]);
-    }
-    resurfi_bound_item *to_order = composed ? resurfi_alloc(alloc, w.list.count + 1, 2 * sizeof *to_order) : NULL;
-    resurfi_bound_item *from_order = to_order ? to_order + w.list.count + 1 : NULL;
-    composed = to_order && w.full->triangle_count > 0;
-    for (size_t k = 1; k < levels && composed && st == RESURF_OK; ++k) {
-        resurfi_world_errors e = {0, 0, 0, 0, 0, 0};
-        for (size_t i = 0; i < w.list.count && composed; ++i) {
-            resurfi_world_errors one = {0, 0, 0, 0, 0, 0};
-            composed = resurfi_add_instance(scene, &view, &w.list.items[i], k, &one);
-            to_order[i] = (resurfi_bound_item){one.to_full, i};
-            from_order[i] = (resurfi_bound_item){one.from_full, i};
-            e.to_sum += one.to_sum, e.to_area += one.to_area, e.from_sum += one.from_sum, e.from_area += one.from_area;
-        }
-        resurf_mesh *level = NULL;
-        if (composed)
-            st = resurfi_scene_flatten(scene, &w.list, k, &stand_in, alloc, &level, error);
-        if (composed && st == RESURF_OK && level->triangle_count > 0) {
-            qsort(to_order, w.list.count, sizeof *to_order, resurfi_larger_bound_first);
-            qsort(from_order, w.list.count, sizeof *from_order, resurfi_larger_bound_first);
-            double level_area = resurfi_mesh_area(level), full_area = resurfi_mesh_area(w.full);
-            double to_density = level_area > 0 ? (double)sample_budget / level_area : 0;
-            double from_density = full_area > 0 ? (double)sample_budget / full_area : 0;
-            /* Both sides with their facet points, as resurf_compare: the full detail's too, once per level (on the
-             * 871k-triangle dragon scan its 25% level's error rose from 2.15e-4 to the 2.56e-4 that compare finds;
-             * lod's time 11.4 -> 14.2 s for two levels), where the primitives' own reports, run again and again by
-             * the budget, measure M's vertices and samples only. */
-            st = resurfi_side_over_scene(scene, &w.list, k, &stand_in, to_order, to_density, 1, 1, w.full, threads,
-                                         alloc, &e.to_full, error);
-            if (st == RESURF_OK)
-                st = resurfi_side_over_scene(scene, &w.list, 0, NULL, from_order, from_density, 0x9e3779b9u, 1, level,
-                                             threads, alloc, &e.from_full, error);
-        } else if (composed && st == RESURF_OK) { /* a level without triangles: not measurable */
-            e.to_full = e.from_full = e.to_sum = NAN;
-        }
-        resurf_mesh_free(level);
-        double d = report.diagonal > 0 ? report.diagonal : NAN;
-        report.level_to_full_rel[k] = e.to_full / d;
-        report.level_from_full_rel[k] = e.from_full / d;
-        report.level_error[k] = fmax(e.to_full, e.from_full);
-        report.level_error_rel[k] = report.level_error[k] / d;
-        report.level_mean_rel[k] = 0.5 * (e.to_area > 0 ? e.to_sum / e.to_area : NAN) / d +
-                                   0.5 * (e.from_area > 0 ? e.from_sum / e.from_area : NAN) / d;
-    }
-    resurfi_free(alloc, to_order);
-    for (size_t k = 1; k < levels && st == RESURF_OK && sim.measure_samples > 0 && !composed; ++k) {
-        resurf_compare_report m;
-        st = resurfi_measure_level(scene, &w.list, w.full, k, &stand_in, &co, &m, error);
-        if (st != RESURF_OK)
-            break;
-        double d = m.diagonal > 0 ? m.diagonal : NAN;
-        report.level_error[k] = m.hausdorff;
-        report.level_error_rel[k] = m.hausdorff / d;
-        report.level_mean_rel[k] = m.mean / d;
-        report.level_to_full_rel[k] = m.test_to_ref_max / d;
-        report.level_from_full_rel[k] = m.ref_to_test_max / d;
-    }
-    size_t scene_triangles = w.full ? w.full->triangle_count : 0;
-    for (size_t m = 0; m < mesh_count && st == RESURF_OK && sim.measure_samples > 0 && o.set_screen_coverage; ++m) {
-        if (w.mesh_levels[m] < 2)
-            continue;
-        double *err = w.errors + m * (count + 1);
-        if (w.list.count == 1) { /* the scene is this one instance: its errors are the mesh's */
-            for (size_t k = 1; k < w.mesh_levels[m]; ++k)
-                err[k] = report.level_error_rel[k];
-            continue;
-        }
-        resurfi_scene_instance one = {.mesh = m};
-        for (size_t i = 0; i < w.list.count; ++i)
-            if (w.list.items[i].mesh == m) {
-                one = w.list.items[i];
-                break;
-            }
-        resurfi_scene_instances single = {1, &one};
-        resurf_mesh *full = NULL;
-        st = resurfi_scene_flatten(scene, &single, 0, NULL, alloc, &full, error);
-        int mesh_composed = composed && st == RESURF_OK;
-        for (size_t k = 1; k < w.mesh_levels[m] && mesh_composed; ++k) {
-            resurfi_world_errors e = {0, 0, 0, 0, 0, 0};
-            double d = resurf_mesh_bounds(full, NULL, NULL);
-            mesh_composed = resurfi_add_instance(scene, &view, &one, k, &e);
-            err[k] = d > 0 ? fmax(e.to_full, e.from_full) / d : NAN;
-        }
-        if (mesh_composed) {
-            resurf_mesh_free(full);
-            continue;
-        }
-        /* The scene's sample budget, spread by triangles (at least 1,000 samples a mesh). */
-        resurf_compare_options mco = co;
-        double share = st == RESURF_OK && scene_triangles ? (double)full->triangle_count / (double)scene_triangles
-                                                           : 1;
-        if (st == RESURF_OK)
-            mco.samples = (size_t)fmin((double)co.samples, fmax(1000.0, share * (double)co.samples));
-        for (size_t k = 1; k < w.mesh_levels[m] && st == RESURF_OK; ++k) {
-            resurf_compare_report r;
-            st = resurfi_measure_level(scene, &single, full, k, &stand_in, &mco, &r, error);
-            if (st == RESURF_OK)
-                err[k] = r.diagonal > 0 ? r.hausdorff / r.diagonal : NAN;
-        }
-        resurf_mesh_free(full);
-    }
-    if (st == RESURF_OK && resurfi_progress(&o.progress, RESURF_STAGE_FINISH, 1.0))
+    /* Phase 2: the errors in world space, with the chains as they will be set. */
+    report.levels = levels;
+    if (st == RESURF_OK)
+        st = resurfi_level_errors(scene, &w, job.reports, count, sample_budget, sim.threads, o.set_screen_coverage,
+                                  &report, error);
+    if (st == RESURF_OK && resurfi_progress(&o.progress, to < 1 ? RESURF_STAGE_SIMPLIFY : RESURF_STAGE_FINISH, to))
         st = resurfi_error(error, RESURF_ERR_CANCELLED, "cancelled");
 
-    resurfi_free(alloc, areas);
-    resurfi_free(alloc, job.reports);
     report.errors_seconds = seconds_now() - errors_start;
+    *wp = w;
+    *reports_out = job.reports;
+    *out = report;
+    return st;
+}
+
+/* The default (RESURF_RESTORE_MEASURED) against restore none's levels, measured in world space: see
+ * resurfi_keep_nearer_levels. */
+static int plain_pass_may_help(const resurf_simplify_options *sim)
+{
+    return sim->restore == RESURF_RESTORE_MEASURED && sim->measure_samples > 0;
+}
+
+/* Whether a level kept restored anything: else the default's levels are the plain ones already. */
+static int any_restored(const resurf_scene *scene, size_t count, const resurfi_lod_work *w,
+                        const resurf_simplify_report *reports)
+{
+    for (size_t p = 0; p < scene->prim_count; ++p)
+        for (size_t k = 0; w->chains[p] && k < w->kept[p] && k < count; ++k)
+            if (reports[p * count + k].restore_used != RESURF_RESTORE_NONE)
+                return 1;
+    return 0;
+}
+
+resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios, size_t count,
+                                      const resurf_simplify_options *simplify, const resurf_scene_lod_options *options,
+                                      resurf_scene_lod_report *out_report,
+                                      resurf_simplify_report *out_primitive_reports, resurf_error *error)
+{
+    if (!scene)
+        return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "scene is NULL");
+    RESURFI_CHECK_OPTIONS_ALLOC(simplify, resurf_simplify_options, error);
+    RESURFI_CHECK_OPTIONS(options, resurf_scene_lod_options, error);
+    const resurf_scene_lod_options o = options ? *options : resurf_scene_lod_options_default();
+    resurf_simplify_options sim = simplify ? *simplify : resurf_simplify_options_default();
+    resurf_status st = check_arguments(ratios, count, &sim, &o, error);
+    if (st != RESURF_OK)
+        return st;
+
+    const size_t prim_count = scene->prim_count, mesh_count = scene->mesh_count;
+    const resurf_allocator *alloc = &scene->alloc;
+    if (out_primitive_reports)
+        memset(out_primitive_reports, 0, prim_count * count * sizeof *out_primitive_reports);
+    int plain_pass = plain_pass_may_help(&sim);
+    resurfi_lod_work w;
+    resurf_simplify_report *reports = NULL;
+    resurf_scene_lod_report report;
+    st = make_levels(scene, ratios, count, sim, &o, 0, plain_pass ? 0.5 : 1, plain_pass, NULL, &w, &reports, &report,
+                     error);
+    if (st == RESURF_OK && plain_pass && any_restored(scene, count, &w, reports)) {
+        resurfi_lod_work plain;
+        resurf_simplify_report *plain_reports = NULL;
+        resurf_scene_lod_report plain_report;
+        resurf_simplify_options none = sim;
+        none.restore = RESURF_RESTORE_NONE;
+        st = make_levels(scene, ratios, count, none, &o, 0.5, 1, false, w.halves, &plain, &plain_reports,
+                         &plain_report, error);
+        resurfi_level_measure how = {sim.measure_samples, sim.threads, o.set_screen_coverage};
+        resurfi_lod_pass d = {&w, reports, &report}, n = {&plain, plain_reports, &plain_report};
+        if (st == RESURF_OK)
+            st = resurfi_keep_nearer_levels(scene, count, &how, &d, &n, error);
+        lod_work_free(&plain, prim_count, mesh_count, count);
+        resurfi_free(alloc, plain_reports);
+    } else if (st == RESURF_OK && plain_pass && resurfi_progress(&o.progress, RESURF_STAGE_FINISH, 1.0)) {
+        st = resurfi_error(error, RESURF_ERR_CANCELLED, "cancelled");
+    }
+    for (size_t p = 0; st == RESURF_OK && out_primitive_reports && p < prim_count; ++p)
+        for (size_t k = 0; resurfi_scene_rewritten(&scene->prims[p]) && k < count && k <= w.kept[p]; ++k)
+            out_primitive_reports[p * count + k] = reports[p * count + k];
+    resurfi_free(alloc, reports);
+
     /* Phase 3: the coverage of every mesh that has levels. */
     for (size_t m = 0; m < mesh_count && st == RESURF_OK && o.set_screen_coverage; ++m) {
         if (w.mesh_levels[m] < 2)

@@ -9,6 +9,13 @@
 
 #include "scene_internal.h"
 
+/* A chain's plain half (resurfi_plain_half) kept by the default pass for the plain pass (scene_nearer.c): made over
+ * the primitive, or over its mesh's primitives joined (scene_joint.c; kept at the mesh's first primitive). */
+typedef struct resurfi_chain_half {
+    resurfi_plain_half half;
+    bool joined;
+} resurfi_chain_half;
+
 /* Everything a call allocates, freed in one place. */
 typedef struct resurfi_lod_work {
     const resurf_allocator *alloc;
@@ -25,6 +32,7 @@ typedef struct resurfi_lod_work {
                                      (resurfi_scene_simplified_together) */
     size_t *joint_kept;           /* per primitive of such a mesh: 1 + the levels of the mesh that help, 0 = not yet */
     int *joint_why;               /* and why the chain ended there (resurfi_levels_that_help); then every primitive's */
+    resurfi_chain_half *halves;   /* per primitive, in the default pass that a plain pass follows, else NULL */
 } resurfi_lod_work;
 
 /* What every primitive's chain needs, and where it goes (indexed by primitive). */
@@ -43,8 +51,10 @@ typedef struct resurfi_chain_job {
     resurf_error *errors;
     pthread_mutex_t lock;            /* over done and the caller's progress, side by side */
     double done, total;
+    double from, span;               /* this pass's share of the caller's progress */
     atomic_int cancelled;
     const size_t *order;             /* side by side: the triangle primitives in the order they are taken */
+    resurfi_chain_half *from_halves; /* the plain pass: the default pass's halves, to start the chains from */
 } resurfi_chain_job;
 
 /* ---- the chains (scene_lods.c) ---- */
@@ -52,12 +62,39 @@ typedef struct resurfi_chain_job {
 double resurfi_mesh_area(const resurf_mesh *m);
 resurf_status resurfi_make_chain(const resurf_mesh *in, const double *ratios, size_t count, const double *bounds,
                                  const resurf_simplify_options *sim, resurf_mesh **chain,
-                                 resurf_simplify_report *reports, resurf_error *e);
+                                 resurf_simplify_report *reports, resurfi_plain_half *keep, resurfi_plain_half *from,
+                                 resurf_error *e);
+/* Where chain p (a primitive, or a mesh `joined` at its first primitive) keeps its plain half in this pass, or NULL
+ * (*st on failure); and the half the plain pass starts it from, or NULL. */
+resurfi_plain_half *resurfi_half_to_keep(resurfi_chain_job *job, size_t p, bool joined, resurf_status *st,
+                                         resurf_error *e);
+resurfi_plain_half *resurfi_half_to_use(resurfi_chain_job *job, size_t p, bool joined);
 size_t resurfi_levels_that_help(const resurf_mesh *in, const resurf_simplify_report *rep, const double *ratios,
                                 size_t count, int *why);
 void resurfi_run_options(const resurfi_chain_job *job, const resurf_simplify_options *base, size_t m, double scale,
                          double area, const uint8_t *lock, resurf_simplify_options *sim, double *bounds);
 resurf_status resurfi_make_primitive_chain(resurfi_chain_job *job, size_t p, const resurf_simplify_options *base);
+
+/* ---- the default's levels against the plain pass's (scene_nearer.c) ---- */
+
+/* One pass of a call's levels: its chains, its primitives' reports (count each), its report. */
+typedef struct resurfi_lod_pass {
+    resurfi_lod_work *w;
+    resurf_simplify_report *reports;
+    resurf_scene_lod_report *report;
+} resurfi_lod_pass;
+
+/* How the levels' world errors are measured (resurfi_level_errors). */
+typedef struct resurfi_level_measure {
+    size_t samples;
+    int threads;
+    bool per_mesh;
+} resurfi_level_measure;
+
+/* Level by level, the default pass's level where it is at least as near the input as the plain pass's, else the
+ * plain one: into *d (what `plain` then holds is the caller's to free). */
+resurf_status resurfi_keep_nearer_levels(const resurf_scene *scene, size_t count, const resurfi_level_measure *how,
+                                         resurfi_lod_pass *d, resurfi_lod_pass *plain, resurf_error *error);
 
 /* ---- shared borders (scene_borders.c) ---- */
 
@@ -111,5 +148,12 @@ resurf_status resurfi_measure_level(const resurf_scene *scene, const resurfi_sce
                                     const resurf_mesh *full, size_t level, const resurfi_scene_levels *levels,
                                     const resurf_compare_options *co, resurf_compare_report *out,
                                     resurf_error *error);
+/* The world errors of the levels as the chains stand (w->chains, w->kept, reports: count per primitive; levels up to
+ * report->levels): the whole scene's into report->level_* and, with per_mesh, each mesh's own into w->errors (as its
+ * first node shows it), `samples` a side. */
+resurf_status resurfi_level_errors(const resurf_scene *scene, resurfi_lod_work *w,
+                                   const resurf_simplify_report *reports, size_t count, size_t samples,
+                                   int threads_option, bool per_mesh, resurf_scene_lod_report *report,
+                                   resurf_error *error);
 
 #endif

@@ -91,7 +91,7 @@ START_TEST(services_belong_to_their_mesh)
     ck_assert_ptr_null(out);
     double ratios[] = {0.5};
     resurf_mesh *levels[1] = {NULL};
-    ck_assert_int_eq(resurfi_simplify_lods_until(b, ratios, 1, &o, NULL, sv, levels, NULL, &e),
+    ck_assert_int_eq(resurfi_simplify_lods_until(b, ratios, 1, &o, NULL, sv, NULL, levels, NULL, &e),
                      RESURF_ERR_INVALID_ARGUMENT);
     ck_assert_ptr_null(levels[0]);
     resurfi_simplify_services_free(sv);

@@ -283,6 +283,16 @@ resurf_status resurfi_simplify_run_to(resurfi_simplify_run *r, size_t target, re
     return st == RESURF_OK ? run_output(r, out, report, error) : st;
 }
 
+void resurfi_report_unmeasured(resurf_simplify_report *r)
+{
+    r->vertices = r->positions = 0;
+    r->max_distance = r->mean_distance = NAN;
+    r->max_distance_rel = r->mean_distance_rel = NAN;
+    r->result_to_input_max = r->result_to_input_mean = NAN;
+    r->input_to_result_max = r->input_to_result_mean = NAN;
+    r->uv_error_mean = r->uv_error_p95 = NAN;
+}
+
 /* The shared worker: one run of collapses, a snapshot at each target (non-increasing). With `ends`, a level for
  * which ends() says so after its collapses ends the chain there: it gets a report without a mesh (triangles, stop
  * and blocked_* as they were; vertices, positions 0; distances NaN, not measured) and no later level is made.
@@ -305,14 +315,9 @@ static resurf_status simplify_levels(const resurf_mesh *in, const resurf_simplif
             if (reports) {
                 reports[i] = s->rep;
                 reports[i].triangles = s->alive_tris;
-                reports[i].vertices = reports[i].positions = 0;
-                reports[i].max_distance = reports[i].mean_distance = NAN;
-                reports[i].max_distance_rel = reports[i].mean_distance_rel = NAN;
-                reports[i].result_to_input_max = reports[i].result_to_input_mean = NAN;
-                reports[i].input_to_result_max = reports[i].input_to_result_mean = NAN;
-                reports[i].uv_error_mean = reports[i].uv_error_p95 = NAN;
                 reports[i].restore_used = s->opt.restore;
                 reports[i].attached_sheets_used = sheets_used(&s->opt);
+                resurfi_report_unmeasured(&reports[i]);
             }
             break;
         }
@@ -395,11 +400,13 @@ static void keep_nearer(resurf_mesh **outs, resurf_simplify_report *reps, resurf
 }
 
 /* The levels made inline, then plain to the levels the first run made, the nearer of each kept (reps: count
- * entries; *attached: the input's attached sheets, from the first run). */
+ * entries; *attached: the input's attached sheets, from the first run; `half`, when given: a copy of the plain
+ * levels). */
 static resurf_status simplify_pair(const resurf_mesh *in, const resurf_simplify_options *options,
                                    const size_t *targets, size_t count, resurf_mesh **outs,
                                    resurf_simplify_report *reps, const resurfi_chain_end *ends,
-                                   const resurfi_simplify_services *services, size_t *attached, resurf_error *error)
+                                   const resurfi_simplify_services *services, size_t *attached,
+                                   resurfi_plain_half *half, resurf_error *error)
 {
     resurf_simplify_options o = *options;
     o.restore = RESURF_RESTORE_INLINE;
@@ -420,6 +427,10 @@ static resurf_status simplify_pair(const resurf_mesh *in, const resurf_simplify_
             o.progress = (resurf_progress){plain_run_progress, (void *)&caller};
         st = simplify_levels(in, &o, targets, made, plain, plain_reps, NULL, services, NULL, error);
     }
+    for (size_t i = 0; half && st == RESURF_OK && i < made && plain[i]; ++i) {
+        half->reports[i] = plain_reps[i];
+        st = resurf_mesh_clone(plain[i], &half->levels[i], error);
+    }
     if (st == RESURF_OK)
         keep_nearer(outs, reps, plain, plain_reps, targets, made, plain_is_better);
     for (size_t i = 0; plain && i < count; ++i)
@@ -434,7 +445,8 @@ static resurf_status simplify_pair(const resurf_mesh *in, const resurf_simplify_
 static resurf_status simplify_measured(const resurf_mesh *in, const resurf_simplify_options *options,
                                        const size_t *targets, size_t count, resurf_mesh **outs,
                                        resurf_simplify_report *reports, const resurfi_chain_end *ends,
-                                       const resurfi_simplify_services *services, resurf_error *error)
+                                       const resurfi_simplify_services *services, resurfi_plain_half *half,
+                                       resurf_error *error)
 {
     resurf_simplify_options o = *options;
     const resurf_allocator *alloc = resurfi_allocator_of(o.allocator, in);
@@ -449,7 +461,7 @@ static resurf_status simplify_measured(const resurf_mesh *in, const resurf_simpl
         services = own;
     size_t attached = 0, made = 0;
     if (st == RESURF_OK)
-        st = simplify_pair(in, &o, targets, count, outs, reps, ends, services, &attached, error);
+        st = simplify_pair(in, &o, targets, count, outs, reps, ends, services, &attached, half, error);
     while (st == RESURF_OK && made < count && outs[made])
         made++;
     if (st == RESURF_OK && made && attached && o.measure_samples && o.attached_sheets == RESURF_SHEETS_CHOOSE) {
@@ -457,7 +469,7 @@ static resurf_status simplify_measured(const resurf_mesh *in, const resurf_simpl
         o.attached_sheets = RESURF_SHEETS_KEEP;
         if (caller.fn)
             o.progress = (resurf_progress){plain_run_progress, (void *)&caller};
-        st = simplify_pair(in, &o, targets, made, alt, reps + count, NULL, services, NULL, error);
+        st = simplify_pair(in, &o, targets, made, alt, reps + count, NULL, services, NULL, NULL, error);
         if (st == RESURF_OK)
             keep_nearer(outs, reps, alt, reps + count, targets, made, kept_sheets_are_better);
     }
@@ -478,11 +490,12 @@ static resurf_status simplify_measured(const resurf_mesh *in, const resurf_simpl
 static resurf_status simplify_chain(const resurf_mesh *in, const resurf_simplify_options *options,
                                     const size_t *targets, size_t count, resurf_mesh **outs,
                                     resurf_simplify_report *reports, const resurfi_chain_end *ends,
-                                    const resurfi_simplify_services *services, resurf_error *error)
+                                    const resurfi_simplify_services *services, resurfi_plain_half *half,
+                                    resurf_error *error)
 {
     resurf_simplify_options o = options ? *options : resurf_simplify_options_default();
     if (o.restore == RESURF_RESTORE_MEASURED)
-        return simplify_measured(in, &o, targets, count, outs, reports, ends, services, error);
+        return simplify_measured(in, &o, targets, count, outs, reports, ends, services, half, error);
     return simplify_levels(in, &o, targets, count, outs, reports, ends, services, NULL, error);
 }
 
@@ -517,7 +530,7 @@ resurf_status resurfi_simplify_lent(const resurf_mesh *in, const resurf_simplify
     resurf_simplify_report rep;
     if (services && services->in != in)
         return resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "the services were built for another mesh");
-    st = simplify_chain(in, &o, &target, 1, out, out_report ? &rep : NULL, NULL, services, error);
+    st = simplify_chain(in, &o, &target, 1, out, out_report ? &rep : NULL, NULL, services, NULL, error);
     if (st == RESURF_OK && out_report)
         *out_report = rep;
     return st;
@@ -527,13 +540,14 @@ resurf_status resurf_simplify_lods(const resurf_mesh *in, const double *ratios, 
                                    const resurf_simplify_options *options, resurf_mesh **out_levels,
                                    resurf_simplify_report *out_reports, resurf_error *error)
 {
-    return resurfi_simplify_lods_until(in, ratios, count, options, NULL, NULL, out_levels, out_reports, error);
+    return resurfi_simplify_lods_until(in, ratios, count, options, NULL, NULL, NULL, out_levels, out_reports, error);
 }
 
 resurf_status resurfi_simplify_lods_until(const resurf_mesh *in, const double *ratios, size_t count,
                                           const resurf_simplify_options *options, const resurfi_chain_end *ends,
-                                          const resurfi_simplify_services *services, resurf_mesh **out_levels,
-                                          resurf_simplify_report *out_reports, resurf_error *error)
+                                          const resurfi_simplify_services *services, resurfi_plain_half *half,
+                                          resurf_mesh **out_levels, resurf_simplify_report *out_reports,
+                                          resurf_error *error)
 {
     resurfi_clear_error(error);
     if (!out_levels || (count && !ratios))
@@ -559,7 +573,7 @@ resurf_status resurfi_simplify_lods_until(const resurf_mesh *in, const double *r
     }
     st = services && services->in != in
              ? resurfi_error(error, RESURF_ERR_INVALID_ARGUMENT, "the services were built for another mesh")
-             : simplify_chain(in, options, targets, count, out_levels, out_reports, ends, services, error);
+             : simplify_chain(in, options, targets, count, out_levels, out_reports, ends, services, half, error);
     resurfi_free(alloc, targets);
     return st;
 }

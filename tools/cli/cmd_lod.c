@@ -404,8 +404,9 @@ int cmd_lod(int argc, char **argv)
                 cli_json_number(stdout, lod_report.level_to_full_rel[k]);
                 printf(", \"from_full_rel\": ");
                 cli_json_number(stdout, lod_report.level_from_full_rel[k]);
-                printf(", \"unreduced\": %zu, \"missed\": %zu, \"bytes\": %zu}", lod_report.level_unreduced[k],
-                       lod_report.level_missed[k], report.level_bytes[k]);
+                printf(", \"unreduced\": %zu, \"missed\": %zu, \"plain\": %s, \"bytes\": %zu}",
+                       lod_report.level_unreduced[k], lod_report.level_missed[k],
+                       lod_report.level_plain[k] ? "true" : "false", report.level_bytes[k]);
             }
             printf("], \"diagonal\": ");
             cli_json_number(stdout, lod_report.diagonal);

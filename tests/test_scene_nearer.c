@@ -1,0 +1,115 @@
+/* Tests of src/scene_nearer.c: with the default restoring (RESURF_RESTORE_MEASURED), a scene's levels are never
+ * farther from the input than the levels `restore none` makes, in the two-sided maximum or the mean.
+ * The truths: the same scene made with RESURF_RESTORE_NONE, and resurf_compare of each level's world mesh against
+ * level 0 with samples of its own (not the call's report). The scene: the Draco copy of 2CylinderEngine from
+ * assimp-testmodels, 29 parts whose budget moves triangles differently in the two modes (restored, its 25% level
+ * is nearer the input than the plain one; its 10% level farther), so that its levels come from both. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "scene_internal.h"
+#include "testutil.h"
+
+#define ENGINE "/usr/share/assimp/models/glTF2/draco/2CylinderEngine.gltf"
+#define LEVELS 2
+
+typedef struct made {
+    resurf_scene_lod_report report;
+    double hausdorff[LEVELS + 1], mean[LEVELS + 1];
+    size_t triangles[LEVELS + 1];
+} made;
+
+/* Every mesh's levels have fewer triangles than the level before, and every primitive's. */
+static void assert_chains(const resurf_scene *s)
+{
+    for (size_t m = 0; m < s->mesh_count; ++m) {
+        size_t levels = 0;
+        for (size_t p = s->mesh_first[m]; p < s->mesh_first[m + 1]; ++p) {
+            const resurfi_scene_prim *prim = &s->prims[p];
+            levels = prim->lod_count > levels ? prim->lod_count : levels;
+            for (size_t k = 0; k < prim->lod_count; ++k)
+                ck_assert_uint_lt(prim->lods[k]->triangle_count,
+                                  k ? prim->lods[k - 1]->triangle_count : prim->mesh->triangle_count);
+        }
+        size_t before = SIZE_MAX;
+        for (size_t k = 0; k <= levels; ++k) {
+            size_t t = 0;
+            for (size_t p = s->mesh_first[m]; p < s->mesh_first[m + 1]; ++p) {
+                const resurfi_scene_prim *prim = &s->prims[p];
+                size_t j = k < prim->lod_count ? k : prim->lod_count;
+                t += j ? prim->lods[j - 1]->triangle_count : prim->mesh ? prim->mesh->triangle_count : 0;
+            }
+            ck_assert_msg(t < before, "mesh %zu: level %zu has %zu triangles, the one before %zu", m, k, t, before);
+            before = t;
+        }
+    }
+}
+
+static void make(resurf_restore_mode mode, made *out)
+{
+    resurf_scene *s = NULL;
+    resurf_error e;
+    ck_assert_msg(resurf_scene_load(ENGINE, NULL, &s, &e) == RESURF_OK, "%s (assimp-testmodels: tools/setup.sh)",
+                  e.message);
+    const double ratios[LEVELS] = {0.25, 0.1};
+    resurf_simplify_options so = resurf_simplify_options_default();
+    so.restore = mode;
+    if (tu_light()) /* under a sanitizer or valgrind: a fifth of the samples (the same paths) */
+        so.measure_samples /= 5;
+    ck_assert_msg(resurf_scene_build_lods(s, ratios, LEVELS, &so, NULL, &out->report, NULL, &e) == RESURF_OK, "%s",
+                  e.message);
+    ck_assert_uint_eq(out->report.levels, LEVELS + 1);
+    assert_chains(s);
+    resurf_mesh *full = NULL;
+    ck_assert_int_eq(resurf_scene_world_mesh(s, 0, NULL, &full, NULL), RESURF_OK);
+    for (int k = 1; k <= LEVELS; ++k) {
+        resurf_mesh *level = NULL;
+        ck_assert_int_eq(resurf_scene_world_mesh(s, k, NULL, &level, NULL), RESURF_OK);
+        resurf_compare_options co = resurf_compare_options_default();
+        co.samples = 200000;
+        resurf_compare_report c;
+        ck_assert_int_eq(resurf_compare(full, level, &co, &c, NULL, NULL), RESURF_OK);
+        out->hausdorff[k] = c.hausdorff, out->mean[k] = c.mean, out->triangles[k] = level->triangle_count;
+        resurf_mesh_free(level);
+    }
+    resurf_mesh_free(full);
+    resurf_scene_free(s);
+}
+
+START_TEST(scene_levels_never_farther_than_plain)
+{
+    made d, n;
+    make(RESURF_RESTORE_MEASURED, &d);
+    make(RESURF_RESTORE_NONE, &n);
+    int nearer = 0, plain = 0;
+    for (int k = 1; k <= LEVELS; ++k) {
+        printf("level %d: default %zu triangles, H %.4e, mean %.4e (plain: %d); none %zu, H %.4e, mean %.4e\n", k,
+               d.triangles[k], d.hausdorff[k], d.mean[k], d.report.level_plain[k], n.triangles[k], n.hausdorff[k],
+               n.mean[k]);
+        /* By the call's own measure, exactly; by an independent one, within its sampling noise. */
+        ck_assert_double_le(d.report.level_error_rel[k], n.report.level_error_rel[k]);
+        ck_assert_double_le(d.report.level_mean_rel[k], n.report.level_mean_rel[k]);
+        ck_assert_double_le(d.hausdorff[k], 1.02 * n.hausdorff[k]);
+        ck_assert_double_le(d.mean[k], 1.02 * n.mean[k]);
+        nearer += d.hausdorff[k] <= n.hausdorff[k] && d.mean[k] < 0.95 * n.mean[k];
+        plain += d.report.level_plain[k];
+    }
+    /* Restoration's gain is kept where it is one, and the plain level taken where it is not. */
+    ck_assert_int_ge(nearer, 1);
+    ck_assert_int_ge(plain, 1);
+}
+END_TEST
+
+static Suite *make_suite(void)
+{
+    Suite *s = suite_create("scene_nearer");
+    TCase *tc = tcase_create("core");
+    tcase_set_timeout(tc, 600);
+    tcase_add_test(tc, scene_levels_never_farther_than_plain);
+    suite_add_tcase(s, tc);
+    return s;
+}
+
+RESURF_TEST_MAIN()
