@@ -33,6 +33,7 @@ typedef struct resurfi_lod_work {
     size_t *joint_kept;           /* per primitive of such a mesh: 1 + the levels of the mesh that help, 0 = not yet */
     int *joint_why;               /* and why the chain ended there (resurfi_levels_that_help); then every primitive's */
     resurfi_chain_half *halves;   /* per primitive, in the default pass that a plain pass follows, else NULL */
+    size_t budget_units;          /* the units the scene budget spent triangles between (0: no budget) */
 } resurfi_lod_work;
 
 /* What every primitive's chain needs, and where it goes (indexed by primitive). */
