@@ -486,13 +486,88 @@ static resurf_status check_arguments(const double *ratios, size_t count, const r
     return RESURF_OK;
 }
 
+/* A restored level whose primitive's own measure finds it nearer than its plain half by more than this, in both the
+ * maximum and the mean, is taken as the world measure would take it (that measure sees M's facet points too, and on
+ * the 92 converted and glTF2 assets it chose the plain level only where the two were within 5%, or where the
+ * primitive's choice had refused the plain level for a few more triangles). */
+#define CLEARLY_NEARER 0.9
+
+/* Whether the plain pass may change a level: not where every kept level is the plain one already, nor where no
+ * budget moved triangles between units (each level is then its chain's, the nearer of its pair) and every level
+ * that is not the plain one is clearly nearer than it by the primitive's own measure. */
+static int plain_pass_needed(const resurf_scene *scene, size_t count, const resurfi_lod_work *w,
+                             const resurf_simplify_report *reports)
+{
+    for (size_t p = 0; p < scene->prim_count; ++p) {
+        const resurfi_chain_half *h = &w->halves[p];
+        if (!h->half.levels) /* a mesh simplified together keeps its half at its first primitive */
+            h = &w->halves[scene->mesh_first[scene->prims[p].info.mesh]];
+        for (size_t k = 0; w->chains[p] && k < w->kept[p] && k < count; ++k) {
+            const resurf_simplify_report *r = &reports[p * count + k];
+            if (r->restore_used == RESURF_RESTORE_NONE && r->attached_sheets_used != RESURF_SHEETS_KEEP)
+                continue;
+            if (w->budget_units > 1 || !h->half.levels || !h->half.levels[k])
+                return 1;
+            const resurf_simplify_report *plain = &h->half.reports[k];
+            if (!(r->max_distance <= CLEARLY_NEARER * plain->max_distance &&
+                  r->mean_distance <= CLEARLY_NEARER * plain->mean_distance))
+                return 1;
+        }
+    }
+    return 0;
+}
+
+/* The plain pass (scene_nearer.c) on a thread of its own, started by the default pass once its chains are made and
+ * run beside that pass's budget and world errors: it reads the scene and takes the default's plain halves, which
+ * that pass no longer touches, and nothing else they share is written. Its progress only asks whether the call was
+ * cancelled; the call's own progress is the default pass's. */
+typedef struct plain_pass {
+    resurf_scene *scene;
+    const double *ratios;
+    size_t count;
+    resurf_simplify_options sim;
+    resurf_scene_lod_options o;
+    resurfi_chain_half *halves;
+    resurfi_lod_work w;
+    resurf_simplify_report *reports;
+    resurf_scene_lod_report report;
+    resurf_status st;
+    resurf_error error;
+    atomic_int cancel;
+    pthread_t thread;
+    bool needed, started, ran;
+} plain_pass;
+
+static resurf_status make_levels(resurf_scene *scene, const double *ratios, size_t count, resurf_simplify_options sim,
+                                 const resurf_scene_lod_options *options, double from, double to, bool keep_halves,
+                                 resurfi_chain_half *from_halves, plain_pass *plain, resurfi_lod_work *wp,
+                                 resurf_simplify_report **reports_out, resurf_scene_lod_report *out,
+                                 resurf_error *error);
+
+static bool plain_cancelled(void *user, resurf_stage stage, double fraction)
+{
+    (void)stage, (void)fraction;
+    return atomic_load(&((plain_pass *)user)->cancel) != 0;
+}
+
+static void *plain_run(void *arg)
+{
+    plain_pass *pp = arg;
+    pp->o.progress = (resurf_progress){plain_cancelled, pp};
+    pp->st = make_levels(pp->scene, pp->ratios, pp->count, pp->sim, &pp->o, 0, 1, false, pp->halves, NULL, &pp->w,
+                         &pp->reports, &pp->report, &pp->error);
+    pp->ran = true;
+    return NULL;
+}
+
 /* One pass of the levels with sim's restoring mode (phases 1 and 2): every primitive's chain, the scene's budget,
  * the world errors. *wp and *reports_out (count per primitive) are the caller's to free, also after a failure.
- * The caller's progress runs from `from` to `to`. The default pass that a plain one follows keeps its chains' plain
- * halves (keep_halves); the plain pass starts its chains from them (from_halves). */
+ * The caller's progress runs from `from` to `to`. The default pass that a plain one may follow keeps its chains'
+ * plain halves (keep_halves) and starts `plain` beside its budget where that pass may change a level; the plain pass
+ * starts its chains from them (from_halves). */
 static resurf_status make_levels(resurf_scene *scene, const double *ratios, size_t count, resurf_simplify_options sim,
-                                 const resurf_scene_lod_options *options, double from, double to,
-                                 bool keep_halves, resurfi_chain_half *from_halves, resurfi_lod_work *wp,
+                                 const resurf_scene_lod_options *options, double from, double to, bool keep_halves,
+                                 resurfi_chain_half *from_halves, plain_pass *plain, resurfi_lod_work *wp,
                                  resurf_simplify_report **reports_out, resurf_scene_lod_report *out,
                                  resurf_error *error)
 {
@@ -669,6 +744,10 @@ static resurf_status make_levels(resurf_scene *scene, const double *ratios, size
         }
     }
     w.budget_units = budget ? budgeted : 0;
+    if (st == RESURF_OK && plain && (plain->needed = plain_pass_needed(scene, count, &w, job.reports))) {
+        plain->halves = w.halves;
+        plain->started = pthread_create(&plain->thread, NULL, plain_run, plain) == 0; /* else run after */
+    }
     if (st == RESURF_OK && budget)
         st = resurfi_scene_budget(budget, budgeted, ratios, count, alloc, error);
     for (size_t i = 0; i < budgeted; ++i)
@@ -730,37 +809,6 @@ static int plain_pass_may_help(const resurf_simplify_options *sim)
     return sim->restore == RESURF_RESTORE_MEASURED && sim->measure_samples > 0;
 }
 
-/* A restored level whose primitive's own measure finds it nearer than its plain half by more than this, in both the
- * maximum and the mean, is taken as the world measure would take it (that measure sees M's facet points too, and on
- * the 92 converted and glTF2 assets it chose the plain level only where the two were within 5%, or where the
- * primitive's choice had refused the plain level for a few more triangles). */
-#define CLEARLY_NEARER 0.9
-
-/* Whether the plain pass may change a level: not where every kept level is the plain one already, nor where no
- * budget moved triangles between units (each level is then its chain's, the nearer of its pair) and every level
- * that is not the plain one is clearly nearer than it by the primitive's own measure. */
-static int plain_pass_needed(const resurf_scene *scene, size_t count, const resurfi_lod_work *w,
-                             const resurf_simplify_report *reports)
-{
-    for (size_t p = 0; p < scene->prim_count; ++p) {
-        const resurfi_chain_half *h = &w->halves[p];
-        if (!h->half.levels) /* a mesh simplified together keeps its half at its first primitive */
-            h = &w->halves[scene->mesh_first[scene->prims[p].info.mesh]];
-        for (size_t k = 0; w->chains[p] && k < w->kept[p] && k < count; ++k) {
-            const resurf_simplify_report *r = &reports[p * count + k];
-            if (r->restore_used == RESURF_RESTORE_NONE && r->attached_sheets_used != RESURF_SHEETS_KEEP)
-                continue;
-            if (w->budget_units > 1 || !h->half.levels || !h->half.levels[k])
-                return 1;
-            const resurf_simplify_report *plain = &h->half.reports[k];
-            if (!(r->max_distance <= CLEARLY_NEARER * plain->max_distance &&
-                  r->mean_distance <= CLEARLY_NEARER * plain->mean_distance))
-                return 1;
-        }
-    }
-    return 0;
-}
-
 resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios, size_t count,
                                       const resurf_simplify_options *simplify, const resurf_scene_lod_options *options,
                                       resurf_scene_lod_report *out_report,
@@ -780,29 +828,42 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
     const resurf_allocator *alloc = &scene->alloc;
     if (out_primitive_reports)
         memset(out_primitive_reports, 0, prim_count * count * sizeof *out_primitive_reports);
-    int plain_pass = plain_pass_may_help(&sim);
+    /* With the default restoring, the plain pass beside this one (scene_nearer.c), on one thread. */
+    plain_pass pp = {.scene = scene, .ratios = ratios, .count = count, .sim = sim, .o = o};
+    pp.sim.restore = RESURF_RESTORE_NONE;
+    pp.sim.threads = 1;
+    pp.sim.thread_pool = NULL;
+    pp.sim.progress.fn = NULL;
+    atomic_init(&pp.cancel, 0);
+    const bool plain_possible = plain_pass_may_help(&sim);
     resurfi_lod_work w;
     resurf_simplify_report *reports = NULL;
     resurf_scene_lod_report report;
-    st = make_levels(scene, ratios, count, sim, &o, 0, plain_pass ? 0.5 : 1, plain_pass, NULL, &w, &reports, &report,
-                     error);
-    if (st == RESURF_OK && plain_pass && plain_pass_needed(scene, count, &w, reports)) {
-        resurfi_lod_work plain;
-        resurf_simplify_report *plain_reports = NULL;
-        resurf_scene_lod_report plain_report;
-        resurf_simplify_options none = sim;
-        none.restore = RESURF_RESTORE_NONE;
-        st = make_levels(scene, ratios, count, none, &o, 0.5, 1, false, w.halves, &plain, &plain_reports,
-                         &plain_report, error);
-        resurfi_level_measure how = {sim.measure_samples, sim.threads, o.set_screen_coverage};
-        resurfi_lod_pass d = {&w, reports, &report}, n = {&plain, plain_reports, &plain_report};
-        if (st == RESURF_OK)
-            st = resurfi_keep_nearer_levels(scene, count, &how, &d, &n, error);
-        lod_work_free(&plain, prim_count, mesh_count, count);
-        resurfi_free(alloc, plain_reports);
-    } else if (st == RESURF_OK && plain_pass && resurfi_progress(&o.progress, RESURF_STAGE_FINISH, 1.0)) {
-        st = resurfi_error(error, RESURF_ERR_CANCELLED, "cancelled");
+    st = make_levels(scene, ratios, count, sim, &o, 0, plain_possible ? 0.95 : 1, plain_possible, NULL,
+                     plain_possible ? &pp : NULL, &w, &reports, &report, error);
+    if (pp.started) {
+        if (st != RESURF_OK)
+            atomic_store(&pp.cancel, 1);
+        pthread_join(pp.thread, NULL);
+    } else if (st == RESURF_OK && pp.needed) {
+        plain_run(&pp);
     }
+    if (st == RESURF_OK && pp.ran && pp.st != RESURF_OK) {
+        st = pp.st;
+        if (error)
+            *error = pp.error;
+    }
+    if (st == RESURF_OK && pp.ran) {
+        resurfi_level_measure how = {sim.measure_samples, sim.threads, o.set_screen_coverage};
+        resurfi_lod_pass d = {&w, reports, &report}, n = {&pp.w, pp.reports, &pp.report};
+        st = resurfi_keep_nearer_levels(scene, count, &how, &d, &n, error);
+    }
+    if (pp.ran) {
+        lod_work_free(&pp.w, prim_count, mesh_count, count);
+        resurfi_free(alloc, pp.reports);
+    }
+    if (st == RESURF_OK && plain_possible && resurfi_progress(&o.progress, RESURF_STAGE_FINISH, 1.0))
+        st = resurfi_error(error, RESURF_ERR_CANCELLED, "cancelled");
     for (size_t p = 0; st == RESURF_OK && out_primitive_reports && p < prim_count; ++p)
         for (size_t k = 0; resurfi_scene_rewritten(&scene->prims[p]) && k < count && k <= w.kept[p]; ++k)
             out_primitive_reports[p * count + k] = reports[p * count + k];

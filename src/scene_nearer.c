@@ -21,19 +21,22 @@
 
 #include "scene_lods_internal.h"
 
-/* The measured figures are sampled, and their noise is about a percent (Collada_human's 25% level: the default's
- * mean 0.9996x the plain one's here, 1.001x by bench-assets' own samples): the default's level stays only where it
- * is as near as the plain one or nearer by more than that. */
-#define NEARER 0.99
+/* The measured figures are sampled: the maximum is the largest distance the points found, which can miss the
+ * farthest point by a few percent, and the mean's noise is under a percent. The default's level stays only where it
+ * is as near as the plain one or nearer by more than that: ClearCoatTest's 25% level measured 0.963x the plain
+ * one's maximum here and 1.0135x with 2M samples a side; Collada_human's mean 0.9996x here, 1.001x with the
+ * benchmark's own samples. */
+#define NEARER_MAX 0.95
+#define NEARER_MEAN 0.99
 
-static int not_farther(double mine, double plain) { return mine == plain || mine <= NEARER * plain; }
+static int not_farther(double mine, double plain, double by) { return mine == plain || mine <= by * plain; }
 
 static int level_not_farther(const resurf_scene_lod_report *r, const resurf_scene_lod_report *plain, size_t k)
 {
     if (k >= plain->levels || !isfinite(plain->level_error_rel[k]) || !isfinite(plain->level_mean_rel[k]))
         return 1;
-    return not_farther(r->level_error_rel[k], plain->level_error_rel[k]) &&
-           not_farther(r->level_mean_rel[k], plain->level_mean_rel[k]);
+    return not_farther(r->level_error_rel[k], plain->level_error_rel[k], NEARER_MAX) &&
+           not_farther(r->level_mean_rel[k], plain->level_mean_rel[k], NEARER_MEAN);
 }
 
 /* Primitive p's level k (>= 1) in a pass: its last level up to k (index in its chain: *at), NULL for its input. */

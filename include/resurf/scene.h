@@ -294,16 +294,18 @@ typedef struct resurf_scene_lod_report {
  * never culled (0). An unmeasured error counts as 0, so c_k = 1. (Before 0.3.0 e_k was the largest error of the
  * mesh's primitives each against its own diagonal: a mesh of many small primitives reported several times its
  * true error, 14% against 3.1% measured on 2CylinderEngine.)
- * The default restoring, RESURF_RESTORE_MEASURED, makes each primitive's level the nearer of its restored and
- * plain ones by the primitive's own measure; the scene as a whole could still end farther from its input than the
- * scene RESURF_RESTORE_NONE makes (the budget spends triangles by errors that differ between the modes, and the world
- * measure sees more than a primitive's own). So, with measure_samples, the levels are also made as RESTORE_NONE
- * makes them (the plain halves of the chains made already are reused: the budget's runs are the new work), and each
- * scene level is the default's only where it is as near the input as the plain one in both the two-sided maximum
- * and the mean, or nearer by more than 1%; else the plain level (level_plain[k]). A primitive whose levels from the
- * two would not form a chain takes its plain level in place of the default's before the break, and the levels are
- * then measured again; where one is still farther than the plain one, the plain levels are taken whole. Cost: the
- * call's time about 1.75x on 2CylinderEngine (29 parts), 1.3x on one mesh (the 48k dragon).
+ * The default restoring, RESURF_RESTORE_MEASURED, makes each primitive's level the nearer of its restored and plain
+ * ones by the primitive's own measure; the scene as a whole could still end farther from its input than the scene
+ * RESURF_RESTORE_NONE makes (the budget spends triangles by errors that differ between the modes, and the world
+ * measure sees more than a primitive's own). So, with measure_samples, the levels are also made as RESTORE_NONE makes
+ * them, on a thread of their own beside the budget (the plain halves of the chains made already are reused: the
+ * budget's runs are the new work), and each scene level is the default's only where it is as near the input as the
+ * plain one in both the two-sided maximum and the mean, or nearer by more than the sampling's noise (5% in the
+ * maximum, 1% in the mean); else the plain level (level_plain[k]). A primitive whose levels from the two would not
+ * form a chain takes its plain level in place of the default's before the break, and the levels are then measured
+ * again; where one is still farther than the plain one, the plain levels are taken whole. The plain pass is skipped
+ * where it cannot change a level: every kept level is the plain one, or there is one unit and no budget and every
+ * restored level is over 10% nearer than its plain one by the primitive's own measure.
  * - scene: modified only when the call succeeds; on error or cancel it is exactly as it was.
  * - simplify: NULL = resurf_simplify_options_default(); target_triangles and target_ratio are ignored, its
  *   progress and vertex_lock are not used (options->progress and keep_shared_borders are); its max_error / max_error_rel, in each primitive's own units,
