@@ -746,7 +746,10 @@ static resurf_status make_levels(resurf_scene *scene, const double *ratios, size
     w.budget_units = budget ? budgeted : 0;
     if (st == RESURF_OK && plain && (plain->needed = plain_pass_needed(scene, count, &w, job.reports))) {
         plain->halves = w.halves;
-        plain->started = pthread_create(&plain->thread, NULL, plain_run, plain) == 0; /* else run after */
+        /* Beside this pass only where the caller gave the call threads of its own: one thread, or a host's pool,
+           runs it after. */
+        if (resurfi_thread_count(sim.threads) > 1 && !sim.thread_pool)
+            plain->started = pthread_create(&plain->thread, NULL, plain_run, plain) == 0; /* else run after */
     }
     if (st == RESURF_OK && budget)
         st = resurfi_scene_budget(budget, budgeted, ratios, count, alloc, error);

@@ -241,10 +241,7 @@ START_TEST(scene_lods_equal_per_primitive_chains)
         }
         resurf_mesh *wk = NULL;
         ck_assert_int_eq(resurf_scene_world_mesh(s, k, NULL, &wk, NULL), RESURF_OK);
-        resurf_compare_options co = resurf_compare_options_default();
-        co.samples = 200000;
-        resurf_compare_report mt;
-        ck_assert_int_eq(resurf_compare(w0, wk, &co, &mt, NULL, NULL), RESURF_OK);
+        resurf_compare_report mt = tu_compare(w0, wk, 200000);
         ck_assert_msg(fabs(r.level_error[k] - mt.hausdorff) <= 0.2 * mt.hausdorff, "level %d: %g, dense %g", k,
                       r.level_error[k], mt.hausdorff);
         ck_assert(r.level_error_rel[k] == r.level_error[k] / r.diagonal);

@@ -67,10 +67,7 @@ static void make(resurf_restore_mode mode, made *out)
     for (int k = 1; k <= LEVELS; ++k) {
         resurf_mesh *level = NULL;
         ck_assert_int_eq(resurf_scene_world_mesh(s, k, NULL, &level, NULL), RESURF_OK);
-        resurf_compare_options co = resurf_compare_options_default();
-        co.samples = 200000;
-        resurf_compare_report c;
-        ck_assert_int_eq(resurf_compare(full, level, &co, &c, NULL, NULL), RESURF_OK);
+        resurf_compare_report c = tu_compare(full, level, 200000);
         out->hausdorff[k] = c.hausdorff, out->mean[k] = c.mean, out->triangles[k] = level->triangle_count;
         resurf_mesh_free(level);
     }
