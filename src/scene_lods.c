@@ -581,7 +581,7 @@ static resurf_status make_levels(resurf_scene *scene, const double *ratios, size
      * simplify->allocator when it is set, else from the primitive's mesh, which is the scene's). */
     resurfi_lod_work w = {.alloc = &scene->alloc};
     const resurf_allocator *alloc = w.alloc;
-    w.chains = resurfi_calloc(alloc, prim_count, sizeof *w.chains);
+    w.chains = resurfi_calloc(alloc, prim_count + 1, sizeof *w.chains);
     w.kept = resurfi_calloc(alloc, prim_count + 1, sizeof *w.kept);
     w.mesh_scale = resurfi_calloc(alloc, mesh_count + 1, sizeof *w.mesh_scale);
     w.mesh_levels = resurfi_calloc(alloc, mesh_count + 1, sizeof *w.mesh_levels);
@@ -591,9 +591,10 @@ static resurf_status make_levels(resurf_scene *scene, const double *ratios, size
     w.together = resurfi_calloc(alloc, mesh_count + 1, sizeof *w.together);
     w.joint_kept = resurfi_calloc(alloc, prim_count + 1, sizeof *w.joint_kept);
     w.joint_why = resurfi_calloc(alloc, prim_count + 1, sizeof *w.joint_why);
-    if (keep_halves && !(w.halves = resurfi_calloc(alloc, prim_count + 1, sizeof *w.halves)))
-        st = resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory building levels of detail");
-    if (!w.locks || !w.together || !w.joint_kept || !w.joint_why || !w.kept || !w.mesh_scale || !w.mesh_levels || !w.errors || !w.coverage ||
+    if (keep_halves)
+        w.halves = resurfi_calloc(alloc, prim_count + 1, sizeof *w.halves);
+    if (!w.chains || !w.locks || !w.together || !w.joint_kept || !w.joint_why || !w.kept || !w.mesh_scale ||
+        !w.mesh_levels || !w.errors || !w.coverage || (keep_halves && !w.halves) ||
         resurfi_scene_gather(scene, alloc, &w.list) != RESURF_OK)
         st = resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory building levels of detail");
     /* The levels measured are the ones made here, not those an MSFT_lod extension of the input names. */
@@ -624,7 +625,7 @@ static resurf_status make_levels(resurf_scene *scene, const double *ratios, size
 
     /* The work of each primitive is taken as proportional to its triangles, for the progress fraction. */
     double total = 0, scene_area = 0;
-    for (size_t p = 0; p < prim_count; ++p)
+    for (size_t p = 0; st == RESURF_OK && p < prim_count; ++p)
         if (resurfi_scene_rewritten(&scene->prims[p])) {
             const resurfi_scene_prim *prim = &scene->prims[p];
             double scale = w.mesh_scale[prim->info.mesh] > 0 ? w.mesh_scale[prim->info.mesh] : 1;
@@ -776,10 +777,9 @@ static resurf_status make_levels(resurf_scene *scene, const double *ratios, size
         st = resurfi_error(error, RESURF_ERR_CANCELLED, "cancelled");
 
     size_t levels = 1;
-    for (size_t m = 0; m < mesh_count; ++m)
+    for (size_t m = 0; st == RESURF_OK && m < mesh_count; ++m)
         levels = w.mesh_levels[m] > levels ? w.mesh_levels[m] : levels;
-    report.levels = levels;
-    for (size_t p = 0; p < prim_count; ++p) {
+    for (size_t p = 0; st == RESURF_OK && p < prim_count; ++p) {
         const resurfi_scene_prim *prim = &scene->prims[p];
         for (size_t k = 0; prim->mesh && st == RESURF_OK && k < levels; ++k) {
             size_t e = k < w.kept[p] ? k : w.kept[p];

@@ -426,15 +426,16 @@ typedef resurf_status (*call_fn)(void *ctx);
 /* Runs the call once to count its allocations (n), then for k = 1..n with the k-th allocation failing: every run
  * either fails with RESURF_ERR_OUT_OF_MEMORY or (when the failed block was optional, a shrinking reallocate) still
  * succeeds; either way every block comes back and `intact` (the caller's data) holds. Returns n. */
-static size_t inject_failures(call_fn call, void *ctx, int (*intact)(void *ctx), size_t *out_failed_runs)
+static size_t inject_failures_every(call_fn call, void *ctx, int (*intact)(void *ctx), size_t runs,
+                                    size_t *out_failed_runs)
 {
     counter_reset(0);
     ck_assert_int_eq(call(ctx), RESURF_OK);
     assert_nothing_live();
     size_t n = call_allocations;
     ck_assert_uint_gt(n, 0);
-    size_t failed_runs = 0;
-    for (size_t k = 1; k <= n; ++k) {
+    size_t failed_runs = 0, step = runs && n > runs ? n / runs : 1;
+    for (size_t k = 1; k <= n; k += step) {
         counter_reset(k);
         resurf_status st = call(ctx);
         if (st != RESURF_OK) {
@@ -448,6 +449,12 @@ static size_t inject_failures(call_fn call, void *ctx, int (*intact)(void *ctx),
     }
     *out_failed_runs = failed_runs;
     return n;
+}
+
+/* Every allocation failing in turn. */
+static size_t inject_failures(call_fn call, void *ctx, int (*intact)(void *ctx), size_t *out_failed_runs)
+{
+    return inject_failures_every(call, ctx, intact, 0, out_failed_runs);
 }
 
 typedef struct restore_case {
@@ -802,6 +809,90 @@ START_TEST(alloc_scene_load_failures)
 }
 END_TEST
 
+/* Two spheres of about 200 triangles as two meshes of one glTF (positions, then uint32 indices, per sphere). */
+static char *write_two_spheres(const char *dir)
+{
+    resurf_mesh *m[2] = {shape_mesh(SHAPE_SPHERE, 200, 0.2, 7, 0), shape_mesh(SHAPE_SPHERE, 200, 0.2, 8, 0)};
+    tu_bytes b = {NULL, 0};
+    size_t at[4];
+    for (int i = 0; i < 2; ++i) {
+        at[2 * i] = b.size;
+        for (size_t v = 0; v < 3 * m[i]->vertex_count; ++v)
+            tu_put_f32(&b, (float)m[i]->positions[v]);
+        at[2 * i + 1] = b.size;
+        tu_put(&b, m[i]->indices, 3 * m[i]->triangle_count * sizeof(uint32_t));
+    }
+    char *json = tu_strf(
+        "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0,1]}],"
+        "\"nodes\":[{\"mesh\":0},{\"mesh\":1,\"translation\":[3,0,0]}],"
+        "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":1}]},"
+        "{\"primitives\":[{\"attributes\":{\"POSITION\":2},\"indices\":3}]}],"
+        "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC3\","
+        "\"min\":[-1.5,-1.5,-1.5],\"max\":[1.5,1.5,1.5]},"
+        "{\"bufferView\":1,\"componentType\":5125,\"count\":%zu,\"type\":\"SCALAR\"},"
+        "{\"bufferView\":2,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC3\","
+        "\"min\":[-1.5,-1.5,-1.5],\"max\":[1.5,1.5,1.5]},"
+        "{\"bufferView\":3,\"componentType\":5125,\"count\":%zu,\"type\":\"SCALAR\"}],"
+        "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu},"
+        "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu},{\"buffer\":0,\"byteOffset\":%zu,"
+        "\"byteLength\":%zu},{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu}],"
+        "\"buffers\":[{\"uri\":\"two.bin\",\"byteLength\":%zu}]}",
+        m[0]->vertex_count, 3 * m[0]->triangle_count, m[1]->vertex_count, 3 * m[1]->triangle_count, at[0],
+        at[1] - at[0], at[1], at[2] - at[1], at[2], at[3] - at[2], at[3], b.size - at[3], b.size);
+    char *path = tu_write_gltf(dir, "two", json, &b);
+    free(json);
+    free(b.data);
+    resurf_mesh_free(m[0]);
+    resurf_mesh_free(m[1]);
+    return path;
+}
+
+typedef struct lods_case {
+    const char *path;
+    unsigned threads;
+} lods_case;
+
+static resurf_status run_scene_lods(void *p)
+{
+    lods_case *c = p;
+    resurf_load_options lo = resurf_load_options_default();
+    lo.allocator = &counting;
+    resurf_scene *scene = NULL;
+    resurf_status st = resurf_scene_load(c->path, &lo, &scene, NULL);
+    if (st == RESURF_OK) {
+        const double ratios[2] = {0.5, 0.25};
+        resurf_simplify_options so = resurf_simplify_options_default();
+        so.measure_samples = 2000;
+        so.threads = c->threads;
+        resurf_scene_lod_report r;
+        st = resurf_scene_build_lods(scene, ratios, 2, &so, NULL, &r, NULL, NULL);
+        if (st == RESURF_OK)
+            ck_assert_uint_eq(r.levels, 3);
+    }
+    resurf_scene_free(scene);
+    end_call();
+    return st;
+}
+
+/* Allocations of a scene's levels failing in turn (its load included; 100 of them spread over the call's
+ * thousands, 24 under a sanitizer or valgrind), with the default restoring, whose plain pass runs beside the
+ * default's on two threads and after it on one: OUT_OF_MEMORY, nothing left over. */
+START_TEST(alloc_scene_lods_failures)
+{
+    char *dir = tu_tempdir();
+    char *path = write_two_spheres(dir);
+    for (unsigned threads = 1; threads <= 2; ++threads) {
+        lods_case c = {path, threads};
+        size_t failed = 0;
+        inject_failures_every(run_scene_lods, &c, load_intact, tu_light() ? 24 : 100, &failed);
+        ck_assert_uint_gt(failed, 0);
+    }
+    free(path);
+    tu_rmtree(dir);
+    free(dir);
+}
+END_TEST
+
 Suite *make_suite(void)
 {
     Suite *s = suite_create("alloc");
@@ -817,6 +908,7 @@ Suite *make_suite(void)
     tcase_add_test(tc, alloc_inplace_failures);
     tcase_add_test(tc, alloc_scene_blocks_come_back);
     tcase_add_test(tc, alloc_scene_load_failures);
+    tcase_add_test(tc, alloc_scene_lods_failures);
     suite_add_tcase(s, tc);
     return s;
 }
