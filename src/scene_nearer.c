@@ -7,8 +7,8 @@
  * primitive at 10%, whose plain level the primitive's choice refused for its 463 triangles against 451: 4.43e-2
  * against 4.22e-2). So the levels are also made without restoration, as `restore none` makes them (its chains from
  * the plain halves the default's chains made already: only the budget's runs are new), and level by level the
- * default's is kept only where it is at least as near the input as the plain one in both the two-sided maximum and
- * the mean; else the plain level is taken.
+ * default's is kept only where it is as near the input as the plain one in both the two-sided maximum and the mean,
+ * or nearer by more than the measurement's noise; else the plain level is taken.
  *
  * Levels taken from both passes must still make every primitive a chain: each level a new mesh with fewer
  * triangles than its level before, or the same mesh as before, after which the primitive has ended. Where they do

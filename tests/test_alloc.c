@@ -124,6 +124,14 @@ static void count_release(void *user, void *block)
 static counter the_counter;
 static const resurf_allocator counting = {count_allocate, count_reallocate, count_release, &the_counter};
 
+/* Load options whose allocator is the counting one. */
+static resurf_load_options counted_load(void)
+{
+    resurf_load_options o = resurf_load_options_default();
+    o.allocator = &counting;
+    return o;
+}
+
 static void counter_reset(size_t fail_at)
 {
     atomic_store(&the_counter.calls, 0);
@@ -288,8 +296,7 @@ START_TEST(alloc_pipeline_uses_only_the_allocator)
     resurf_error error;
 
     /* load: the new mesh records the allocator */
-    resurf_load_options lo = resurf_load_options_default();
-    lo.allocator = &counting;
+    resurf_load_options lo = counted_load();
     resurf_mesh *m = NULL;
     ck_assert_int_eq(WATCHED(resurf_mesh_load_memory(obj, size, RESURF_FORMAT_OBJ, "s.obj", &lo, &m, &error)),
                      RESURF_OK);
@@ -400,8 +407,7 @@ START_TEST(alloc_load_file_and_save)
     ck_assert_uint_eq(heap_during, 0);
     ck_assert_uint_gt(atomic_load(&the_counter.calls), 0);
     assert_nothing_live();
-    resurf_load_options lo = resurf_load_options_default();
-    lo.allocator = &counting;
+    resurf_load_options lo = counted_load();
     resurf_mesh *m = NULL;
     size_t before = atomic_load(&the_counter.calls);
     ck_assert_int_eq(WATCHED(resurf_mesh_load(path, &lo, &m, NULL)), RESURF_OK);
@@ -584,8 +590,7 @@ typedef struct load_case {
 static resurf_status run_load(void *p)
 {
     load_case *c = p;
-    resurf_load_options o = resurf_load_options_default();
-    o.allocator = &counting;
+    resurf_load_options o = counted_load();
     resurf_mesh *m = (resurf_mesh *)c; /* must be overwritten */
     resurf_status st = resurf_mesh_load_memory(c->bytes, c->size, c->format, NULL, &o, &m, NULL);
     end_call();
@@ -744,8 +749,7 @@ START_TEST(alloc_scene_blocks_come_back)
     resurf_mesh_free(m);
     assert_nothing_live();
 
-    resurf_load_options lo = resurf_load_options_default();
-    lo.allocator = &counting;
+    resurf_load_options lo = counted_load();
     before = atomic_load(&the_counter.calls);
     ck_assert_int_eq(resurf_scene_load(path, &lo, &scene, NULL), RESURF_OK);
     ck_assert_uint_gt(atomic_load(&the_counter.calls), before);
@@ -770,8 +774,7 @@ typedef struct scene_case {
 static resurf_status run_scene_load(void *p)
 {
     scene_case *c = p;
-    resurf_load_options o = resurf_load_options_default();
-    o.allocator = &counting;
+    resurf_load_options o = counted_load();
     resurf_scene *scene = NULL;
     resurf_status st = resurf_scene_load_memory(c->bytes, c->size, RESURF_SCENE_FORMAT_GLB, &o, &scene, NULL);
     end_call();
@@ -855,8 +858,7 @@ typedef struct lods_case {
 static resurf_status run_scene_lods(void *p)
 {
     lods_case *c = p;
-    resurf_load_options lo = resurf_load_options_default();
-    lo.allocator = &counting;
+    resurf_load_options lo = counted_load();
     resurf_scene *scene = NULL;
     resurf_status st = resurf_scene_load(c->path, &lo, &scene, NULL);
     if (st == RESURF_OK) {
