@@ -290,6 +290,10 @@ resurf_status resurfi_simplify_run_open(const resurf_mesh *in, const resurf_simp
 resurf_status resurfi_simplify_run_to(resurfi_simplify_run *run, size_t target, resurf_mesh **out,
                                       resurf_simplify_report *report, resurf_error *error);
 size_t resurfi_simplify_run_reached(const resurfi_simplify_run *run); /* the last target; SIZE_MAX before one */
+/* The run's next snapshots are measured only as far as needed to tell that scale times their two-sided maximum is
+ * above bound: such a report has every maximum +INFINITY and every mean NaN. Any other is the full one. scale 0:
+ * always the full one (the default). */
+void resurfi_simplify_run_reject_above(resurfi_simplify_run *run, double scale, double bound);
 void resurfi_simplify_run_free(resurfi_simplify_run *run);            /* NULL is fine */
 /* A simplified surface's facet points, RESURFI_FACET_POINTS per triangle: its centroid, then the midpoints of its
  * edges that run from a lower to a higher vertex index (an edge two triangles share is taken once). Where a coarse

@@ -70,6 +70,7 @@ typedef struct budget_run {
     size_t t;
     resurf_mesh *mesh;
     resurf_simplify_report report;
+    double above; /* > 0: the run was only measured as far as to show that its error exceeds this bound */
 } budget_run;
 
 /* A primitive's simplification kept where its last run stopped: the budget mostly asks a primitive for fewer
@@ -136,9 +137,10 @@ static live_run *make_room(budget_memo *memo)
 }
 
 /* Primitive p's input simplified with options o to t triangles: by its kept run when that stands above t, else by a
- * new run (kept). */
+ * new run (kept). Its report is the full one unless its error exceeds `bound` (see resurfi_simplify_run_reject_above):
+ * the step turns such a run down whatever its figures. */
 static resurf_status simplify_to(budget_memo *memo, size_t p, const resurf_simplify_options *o, size_t t,
-                                 resurf_mesh **out, resurf_simplify_report *rep, resurf_error *e)
+                                 double bound, resurf_mesh **out, resurf_simplify_report *rep, resurf_error *e)
 {
     const resurf_mesh *in = memo->prims[p].input;
     if (o->restore == RESURF_RESTORE_MEASURED) /* a choice between two runs: made whole */
@@ -161,17 +163,24 @@ static resurf_status simplify_to(budget_memo *memo, size_t p, const resurf_simpl
             return st;
     }
     slot->used = ++memo->clock;
+    resurfi_simplify_run_reject_above(slot->run, memo->prims[p].scale, bound);
     return resurfi_simplify_run_to(slot->run, t, out, rep, e);
 }
 
-/* Primitive b's level k (0-based) simplified again from its input to at most t triangles: *out and *rep. */
-static resurf_status rerun(budget_memo *memo, const resurfi_budget_prim *b, size_t k, size_t t, resurf_mesh **out,
-                           resurf_simplify_report *rep, resurf_error *e)
+/* Primitive b's level k (0-based) simplified again from its input to at most t triangles: *out and *rep, the report
+ * a full one wherever its error (report_error) is within `bound`. */
+static resurf_status rerun(budget_memo *memo, const resurfi_budget_prim *b, size_t k, size_t t, double bound,
+                           resurf_mesh **out, resurf_simplify_report *rep, resurf_error *e)
 {
     budget_run *run = NULL;
     for (size_t i = 0; i < memo->count && !run; ++i)
         if (memo->runs[i].prim == b && memo->runs[i].t == t)
             run = &memo->runs[i];
+    if (run && run->above > 0 && bound > run->above) { /* known above a lower bound only: made again */
+        resurf_mesh_free(run->mesh);
+        *run = memo->runs[--memo->count];
+        run = NULL;
+    }
     if (!run) {
         if (memo->count == memo->capacity) {
             size_t grown = memo->capacity ? 2 * memo->capacity : 16;
@@ -200,9 +209,10 @@ static resurf_status rerun(budget_memo *memo, const resurfi_budget_prim *b, size
         }
         run = &memo->runs[memo->count];
         run->prim = b, run->t = t, run->mesh = NULL;
-        resurf_status st = simplify_to(memo, (size_t)(b - memo->prims), &o, t, &run->mesh, &run->report, e);
+        resurf_status st = simplify_to(memo, (size_t)(b - memo->prims), &o, t, bound, &run->mesh, &run->report, e);
         if (st != RESURF_OK)
             return st;
+        run->above = run->report.max_distance == INFINITY ? bound : 0;
         memo->count++;
     }
     *rep = run->report;
@@ -386,7 +396,7 @@ static int step(resurfi_budget_prim *prims, size_t n, size_t k, size_t count, co
     while (t + 1 < before && t < payable) {
         t = 2 * t + 1 < before ? 2 * t + 1 : before - 1;
         t = t < payable ? t : payable;
-        if ((*st = rerun(memo, w, k, t, &m, &rep, e)) != RESURF_OK)
+        if ((*st = rerun(memo, w, k, t, bound, &m, &rep, e)) != RESURF_OK)
             return -1;
         if (report_error(w, &rep) <= bound && m->triangle_count < before && keeps_parts(w, m))
             break;
@@ -405,7 +415,7 @@ static int step(resurfi_budget_prim *prims, size_t n, size_t k, size_t count, co
         size_t mid = low + (t - low) / 2;
         resurf_mesh *m2 = NULL;
         resurf_simplify_report rep2;
-        if ((*st = rerun(memo, w, k, mid, &m2, &rep2, e)) != RESURF_OK) {
+        if ((*st = rerun(memo, w, k, mid, bound, &m2, &rep2, e)) != RESURF_OK) {
             resurf_mesh_free(m);
             return -1;
         }
@@ -436,7 +446,7 @@ static int step(resurfi_budget_prim *prims, size_t n, size_t k, size_t count, co
         if (now <= excess || now - excess <= next || shown_error(d, k) >= bound)
             continue; /* fewer triangles would not stay within the bound */
         tried++;
-        if ((*st = rerun(memo, d, k, now - excess, &m, &rep, e)) != RESURF_OK) {
+        if ((*st = rerun(memo, d, k, now - excess, bound, &m, &rep, e)) != RESURF_OK) {
             undo(prims, k, changes, used);
             return -1;
         }

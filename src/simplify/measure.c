@@ -18,6 +18,7 @@
  * block of BLOCK_SAMPLES writes its own max and sums, and those are combined in block order: the figures do not
  * depend on the thread count. */
 #include <math.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -52,6 +53,8 @@ typedef struct side {
     double *block_max, *block_sum, *block_vertex_sum; /* per block of BLOCK_SAMPLES points */
     resurfi_max_starts *block_starts; /* per block: its best samples and facet points, to climb from */
     double *uv;                 /* per sample: the UV error, or NULL */
+    double reject_scale, reject_bound; /* a point with reject_scale * d > reject_bound settles the level (0: off) */
+    atomic_int *rejected;       /* set by the first such point: the other blocks stop */
 } side;
 
 static vec3 sample_point(const side *sd, size_t i, uint32_t *out_t, double b[3])
@@ -126,6 +129,8 @@ static int measure_block(void *ctx, size_t begin, size_t end, unsigned worker)
     resurfi_max_starts *starts = &sd->block_starts[begin / BLOCK_SAMPLES];
     starts->count = 0;
     for (size_t i = sd->first + begin; i < sd->first + end; ++i) {
+        if (atomic_load_explicit(sd->rejected, memory_order_relaxed))
+            break;
         int is_sample = i < sd->samples, is_facet = i >= sd->samples + sd->vertex_count;
         uint32_t t = NONE, v = NONE;
         double b[3], cb[3], d2;
@@ -154,6 +159,10 @@ static int measure_block(void *ctx, size_t begin, size_t end, unsigned worker)
         if (c == NONE)
             c = resurfi_bvh_closest(sd->to, p, INFINITY, NULL, uv ? cb : NULL, &d2);
         double d = c == NONE ? INFINITY : sqrt(d2);
+        if (sd->reject_scale * d > sd->reject_bound) {
+            atomic_store_explicit(sd->rejected, 1, memory_order_relaxed);
+            break;
+        }
         mx = d > mx ? d : mx;
         if (is_sample || is_facet)
             resurfi_max_starts_offer(starts, d, t, b);
@@ -328,10 +337,10 @@ static resurf_status run_side(simplifier *s, side *sd, double *out_max, double *
         sd->nearest[v] = NONE;
     resurf_status st = run_phase(s, sd, 0, sd->samples, acc, &starts);
     sd->vertex_floor = acc[0];
-    if (st == RESURF_OK)
+    if (st == RESURF_OK && !atomic_load(sd->rejected))
         st = run_phase(s, sd, sd->samples, sd->vertex_count, acc, &starts);
     sd->facet_floor = acc[0];
-    if (st == RESURF_OK)
+    if (st == RESURF_OK && !atomic_load(sd->rejected))
         st = run_phase(s, sd, points, sd->facets, acc, &starts);
     resurfi_free(s->alloc, sd->nearest);
     resurfi_free(s->alloc, sd->nearest_d);
@@ -339,6 +348,10 @@ static resurf_status run_side(simplifier *s, side *sd, double *out_max, double *
     sd->nearest_d = NULL;
     if (st != RESURF_OK)
         return st;
+    if (atomic_load(sd->rejected)) {
+        *out_max = INFINITY, *out_mean = NAN;
+        return RESURF_OK;
+    }
     *out_max = total ? resurfi_max_starts_climb(&starts, sd->from, sd->to, acc[0]) : NAN;
     *out_mean = sd->samples ? acc[1] / (double)sd->samples
                             : sd->vertex_count ? acc[2] / (double)sd->vertex_count : NAN;
@@ -358,29 +371,42 @@ resurf_status measure_level(simplifier *s, const resurf_mesh *m, resurf_simplify
     double *level_area = NULL, *uv = NULL;
     if (st == RESURF_OK && !(level_area = area_prefix(s->alloc, m)))
         st = RESURF_ERR_OUT_OF_MEMORY;
-    if (st == RESURF_OK)
-        st = resurfi_bvh_build_threads(s->alloc, m->positions, m->vertex_count, m->indices, m->triangle_count,
-                                       s->opt.thread_pool ? 1 : s->opt.threads, &level_bvh);
     size_t n = s->opt.measure_samples;
+    const double reject_scale = s->measure.reject_scale, reject_bound = s->measure.reject_bound;
+    atomic_int rejected;
+    atomic_init(&rejected, 0);
     side result = {.from = m, .area_prefix = level_area,
                    .samples = level_area && level_area[m->triangle_count] > 0 ? n : 0,
                    .vertex_count = m->vertex_count, .facets = RESURFI_FACET_POINTS * m->triangle_count,
-                   .stream = 0, .to = s->bvh, .to_mesh = s->in};
+                   .stream = 0, .to = s->bvh, .to_mesh = s->in, .reject_scale = reject_scale,
+                   .reject_bound = reject_bound, .rejected = &rejected};
     const double *in_area = s->measure.in_area_prefix;
     side input = {.from = s->in, .area_prefix = in_area,
                   .samples = in_area && in_area[s->in->triangle_count] > 0 ? n : 0,
                   .vertices = s->measure.in_used, .vertex_count = s->measure.in_used_count,
-                  .facets = RESURFI_FACET_POINTS * s->in->triangle_count, .stream = 3, .to = level_bvh, .to_mesh = m,
-                  .rep = s->measure.in_rep};
+                  .facets = RESURFI_FACET_POINTS * s->in->triangle_count, .stream = 3, .to_mesh = m,
+                  .rep = s->measure.in_rep, .reject_scale = reject_scale, .reject_bound = reject_bound,
+                  .rejected = &rejected};
     if (st == RESURF_OK && result.samples && resurfi_has_uv0(s->in) && resurfi_has_uv0(m) &&
         !(s->opt.unsampled_texcoords & 1) && /* a set nothing shows has no error to report */
         !(uv = result.uv = resurfi_alloc(s->alloc, result.samples, sizeof *uv)))
         st = RESURF_ERR_OUT_OF_MEMORY;
     if (st == RESURF_OK)
         st = run_side(s, &result, &rep->result_to_input_max, &rep->result_to_input_mean);
-    if (st == RESURF_OK)
+    /* The result's side settled a rejected level: the input's side is left unmeasured. */
+    int settled = reject_scale * rep->result_to_input_max > reject_bound;
+    if (st == RESURF_OK && !settled)
+        st = resurfi_bvh_build_threads(s->alloc, m->positions, m->vertex_count, m->indices, m->triangle_count,
+                                       s->opt.thread_pool ? 1 : s->opt.threads, &level_bvh);
+    input.to = level_bvh;
+    if (st == RESURF_OK && !settled)
         st = run_side(s, &input, &rep->input_to_result_max, &rep->input_to_result_mean);
-    if (st == RESURF_OK) {
+    if (st == RESURF_OK && (settled || atomic_load(&rejected))) {
+        /* Above the bound: said so, with no figures that could pass for measured ones. */
+        rep->max_distance = rep->result_to_input_max = rep->input_to_result_max = INFINITY;
+        rep->mean_distance = rep->result_to_input_mean = rep->input_to_result_mean = NAN;
+        rep->max_distance_rel = s->diagonal > 0 ? INFINITY : NAN;
+    } else if (st == RESURF_OK) {
         rep->max_distance = fmax(rep->result_to_input_max, rep->input_to_result_max);
         rep->mean_distance = 0.5 * (rep->result_to_input_mean + rep->input_to_result_mean);
         if (s->diagonal > 0) {

@@ -267,6 +267,12 @@ resurf_status resurfi_simplify_run_open(const resurf_mesh *in, const resurf_simp
 
 size_t resurfi_simplify_run_reached(const resurfi_simplify_run *r) { return r ? r->reached : 0; }
 
+void resurfi_simplify_run_reject_above(resurfi_simplify_run *r, double scale, double bound)
+{
+    r->s.measure.reject_scale = scale;
+    r->s.measure.reject_bound = bound;
+}
+
 resurf_status resurfi_simplify_run_to(resurfi_simplify_run *r, size_t target, resurf_mesh **out,
                                       resurf_simplify_report *report, resurf_error *error)
 {

@@ -235,6 +235,9 @@ typedef struct measure_state {
     uint32_t *in_used;        /* the input's vertices that triangles use, one per position */
     size_t in_used_count;
     uint32_t *in_rep;         /* per input vertex: the one of in_used at its position, NONE if unused */
+    /* A level whose maximum times reject_scale exceeds reject_bound is only said to be so (reject_scale 0: off): the
+       scene budget turns such a run down whatever its figures, and a point above the bound settles it. */
+    double reject_scale, reject_bound;
 } measure_state;
 
 typedef struct simplifier {
