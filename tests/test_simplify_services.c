@@ -3,6 +3,7 @@
  * restoring mode, with and without attributes, with or without a measured report; services built for one mesh
  * are refused for another; bad input fails the build with the simplifier's own error. A run kept between targets
  * (resurfi_simplify_run, the scene budget's) makes each target's level as a call does. */
+#include <math.h>
 #include <string.h>
 
 #include "internal.h"
@@ -155,6 +156,55 @@ START_TEST(a_kept_run_makes_each_call_s_level)
 }
 END_TEST
 
+/* A run told to reject above a bound (the scene budget's) reports a level whose maximum lies above it as +INFINITY
+ * with NaN means, and any other level with the call's own report, bit for bit; the level itself is the call's either
+ * way, and the run goes on to the next target as before. */
+START_TEST(a_run_turned_down_says_only_so)
+{
+    resurf_mesh *torus = shape_mesh(SHAPE_TORUS, 4000, 0.2, 3, 1);
+    ck_assert(torus);
+    resurf_simplify_options o = resurf_simplify_options_default();
+    o.restore = RESURF_RESTORE_INLINE;
+    resurf_error e;
+    static const size_t targets[] = {1500, 800, 300};
+    resurf_simplify_report call[3];
+    for (size_t k = 0; k < 3; ++k) {
+        resurf_mesh *m = NULL;
+        o.target_triangles = targets[k];
+        ck_assert_int_eq(resurf_simplify(torus, &o, &m, &call[k], &e), RESURF_OK);
+        ck_assert(call[k].max_distance > 0 && isfinite(call[k].max_distance));
+        resurf_mesh_free(m);
+    }
+    o.target_triangles = 0;
+    static const double scale = 3.0; /* the bound is in the caller's units: scale times the mesh's */
+    for (int below = 0; below < 2; ++below) {
+        resurfi_simplify_run *run = NULL;
+        ck_assert_int_eq(resurfi_simplify_run_open(torus, &o, NULL, &run, &e), RESURF_OK);
+        for (size_t k = 0; k < 3; ++k) {
+            resurf_mesh *m = NULL;
+            resurf_simplify_report r;
+            /* just below the level's maximum, or exactly at it (within: the full report) */
+            double bound = scale * call[k].max_distance * (below ? 0.999 : 1.0);
+            resurfi_simplify_run_reject_above(run, scale, bound);
+            ck_assert_int_eq(resurfi_simplify_run_to(run, targets[k], &m, &r, &e), RESURF_OK);
+            ck_assert_uint_eq(m->triangle_count, call[k].triangles);
+            if (below) {
+                ck_assert(r.max_distance == INFINITY && r.result_to_input_max == INFINITY &&
+                          r.input_to_result_max == INFINITY);
+                ck_assert(isnan(r.mean_distance) && isnan(r.result_to_input_mean) &&
+                          isnan(r.input_to_result_mean));
+            } else {
+                ck_assert_msg(same_report(&call[k], &r), "target %zu: the report within the bound is not the call's",
+                              targets[k]);
+            }
+            resurf_mesh_free(m);
+        }
+        resurfi_simplify_run_free(run);
+    }
+    resurf_mesh_free(torus);
+}
+END_TEST
+
 Suite *make_suite(void)
 {
     Suite *s = suite_create("simplify_services");
@@ -162,6 +212,7 @@ Suite *make_suite(void)
     tcase_add_test(tc, lent_services_change_nothing);
     tcase_add_test(tc, services_belong_to_their_mesh);
     tcase_add_test(tc, a_kept_run_makes_each_call_s_level);
+    tcase_add_test(tc, a_run_turned_down_says_only_so);
     suite_add_tcase(s, tc);
     return s;
 }
