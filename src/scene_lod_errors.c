@@ -179,6 +179,8 @@ resurf_status resurfi_level_errors(const resurf_scene *scene, resurfi_lod_work *
             from_order[i] = (resurfi_bound_item){one.from_full, i};
             e.to_sum += one.to_sum, e.to_area += one.to_area, e.from_sum += one.from_sum, e.from_area += one.from_area;
         }
+        if (w->twin_levels[k])
+            continue; /* the default's figures, copied (whether the levels compose is asked all the same) */
         resurf_mesh *level = NULL;
         if (composed)
             st = resurfi_scene_flatten(scene, &w->list, k, &stand_in, alloc, &level, error);
@@ -211,6 +213,8 @@ resurf_status resurfi_level_errors(const resurf_scene *scene, resurfi_lod_work *
     }
     resurfi_free(alloc, to_order);
     for (size_t k = 1; k < levels && st == RESURF_OK && samples > 0 && !composed; ++k) {
+        if (w->twin_levels[k])
+            continue;
         resurf_compare_report m;
         st = resurfi_measure_level(scene, &w->list, w->full, k, &stand_in, &co, &m, error);
         if (st != RESURF_OK)
@@ -229,7 +233,7 @@ resurf_status resurfi_level_errors(const resurf_scene *scene, resurfi_lod_work *
         double *err = w->errors + m * (count + 1);
         if (w->list.count == 1) { /* the scene is this one instance: its errors are the mesh's */
             for (size_t k = 1; k < w->mesh_levels[m]; ++k)
-                err[k] = report->level_error_rel[k];
+                err[k] = report->level_error_rel[k]; /* a twin level's is copied with the scene's */
             continue;
         }
         resurfi_scene_instance one = {.mesh = m};
@@ -259,6 +263,8 @@ resurf_status resurfi_level_errors(const resurf_scene *scene, resurfi_lod_work *
         if (st == RESURF_OK)
             mco.samples = (size_t)fmin((double)co.samples, fmax(1000.0, share * (double)co.samples));
         for (size_t k = 1; k < w->mesh_levels[m] && st == RESURF_OK; ++k) {
+            if (w->twin_levels[k])
+                continue;
             resurf_compare_report r;
             st = resurfi_measure_level(scene, &single, full, k, &stand_in, &mco, &r, error);
             if (st == RESURF_OK)

@@ -528,6 +528,8 @@ typedef struct plain_pass {
     resurf_simplify_options sim;
     resurf_scene_lod_options o;
     resurfi_chain_half *halves;
+    resurfi_lod_levels_view twin; /* the default's levels, once final (no budget, or this pass after that one) */
+    bool has_twin;
     resurfi_lod_work w;
     resurf_simplify_report *reports;
     resurf_scene_lod_report report;
@@ -540,9 +542,9 @@ typedef struct plain_pass {
 
 static resurf_status make_levels(resurf_scene *scene, const double *ratios, size_t count, resurf_simplify_options sim,
                                  const resurf_scene_lod_options *options, double from, double to, bool keep_halves,
-                                 resurfi_chain_half *from_halves, plain_pass *plain, resurfi_lod_work *wp,
-                                 resurf_simplify_report **reports_out, resurf_scene_lod_report *out,
-                                 resurf_error *error);
+                                 resurfi_chain_half *from_halves, const resurfi_lod_levels_view *twin,
+                                 plain_pass *plain, resurfi_lod_work *wp, resurf_simplify_report **reports_out,
+                                 resurf_scene_lod_report *out, resurf_error *error);
 
 static bool plain_cancelled(void *user, resurf_stage stage, double fraction)
 {
@@ -554,8 +556,8 @@ static void *plain_run(void *arg)
 {
     plain_pass *pp = arg;
     pp->o.progress = (resurf_progress){plain_cancelled, pp};
-    pp->st = make_levels(pp->scene, pp->ratios, pp->count, pp->sim, &pp->o, 0, 1, false, pp->halves, NULL, &pp->w,
-                         &pp->reports, &pp->report, &pp->error);
+    pp->st = make_levels(pp->scene, pp->ratios, pp->count, pp->sim, &pp->o, 0, 1, false, pp->halves,
+                         pp->has_twin ? &pp->twin : NULL, NULL, &pp->w, &pp->reports, &pp->report, &pp->error);
     pp->ran = true;
     return NULL;
 }
@@ -564,12 +566,13 @@ static void *plain_run(void *arg)
  * the world errors. *wp and *reports_out (count per primitive) are the caller's to free, also after a failure.
  * The caller's progress runs from `from` to `to`. The default pass that a plain one may follow keeps its chains'
  * plain halves (keep_halves) and starts `plain` beside its budget where that pass may change a level; the plain pass
- * starts its chains from them (from_halves). */
+ * starts its chains from them (from_halves) and leaves unmeasured its levels that are the default's (`twin`, when
+ * those are final). */
 static resurf_status make_levels(resurf_scene *scene, const double *ratios, size_t count, resurf_simplify_options sim,
                                  const resurf_scene_lod_options *options, double from, double to, bool keep_halves,
-                                 resurfi_chain_half *from_halves, plain_pass *plain, resurfi_lod_work *wp,
-                                 resurf_simplify_report **reports_out, resurf_scene_lod_report *out,
-                                 resurf_error *error)
+                                 resurfi_chain_half *from_halves, const resurfi_lod_levels_view *twin,
+                                 plain_pass *plain, resurfi_lod_work *wp, resurf_simplify_report **reports_out,
+                                 resurf_scene_lod_report *out, resurf_error *error)
 {
     const resurf_scene_lod_options o = *options;
     const size_t prim_count = scene->prim_count, mesh_count = scene->mesh_count;
@@ -747,6 +750,10 @@ static resurf_status make_levels(resurf_scene *scene, const double *ratios, size
     w.budget_units = budget ? budgeted : 0;
     if (st == RESURF_OK && plain && (plain->needed = plain_pass_needed(scene, count, &w, job.reports))) {
         plain->halves = w.halves;
+        /* Without a budget these levels are final already: the plain pass may read them beside this pass. */
+        plain->has_twin = w.budget_units <= 1;
+        plain->twin = (resurfi_lod_levels_view){(resurf_mesh *const *const *)w.chains, w.kept, job.reports, NULL,
+                                                count};
         /* Beside this pass only where the caller gave the call threads of its own: one thread, or a host's pool,
            runs it after. */
         if (resurfi_thread_count(sim.threads) > 1 && !sim.thread_pool)
@@ -792,6 +799,10 @@ static resurf_status make_levels(resurf_scene *scene, const double *ratios, size
     double errors_start = seconds_now();
     /* Phase 2: the errors in world space, with the chains as they will be set. */
     report.levels = levels;
+    if (st == RESURF_OK && twin) {
+        resurfi_lod_levels_view mine = {(resurf_mesh *const *const *)w.chains, w.kept, job.reports, NULL, count};
+        resurfi_find_twin_levels(scene, &mine, twin, levels, w.twin_levels);
+    }
     if (st == RESURF_OK)
         st = resurfi_level_errors(scene, &w, job.reports, count, sample_budget, sim.threads, o.set_screen_coverage,
                                   &report, error);
@@ -842,13 +853,15 @@ resurf_status resurf_scene_build_lods(resurf_scene *scene, const double *ratios,
     resurfi_lod_work w;
     resurf_simplify_report *reports = NULL;
     resurf_scene_lod_report report;
-    st = make_levels(scene, ratios, count, sim, &o, 0, plain_possible ? 0.95 : 1, plain_possible, NULL,
+    st = make_levels(scene, ratios, count, sim, &o, 0, plain_possible ? 0.95 : 1, plain_possible, NULL, NULL,
                      plain_possible ? &pp : NULL, &w, &reports, &report, error);
     if (pp.started) {
         if (st != RESURF_OK)
             atomic_store(&pp.cancel, 1);
         pthread_join(pp.thread, NULL);
     } else if (st == RESURF_OK && pp.needed) {
+        pp.has_twin = true; /* after the default pass, whose levels are final */
+        pp.twin = (resurfi_lod_levels_view){(resurf_mesh *const *const *)w.chains, w.kept, reports, NULL, count};
         plain_run(&pp);
     }
     if (st == RESURF_OK && pp.ran && pp.st != RESURF_OK) {

@@ -34,6 +34,9 @@ typedef struct resurfi_lod_work {
     int *joint_why;               /* and why the chain ended there (resurfi_levels_that_help); then every primitive's */
     resurfi_chain_half *halves;   /* per primitive, in the default pass that a plain pass follows, else NULL */
     size_t budget_units;          /* the units the scene budget spent triangles between (0: no budget) */
+    /* The plain pass: its levels that are the default's (every primitive shows the same surface with the same report
+       there), left unmeasured by resurfi_level_errors and their figures copied by resurfi_keep_nearer_levels. */
+    bool twin_levels[RESURF_SCENE_MAX_LEVELS];
 } resurfi_lod_work;
 
 /* What every primitive's chain needs, and where it goes (indexed by primitive). */
@@ -78,6 +81,15 @@ resurf_status resurfi_make_primitive_chain(resurfi_chain_job *job, size_t p, con
 
 /* ---- the default's levels against the plain pass's (scene_nearer.c) ---- */
 
+/* What the composition reads: the chains as they will be set, the primitives' reports, and their levels' areas. */
+typedef struct resurfi_lod_levels_view {
+    resurf_mesh *const *const *chains; /* per primitive: its levels, or NULL */
+    const size_t *kept;                /* per primitive: the levels that help */
+    const resurf_simplify_report *reports;
+    const double *areas;
+    size_t count;                      /* levels asked for */
+} resurfi_lod_levels_view;
+
 /* One pass of a call's levels: its chains, its primitives' reports (count each), its report. */
 typedef struct resurfi_lod_pass {
     resurfi_lod_work *w;
@@ -91,6 +103,10 @@ typedef struct resurfi_level_measure {
     int threads;
     bool per_mesh;
 } resurfi_level_measure;
+
+/* The plain pass's levels (1 .. levels - 1) that are the default's, whose levels are final (`d`): twin[k]. */
+void resurfi_find_twin_levels(const resurf_scene *scene, const resurfi_lod_levels_view *plain,
+                              const resurfi_lod_levels_view *d, size_t levels, bool *twin);
 
 /* Level by level, the default pass's level where it is at least as near the input as the plain pass's, else the
  * plain one: into *d (what `plain` then holds is the caller's to free). */
@@ -113,15 +129,6 @@ double resurfi_joint_input(const resurfi_chain_job *job, size_t m, const resurf_
 resurf_status resurfi_make_joint_chain(resurfi_chain_job *job, size_t m, const resurf_simplify_options *base);
 
 /* ---- the world errors of the levels (scene_lod_errors.c) ---- */
-
-/* What the composition reads: the chains as they will be set, the primitives' reports, and their levels' areas. */
-typedef struct resurfi_lod_levels_view {
-    resurf_mesh *const *const *chains; /* per primitive: its levels, or NULL */
-    const size_t *kept;                /* per primitive: the levels that help */
-    const resurf_simplify_report *reports;
-    const double *areas;
-    size_t count;                      /* levels asked for */
-} resurfi_lod_levels_view;
 
 /* Level k's figures in world units over some instances: one-sided maxima and area-weighted means of each side. */
 typedef struct resurfi_world_errors {

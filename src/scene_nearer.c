@@ -186,6 +186,62 @@ static resurf_status commit(const resurf_scene *scene, size_t count, resurfi_lod
     return RESURF_OK;
 }
 
+/* The same surface, byte for byte: its world errors are the same. */
+static int same_surface(const resurf_mesh *a, const resurf_mesh *b)
+{
+    return a->vertex_count == b->vertex_count && a->triangle_count == b->triangle_count &&
+           !memcmp(a->positions, b->positions, 3 * a->vertex_count * sizeof *a->positions) &&
+           !memcmp(a->indices, b->indices, 3 * a->triangle_count * sizeof *a->indices);
+}
+
+/* The figures of a primitive's report that the world errors are composed from (resurfi_add_instance), as bits. */
+static int same_figures(const resurf_simplify_report *a, const resurf_simplify_report *b)
+{
+    const double x[4] = {a->result_to_input_max, a->input_to_result_max, a->result_to_input_mean,
+                         a->input_to_result_mean};
+    const double y[4] = {b->result_to_input_max, b->input_to_result_max, b->result_to_input_mean,
+                         b->input_to_result_mean};
+    return !memcmp(x, y, sizeof x);
+}
+
+/* The plain pass's levels that are also the default's: where the default's budget left a primitive's level plain, or
+ * there was no budget, the two passes show the same levels, and measuring them twice gave the same figures (the
+ * main job's scan: its 50% and 25% levels, two of its three). */
+void resurfi_find_twin_levels(const resurf_scene *scene, const resurfi_lod_levels_view *plain,
+                              const resurfi_lod_levels_view *d, size_t levels, bool *twin)
+{
+    for (size_t k = 1; k < levels && k < RESURF_SCENE_MAX_LEVELS; ++k) {
+        twin[k] = true;
+        for (size_t p = 0; p < scene->prim_count && twin[k]; ++p) {
+            size_t sp = plain->chains[p] ? (plain->kept[p] < k ? plain->kept[p] : k) : 0;
+            size_t sd = d->chains[p] ? (d->kept[p] < k ? d->kept[p] : k) : 0;
+            twin[k] = sp == sd && (!sp || (same_surface(plain->chains[p][sp - 1], d->chains[p][sp - 1]) &&
+                                           same_figures(&plain->reports[p * plain->count + sp - 1],
+                                                        &d->reports[p * d->count + sp - 1])));
+        }
+    }
+}
+
+/* The measured figures of the plain pass's twin levels, from the default's. */
+static void copy_twin_levels(const resurf_scene *scene, size_t count, const resurfi_lod_pass *d,
+                             resurfi_lod_pass *plain)
+{
+    resurf_scene_lod_report *r = plain->report;
+    const resurf_scene_lod_report *from = d->report;
+    for (size_t k = 1; k < r->levels; ++k) {
+        if (!plain->w->twin_levels[k])
+            continue;
+        r->level_error[k] = from->level_error[k];
+        r->level_error_rel[k] = from->level_error_rel[k];
+        r->level_mean_rel[k] = from->level_mean_rel[k];
+        r->level_to_full_rel[k] = from->level_to_full_rel[k];
+        r->level_from_full_rel[k] = from->level_from_full_rel[k];
+        for (size_t m = 0; m < scene->mesh_count; ++m)
+            if (k < plain->w->mesh_levels[m])
+                plain->w->errors[m * (count + 1) + k] = d->w->errors[m * (count + 1) + k];
+    }
+}
+
 /* Each mesh's count of levels (1 + its primitives' most), and the scene's. */
 static size_t mesh_levels(const resurf_scene *scene, resurf_mesh **const *chains, const size_t *kept, size_t *out)
 {
@@ -205,6 +261,7 @@ resurf_status resurfi_keep_nearer_levels(const resurf_scene *scene, size_t count
 {
     d->report->chains_seconds += plain->report->chains_seconds;
     d->report->errors_seconds += plain->report->errors_seconds;
+    copy_twin_levels(scene, count, d, plain);
     const size_t levels = d->report->levels, prim_count = scene->prim_count, mesh_count = scene->mesh_count;
     unsigned char from[RESURF_SCENE_MAX_LEVELS] = {0};
     int any = 0;

@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "scene_internal.h"
+#include "scene_lods_internal.h"
 #include "testutil.h"
 
 #define ENGINE "/usr/share/assimp/models/glTF2/draco/2CylinderEngine.gltf"
@@ -102,12 +103,61 @@ START_TEST(scene_levels_never_farther_than_plain)
 }
 END_TEST
 
+/* The plain pass's levels that are the default's (resurfi_find_twin_levels, whose figures are copied rather than
+ * measured again): level k is one where every primitive shows the same surface, byte for byte, with the same
+ * figures, at the same place in its chain; a copy counts as the same, one moved position or one report figure does
+ * not. Two primitives: the first with two levels, the second ended after one (it shows its level 1 at level 2). */
+START_TEST(twin_levels_are_the_same_surfaces)
+{
+    resurf_mesh *a1 = shape_mesh(SHAPE_SPHERE, 400, 0.1, 1, 0), *a2 = shape_mesh(SHAPE_SPHERE, 100, 0.1, 2, 0);
+    resurf_mesh *b1 = shape_mesh(SHAPE_TORUS, 200, 0.1, 3, 0), *a1c = NULL, *a2c = NULL, *b1c = NULL;
+    ck_assert(a1 && a2 && b1);
+    ck_assert_int_eq(resurf_mesh_clone(a1, &a1c, NULL), RESURF_OK);
+    ck_assert_int_eq(resurf_mesh_clone(a2, &a2c, NULL), RESURF_OK);
+    ck_assert_int_eq(resurf_mesh_clone(b1, &b1c, NULL), RESURF_OK);
+    resurf_mesh *plain_a[2] = {a1, a2}, *plain_b[2] = {b1, NULL}, *d_a[2] = {a1c, a2c}, *d_b[2] = {b1c, NULL};
+    resurf_mesh *const *plain_chains[2] = {plain_a, plain_b}, *const *d_chains[2] = {d_a, d_b};
+    size_t kept[2] = {2, 1};
+    resurf_simplify_report plain_r[4], d_r[4];
+    memset(plain_r, 0, sizeof plain_r);
+    for (int i = 0; i < 4; ++i)
+        plain_r[i].result_to_input_max = plain_r[i].input_to_result_max = 0.01 * (i + 1),
+        plain_r[i].result_to_input_mean = plain_r[i].input_to_result_mean = 0.001 * (i + 1);
+    memcpy(d_r, plain_r, sizeof d_r);
+    resurfi_lod_levels_view plain = {plain_chains, kept, plain_r, NULL, 2}, d = {d_chains, kept, d_r, NULL, 2};
+    resurf_scene scene;
+    memset(&scene, 0, sizeof scene);
+    scene.prim_count = 2;
+    bool twin[RESURF_SCENE_MAX_LEVELS] = {0};
+
+    resurfi_find_twin_levels(&scene, &plain, &d, 3, twin);
+    ck_assert(twin[1] && twin[2]); /* copies throughout */
+    const double was = a2c->positions[7];
+    a2c->positions[7] += 1e-12;    /* the first primitive's level 2 moved: level 1 alike, level 2 not */
+    resurfi_find_twin_levels(&scene, &plain, &d, 3, twin);
+    ck_assert(twin[1] && !twin[2]);
+    d_r[2].input_to_result_mean = nextafter(d_r[2].input_to_result_mean, 1); /* the second's level 1 figure */
+    resurfi_find_twin_levels(&scene, &plain, &d, 3, twin);
+    ck_assert(!twin[1] && !twin[2]);
+    d_r[2] = plain_r[2];
+    size_t longer[2] = {2, 2}; /* the default's second primitive not ended: another place in its chain */
+    d_b[1] = b1c;
+    d.kept = longer;
+    a2c->positions[7] = was;
+    resurfi_find_twin_levels(&scene, &plain, &d, 3, twin);
+    ck_assert(twin[1] && !twin[2]);
+    resurf_mesh_free(a1), resurf_mesh_free(a2), resurf_mesh_free(b1);
+    resurf_mesh_free(a1c), resurf_mesh_free(a2c), resurf_mesh_free(b1c);
+}
+END_TEST
+
 static Suite *make_suite(void)
 {
     Suite *s = suite_create("scene_nearer");
     TCase *tc = tcase_create("core");
     tcase_set_timeout(tc, 600);
     tcase_add_test(tc, scene_levels_never_farther_than_plain);
+    tcase_add_test(tc, twin_levels_are_the_same_surfaces);
     suite_add_tcase(s, tc);
     return s;
 }
