@@ -57,24 +57,30 @@ typedef struct mix {
     int repaired;
 } mix;
 
-/* Whether primitive p's levels, level k from passes[src[k]], form a chain: 0, or the first level k that breaks it
- * (not fewer triangles than the level before it, or a new level after it ended). */
-static size_t breaks_chain(const resurfi_lod_pass passes[2], const unsigned char *src, size_t levels, size_t p,
-                           size_t input_triangles)
+/* Walks primitive p's levels, level k from passes[src[k]]: 0 when they form a chain (each level a new mesh with
+ * fewer triangles than the level before it, or the same mesh as before, after which the primitive has ended), else
+ * the first level k that breaks it. With x, the chain goes into x on the way (each mesh once). */
+static size_t walk_levels(const resurfi_lod_pass passes[2], const unsigned char *src, size_t levels, size_t count,
+                          size_t p, size_t input_triangles, mix *x)
 {
     const resurf_mesh *before = NULL;
-    size_t triangles = input_triangles, at;
+    size_t triangles = input_triangles, n = 0, at;
     int ended = 0;
     for (size_t k = 1; k < levels; ++k) {
-        const resurf_mesh *m = shown(&passes[src[k]], p, k, &at);
+        resurf_mesh *m = shown(&passes[src[k]], p, k, &at);
         if (m == before) {
             ended = 1;
             continue;
         }
         if (ended || !m || m->triangle_count >= triangles)
             return k;
+        if (x)
+            x->chain[p * count + n] = m, x->pass[p * count + n] = src[k], x->index[p * count + n] = at;
+        n++;
         before = m, triangles = m->triangle_count;
     }
+    if (x)
+        x->kept[p] = n;
     return 0;
 }
 
@@ -85,7 +91,7 @@ static void mix_primitive(const resurfi_lod_pass passes[2], const unsigned char 
 {
     unsigned char src[RESURF_SCENE_MAX_LEVELS];
     memcpy(src, from, sizeof src);
-    for (size_t k; (k = breaks_chain(passes, src, levels, p, input_triangles)) != 0;) {
+    for (size_t k; (k = walk_levels(passes, src, levels, count, p, input_triangles, NULL)) != 0;) {
         while (k > 0 && src[k] == 1)
             k--;
         if (k == 0) /* cannot happen: the plain pass's own levels form a chain */
@@ -93,18 +99,7 @@ static void mix_primitive(const resurfi_lod_pass passes[2], const unsigned char 
         src[k] = 1;
         x->repaired = 1;
     }
-    const resurf_mesh *before = NULL;
-    size_t n = 0;
-    for (size_t k = 1; k < levels; ++k) {
-        size_t at;
-        resurf_mesh *m = shown(&passes[src[k]], p, k, &at);
-        if (m == before)
-            continue;
-        x->chain[p * count + n] = m, x->pass[p * count + n] = src[k], x->index[p * count + n] = at;
-        n++;
-        before = m;
-    }
-    x->kept[p] = n;
+    walk_levels(passes, src, levels, count, p, input_triangles, x);
 }
 
 /* Level k's figures from another pass's report. */
