@@ -47,6 +47,8 @@
  * applied in parallel are those of a chunk with disjoint stars (guards.h), whose results are merged in the chunk's
  * order. */
 #include <math.h>
+#include <pthread.h>
+#include <stdatomic.h>
 
 #include "simplify_internal.h"
 
@@ -400,9 +402,46 @@ static void keep_nearer(resurf_mesh **outs, resurf_simplify_report *reps, resurf
     }
 }
 
+/* The plain run of a pair on a thread of its own, beside the inline run (simplify_pair): to every target, since the
+ * levels the inline run ends its chain at are not known yet (a run's level does not depend on the targets after it,
+ * so the levels both make are the ones the plain run after the inline one makes). Its progress only asks whether
+ * the inline run has stopped. */
+typedef struct plain_beside {
+    const resurf_mesh *in;
+    resurf_simplify_options o;
+    const size_t *targets;
+    size_t count;
+    resurf_mesh **outs;
+    resurf_simplify_report *reps;
+    const resurfi_simplify_services *services;
+    atomic_int stop;
+    resurf_status st;
+    resurf_error error;
+} plain_beside;
+
+static bool plain_beside_stopped(void *user, resurf_stage stage, double fraction)
+{
+    (void)stage, (void)fraction;
+    return atomic_load(&((plain_beside *)user)->stop) != 0;
+}
+
+static void *plain_beside_run(void *arg)
+{
+    plain_beside *pb = arg;
+    pb->st = simplify_levels(pb->in, &pb->o, pb->targets, pb->count, pb->outs, pb->reps, NULL, pb->services, NULL,
+                             &pb->error);
+    return NULL;
+}
+
+/* The two runs of a pair go side by side, each on its share of the call's own threads, on inputs up to this size:
+ * there a run's fork-join loops are short and its second thread gains it little (20k triangles: 0.7 of one
+ * thread's time), while two runs on a thread each take the longer one's. Above it a run's threads pay, and the two
+ * runs' working memory would be held at once. */
+#define PAIR_BESIDE_MAX_TRIANGLES 262144
+
 /* The levels made inline, then plain to the levels the first run made, the nearer of each kept (reps: count
  * entries; *attached: the input's attached sheets, from the first run; `half`, when given: a copy of the plain
- * levels). */
+ * levels). With threads of its own and a small input, the plain run goes beside the inline one: the same levels. */
 static resurf_status simplify_pair(const resurf_mesh *in, const resurf_simplify_options *options,
                                    const size_t *targets, size_t count, resurf_mesh **outs,
                                    resurf_simplify_report *reps, const resurfi_chain_end *ends,
@@ -416,12 +455,41 @@ static resurf_status simplify_pair(const resurf_mesh *in, const resurf_simplify_
     resurf_mesh **plain = resurfi_calloc(alloc, count ? count : 1, sizeof *plain);
     resurf_status st = plain_reps && plain ? RESURF_OK
                                            : resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
+    const unsigned threads = resurfi_thread_count(o.threads);
+    plain_beside pb = {.in = in, .o = o, .targets = targets, .count = count, .outs = plain, .reps = plain_reps,
+                       .services = services};
+    atomic_init(&pb.stop, 0);
+    bool beside = st == RESURF_OK && threads > 1 && !o.thread_pool && o.measure_samples && count &&
+                  in->triangle_count <= PAIR_BESIDE_MAX_TRIANGLES;
+    pthread_t thread;
+    if (beside) {
+        pb.o.restore = RESURF_RESTORE_NONE;
+        pb.o.threads = threads / 2;
+        pb.o.progress = (resurf_progress){plain_beside_stopped, &pb};
+        o.threads = threads - threads / 2;
+        beside = pthread_create(&thread, NULL, plain_beside_run, &pb) == 0; /* else after */
+    }
     if (st == RESURF_OK)
         st = simplify_levels(in, &o, targets, count, outs, reps, ends, services, attached, error);
     size_t made = 0;
     while (st == RESURF_OK && made < count && outs[made])
         made++;
-    if (st == RESURF_OK && made && o.measure_samples) {
+    if (beside) {
+        if (st != RESURF_OK)
+            atomic_store(&pb.stop, 1);
+        pthread_join(thread, NULL);
+        if (st == RESURF_OK && pb.st != RESURF_OK) {
+            st = pb.st;
+            if (error)
+                *error = pb.error;
+        }
+        for (size_t i = made; i < count; ++i) /* levels after the inline chain's end: not compared */
+            resurf_mesh_free(plain[i]), plain[i] = NULL;
+        /* As after a plain run that follows the inline one: the caller is asked once more, at FINISH 1. */
+        if (st == RESURF_OK && options->progress.fn &&
+            options->progress.fn(options->progress.user, RESURF_STAGE_FINISH, 1.0))
+            st = resurfi_error(error, RESURF_ERR_CANCELLED, "simplification cancelled");
+    } else if (st == RESURF_OK && made && o.measure_samples) {
         const resurf_progress caller = options->progress;
         o.restore = RESURF_RESTORE_NONE;
         if (caller.fn)
