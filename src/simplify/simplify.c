@@ -467,7 +467,9 @@ static resurf_status simplify_pair(const resurf_mesh *in, const resurf_simplify_
         pb.o.threads = threads / 2;
         pb.o.progress = (resurf_progress){plain_beside_stopped, &pb};
         o.threads = threads - threads / 2;
-        beside = pthread_create(&thread, NULL, plain_beside_run, &pb) == 0; /* else after */
+        beside = pthread_create(&thread, NULL, plain_beside_run, &pb) == 0;
+        if (!beside) /* after, as without threads */
+            o.threads = options->threads;
     }
     if (st == RESURF_OK)
         st = simplify_levels(in, &o, targets, count, outs, reps, ends, services, attached, error);
