@@ -439,9 +439,10 @@ static void *plain_beside_run(void *arg)
  * runs' working memory would be held at once. */
 #define PAIR_BESIDE_MAX_TRIANGLES 262144
 
-/* The levels made inline, then plain to the levels the first run made, the nearer of each kept (reps: count
- * entries; *attached: the input's attached sheets, from the first run; `half`, when given: a copy of the plain
- * levels). With threads of its own and a small input, the plain run goes beside the inline one: the same levels. */
+/* The levels made inline, then plain to the levels the first run made (to every target when keeping `half`), the
+ * nearer of each kept (reps: count entries; *attached: the input's attached sheets, from the first run; `half`,
+ * when given: a copy of the plain levels). With threads of its own and a small input, the plain run goes beside the
+ * inline one, to every target: the same levels. */
 static resurf_status simplify_pair(const resurf_mesh *in, const resurf_simplify_options *options,
                                    const size_t *targets, size_t count, resurf_mesh **outs,
                                    resurf_simplify_report *reps, const resurfi_chain_end *ends,
@@ -485,20 +486,22 @@ static resurf_status simplify_pair(const resurf_mesh *in, const resurf_simplify_
             if (error)
                 *error = pb.error;
         }
-        for (size_t i = made; i < count; ++i) /* levels after the inline chain's end: not compared */
-            resurf_mesh_free(plain[i]), plain[i] = NULL;
         /* As after a plain run that follows the inline one: the caller is asked once more, at FINISH 1. */
         if (st == RESURF_OK && options->progress.fn &&
             options->progress.fn(options->progress.user, RESURF_STAGE_FINISH, 1.0))
             st = resurfi_error(error, RESURF_ERR_CANCELLED, "simplification cancelled");
-    } else if (st == RESURF_OK && made && o.measure_samples) {
+    } else if (st == RESURF_OK && (half ? count : made) && o.measure_samples) {
         const resurf_progress caller = options->progress;
         o.restore = RESURF_RESTORE_NONE;
         if (caller.fn)
             o.progress = (resurf_progress){plain_run_progress, (void *)&caller};
-        st = simplify_levels(in, &o, targets, made, plain, plain_reps, NULL, services, NULL, error);
+        st = simplify_levels(in, &o, targets, half ? count : made, plain, plain_reps, NULL, services, NULL, error);
     }
-    for (size_t i = 0; half && st == RESURF_OK && i < made && plain[i]; ++i) {
+    /* The half keeps every plain level, also those after the inline chain's end: the plain pass's chain may go on
+       where the inline one stopped (2CylinderEngine: two parts blocked short of 10% inline that the plain collapse
+       reduces, which the plain pass otherwise simplified again from their input). Only the levels both made are
+       compared. */
+    for (size_t i = 0; half && st == RESURF_OK && i < count && plain[i]; ++i) {
         half->reports[i] = plain_reps[i];
         st = resurf_mesh_clone(plain[i], &half->levels[i], error);
     }
