@@ -189,7 +189,8 @@ resurf_status resurfi_pool_create(const resurf_allocator *alloc, unsigned thread
                                   resurfi_pool **out);
 void resurfi_pool_free(resurfi_pool *pool);
 /* resurfi_parallel_for on the pool's threads (NULL: on the calling thread alone), from the thread that created
- * it. */
+ * it. A pool of its own threads whose loops were kept waiting on a descheduled worker runs its later loops on the
+ * calling thread alone (parallel.c): the same results. */
 int resurfi_pool_for(resurfi_pool *pool, size_t count, size_t block_size,
                      int (*fn)(void *ctx, size_t begin, size_t end, unsigned worker), void *ctx);
 

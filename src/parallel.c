@@ -2,6 +2,7 @@
  * block's result is the same whichever thread computes it: outputs never depend on the thread count. */
 #include <pthread.h>
 #include <stdatomic.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "internal.h"
@@ -100,9 +101,27 @@ struct resurfi_pool {
     job *job;            /* the open loop, NULL once closed */
     unsigned inside;     /* workers that joined the loop and are still in it */
     int stop;
+    double off_core;     /* the longest time a worker of the open loop spent off its core inside it */
+    unsigned stalls;     /* loops kept waiting on a worker off its core (the creating thread's alone) */
     pthread_t tid[256];
     pool_member members[256];
 };
+
+/* A loop stalls when its caller, its own blocks done, waits over STALL_SECONDS for a worker that spent over
+ * STALL_SECONDS of the loop off its core: other work on the machine took the core from it in mid-block (the
+ * library's blocks compute, they never sleep; on an idle machine neither happens). After STALLS_ALONE such loops the
+ * pool runs its loops on the caller alone for the rest of its call, so that a busy host loses to the call's
+ * threads no more than those waits (issue 20: two threads are never to be slower than one). The results do not
+ * change: a block is a pure function of its index. */
+#define STALL_SECONDS 0.002
+#define STALLS_ALONE 2
+
+static double clock_seconds(clockid_t id)
+{
+    struct timespec t;
+    clock_gettime(id, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
 
 static void *pool_worker(void *p)
 {
@@ -121,8 +140,11 @@ static void *pool_worker(void *p)
         worker_arg mine = {pool->job, me->worker};
         pool->inside++;
         pthread_mutex_unlock(&pool->lock);
+        double wall = clock_seconds(CLOCK_MONOTONIC), core = clock_seconds(CLOCK_THREAD_CPUTIME_ID);
         run_blocks(&mine);
+        double off = (clock_seconds(CLOCK_MONOTONIC) - wall) - (clock_seconds(CLOCK_THREAD_CPUTIME_ID) - core);
         pthread_mutex_lock(&pool->lock);
+        pool->off_core = off > pool->off_core ? off : pool->off_core;
         if (--pool->inside == 0)
             pthread_cond_signal(&pool->done);
     }
@@ -200,7 +222,7 @@ int resurfi_pool_for(resurfi_pool *pool, size_t count, size_t block_size,
     atomic_init(&j.next_block, 0);
     atomic_init(&j.failed, 0);
     worker_arg self = {&j, 0};
-    if (!pool || count <= block_size) { /* one block: no one to wake */
+    if (!pool || count <= block_size || (!pool->host && pool->stalls >= STALLS_ALONE)) { /* no one to wake */
         run_blocks(&self);
         return atomic_load(&j.failed);
     }
@@ -213,14 +235,17 @@ int resurfi_pool_for(resurfi_pool *pool, size_t count, size_t block_size,
     }
     pthread_mutex_lock(&pool->lock);
     pool->job = &j;
+    pool->off_core = 0;
     pool->round++;
     pthread_cond_broadcast(&pool->wake);
     pthread_mutex_unlock(&pool->lock);
     run_blocks(&self); /* returns once every block is taken (or one failed) */
+    double own = clock_seconds(CLOCK_MONOTONIC);
     pthread_mutex_lock(&pool->lock);
     pool->job = NULL;
     while (pool->inside != 0)
         pthread_cond_wait(&pool->done, &pool->lock);
+    pool->stalls += clock_seconds(CLOCK_MONOTONIC) - own > STALL_SECONDS && pool->off_core > STALL_SECONDS;
     pthread_mutex_unlock(&pool->lock);
     return atomic_load(&j.failed);
 }

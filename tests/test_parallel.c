@@ -5,6 +5,7 @@
 #include <pthread.h>
 #include <stdatomic.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "scene_internal.h"
 #include "testutil.h"
@@ -179,6 +180,52 @@ START_TEST(pool_runs_many_loops)
         }
         resurfi_pool_free(pool);
     }
+}
+END_TEST
+
+/* A pool whose worker is kept off its core in mid-block (here it sleeps, as a thread that other processes took the
+ * core from) while the caller waits for it goes on with its loops on the caller alone: the worker runs blocks in at
+ * most STALLS_ALONE (2) loops, however many follow, and every index is still visited once. */
+typedef struct stall_ctx {
+    atomic_int *visits;
+    atomic_int worker_blocks; /* blocks that a worker other than the caller ran in this loop */
+} stall_ctx;
+
+static int stall_block(void *ctx, size_t begin, size_t end, unsigned worker)
+{
+    stall_ctx *c = ctx;
+    for (size_t i = begin; i < end; ++i)
+        atomic_fetch_add(&c->visits[i], 1);
+    if (worker != 0) {
+        atomic_fetch_add(&c->worker_blocks, 1);
+        usleep(20000); /* off its core for 20 ms: the caller's share is done long before */
+    } else {
+        usleep(500);
+    }
+    return 0;
+}
+
+START_TEST(pool_goes_alone_after_stalls)
+{
+    resurfi_pool *pool = NULL;
+    ck_assert_int_eq(resurfi_pool_create(NULL, 2, NULL, &pool), RESURF_OK);
+    ck_assert_ptr_nonnull(pool);
+    enum { COUNT = 16, LOOPS = 40 };
+    int loops_with_worker = 0;
+    for (int loop = 0; loop < LOOPS; ++loop) {
+        atomic_int visits[COUNT];
+        for (int i = 0; i < COUNT; ++i)
+            atomic_init(&visits[i], 0);
+        stall_ctx c = {visits, 0};
+        ck_assert_int_eq(resurfi_pool_for(pool, COUNT, 1, stall_block, &c), 0);
+        for (int i = 0; i < COUNT; ++i)
+            ck_assert_int_eq(atomic_load(&visits[i]), 1);
+        loops_with_worker += atomic_load(&c.worker_blocks) > 0;
+    }
+    /* The worker woke in time for some loop (16 blocks of 0.5 ms leave it 8 ms), and each such loop stalled. */
+    ck_assert_int_ge(loops_with_worker, 1);
+    ck_assert_int_le(loops_with_worker, 2);
+    resurfi_pool_free(pool);
 }
 END_TEST
 
@@ -452,6 +499,7 @@ Suite *make_suite(void)
     tcase_add_test(tc, parallel_stops_after_failure_many_threads);
     tcase_add_test(tc, parallel_results_independent_of_threads);
     tcase_add_test(tc, pool_runs_many_loops);
+    tcase_add_test(tc, pool_goes_alone_after_stalls);
     tcase_add_test(tc, parallel_thread_count);
     suite_add_tcase(s, tc);
     TCase *host = tcase_create("host");
