@@ -75,6 +75,21 @@ static int draco_data_type(int component_type)
     }
 }
 
+/* Does core glTF 2.0 allow attribute a's stored format, or only KHR_mesh_quantization (a quantized source's
+ * TANGENT in normalized shorts, a TEXCOORD in signed or unnormalized integers)? POSITION and NORMAL are written
+ * as floats; an application-specific attribute ("_NAME") may be any type. */
+static int needs_quantization(const out_attr *a)
+{
+    int t = a->component_type;
+    if (a->name[0] == '_' || t == RESURFI_GLTF_FLOAT)
+        return 0;
+    if (!strcmp(a->name, "TANGENT"))
+        return 1;
+    if (!strncmp(a->name, "JOINTS_", 7))
+        return a->normalized || (t != RESURFI_GLTF_UNSIGNED_BYTE && t != RESURFI_GLTF_UNSIGNED_SHORT);
+    return !a->normalized || (t != RESURFI_GLTF_UNSIGNED_BYTE && t != RESURFI_GLTF_UNSIGNED_SHORT);
+}
+
 /* The attributes of mesh m as written for primitive p. */
 static size_t list_attributes(const save_ctx *c, const resurfi_scene_prim *p, const resurf_mesh *m, out_attr *out)
 {
@@ -138,7 +153,7 @@ static size_t list_attributes(const save_ctx *c, const resurfi_scene_prim *p, co
                 a->normalized = p->formats[k].normalized;
             }
         a->unit_vector = !strcmp(a->name, "TANGENT") && a->components == 4 &&
-                         a->component_type == RESURFI_GLTF_FLOAT;
+                         (a->component_type == RESURFI_GLTF_FLOAT || a->normalized);
         a->draco_type = RESURFI_DRACO_GENERIC, a->bits = o->generic_bits;
     }
     return n;
@@ -533,6 +548,8 @@ resurf_status save_pack(save_ctx *c, size_t prim, size_t level, packed **out)
     resurf_status status = snap_skin(c, m, attrs, n);
     if (status != RESURF_OK)
         return status;
+    for (size_t i = 0; i < n; ++i)
+        pk->quantized |= needs_quantization(&attrs[i]);
     unsigned char *values[sizeof attrs / sizeof *attrs];
     double min[4], max[4];
     size_t ahead = c->job_of ? c->job_of[prim * RESURF_SCENE_MAX_LEVELS + level] : 0;

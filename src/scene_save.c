@@ -166,6 +166,7 @@ static resurf_status plan_mesh(save_ctx *c, size_t m, size_t level, resurfi_gltf
         o->target_begin = pk->target_begin;
         o->target_attributes = pk->target_attributes;
         c->draco_used |= pk->draco != NULL;
+        c->quantized_any |= pk->quantized;
         ++n;
     }
     if (n == 0)
@@ -278,7 +279,7 @@ static resurf_status build_plan(save_ctx *c, int level, resurfi_gltf_layout layo
     plan->kept_extension_count = resurfi_kept_primitive_extension_count;
     plan->kept_extensions = resurfi_kept_primitive_extensions;
     plan->draco_used = c->draco_used;
-    plan->quantization_used = s->quantized && c->verbatim_any;
+    plan->quantization_used = s->quantized && (c->verbatim_any || c->quantized_any);
     plan->synthesize_graph = s->doc == NULL;
     plan->generator = "resurf " RESURF_VERSION_STRING;
     return RESURF_OK;
@@ -415,7 +416,7 @@ static resurf_status write_document(save_ctx *c, pending_list *files, const char
                                     resurfi_gltf_layout layout, resurf_scene_save_report *report)
 {
     c->acc_count = 0;
-    c->draco_used = c->verbatim_any = 0;
+    c->draco_used = c->verbatim_any = c->quantized_any = 0;
     memset(c->cache, 0, c->s->prim_count * RESURF_SCENE_MAX_LEVELS * sizeof *c->cache);
     resurfi_gltf_plan plan;
     resurf_status status = build_plan(c, level, layout, &plan);

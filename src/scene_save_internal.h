@@ -19,6 +19,7 @@ typedef struct packed {
     size_t *target_begin;
     resurfi_gltf_named *target_attributes;
     size_t bytes;
+    int quantized;          /* an attribute in a format only KHR_mesh_quantization allows (as its source) */
 } packed;
 
 /* A block freed at the end, with the allocator it came from (Draco's encoded bytes come from the C heap). */
@@ -60,7 +61,7 @@ typedef struct save_ctx {
     draco_job *jobs;        /* the payloads made ahead (encode_ahead) */
     size_t *job_of;         /* prim_count × RESURF_SCENE_MAX_LEVELS: index into jobs + 1, or 0 */
     int preparing;          /* pack only fills the Draco job of what it packs */
-    int draco_used, verbatim_any;
+    int draco_used, verbatim_any, quantized_any;
     size_t level_bytes[RESURF_SCENE_MAX_LEVELS];
 } save_ctx;
 

@@ -191,6 +191,69 @@ START_TEST(gltf_mesh_quantization_input)
 END_TEST
 
 
+/* KHR_mesh_quantization's TANGENT in normalized shorts: rewritten primitives keep the format and so keep the
+ * extension (with and without Draco), and a level's tangents, shortened here to half length as interpolation
+ * would, are written unit length. The validator rejects either mistake. */
+START_TEST(gltf_quantized_tangents_keep_the_extension)
+{
+    char *dir = tu_tempdir();
+    tu_bytes b = {0};
+    static const float square[12] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
+    for (int i = 0; i < 12; ++i)
+        tu_put_f32(&b, square[i]); /* 0..47 */
+    for (int v = 0; v < 4; ++v) /* (1, 0, 0, 1) as normalized shorts, 48..79 */
+        tu_put_i16(&b, 32767), tu_put_i16(&b, 0), tu_put_i16(&b, 0), tu_put_i16(&b, 32767);
+    static const uint16_t idx[6] = {0, 1, 2, 0, 2, 3};
+    for (int i = 0; i < 6; ++i)
+        tu_put_u16(&b, idx[i]); /* 80..91 */
+    const char *json =
+        "{\"asset\":{\"version\":\"2.0\"},\"extensionsUsed\":[\"KHR_mesh_quantization\"],"
+        "\"extensionsRequired\":[\"KHR_mesh_quantization\"],\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}],"
+        "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0,\"TANGENT\":1},\"indices\":2}]}],"
+        "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":4,\"type\":\"VEC3\",\"min\":[0,0,0],"
+        "\"max\":[1,1,0]},{\"bufferView\":1,\"componentType\":5122,\"normalized\":true,\"count\":4,"
+        "\"type\":\"VEC4\"},{\"bufferView\":2,\"componentType\":5123,\"count\":6,\"type\":\"SCALAR\"}],"
+        "\"bufferViews\":[{\"buffer\":0,\"byteLength\":48},{\"buffer\":0,\"byteOffset\":48,\"byteLength\":32},"
+        "{\"buffer\":0,\"byteOffset\":80,\"byteLength\":12}],"
+        "\"buffers\":[{\"byteLength\":92,\"uri\":\"qt.bin\"}]}";
+    char *path = tu_write_gltf(dir, "qt", json, &b);
+    resurf_scene *s = tu_load_scene_ok(path);
+    resurf_mesh *level = NULL;
+    ck_assert_int_eq(resurf_mesh_clone(resurf_scene_primitive_mesh(s, 0), &level, NULL), RESURF_OK);
+    level->triangle_count = 1;
+    resurf_attribute *t = NULL;
+    for (size_t i = 0; i < level->extra_count; ++i)
+        if (!strcmp(level->extras[i].name, "TANGENT"))
+            t = &level->extras[i];
+    ck_assert_ptr_nonnull(t);
+    ck_assert(t->components == 4 && t->data[0] == 1.0f);
+    for (size_t v = 0; v < level->vertex_count; ++v)
+        t->data[4 * v] = 0.5f;
+    const resurf_mesh *lods[1] = {level};
+    ck_assert_int_eq(resurf_scene_set_lods(s, 0, lods, 1, NULL), RESURF_OK);
+    for (int draco = 0; draco < 2; ++draco) {
+        char *out = tu_strf("%s/out%d.glb", dir, draco);
+        resurf_scene_save_options o = resurf_scene_save_options_default();
+        o.draco = draco;
+        tu_save_scene_ok(s, out, &o, NULL);
+        ck_assert_int_eq(tu_validator_errors(out), 0);
+        char *facts = tu_node_eval(dir, TU_JS_LOAD "console.log(JSON.stringify(doc.extensionsRequired.sort()),"
+                                             "doc.accessors[doc.meshes[0].primitives[0].attributes.TANGENT]"
+                                             ".componentType)", out);
+        ck_assert_str_eq(facts, draco ? "[\"KHR_draco_mesh_compression\",\"KHR_mesh_quantization\"] 5122"
+                                      : "[\"KHR_mesh_quantization\"] 5122");
+        free(facts);
+        free(out);
+    }
+    resurf_mesh_free(level);
+    resurf_scene_free(s);
+    free(path);
+    free(b.data);
+    tu_rmtree(dir);
+    free(dir);
+}
+END_TEST
+
 /* One mesh shown by two nodes: one primitive, two instances, simplified and written once. */
 START_TEST(gltf_instanced_mesh_is_handled_once)
 {
@@ -862,6 +925,7 @@ Suite *make_suite(void)
     tcase_add_test(read, gltf_strips_and_fans_become_lists);
     tcase_add_test(read, gltf_sparse_and_normalized_components);
     tcase_add_test(read, gltf_mesh_quantization_input);
+    tcase_add_test(read, gltf_quantized_tangents_keep_the_extension);
     tcase_add_test(read, gltf_instanced_mesh_is_handled_once);
     tcase_add_test(read, gltf_skinned_primitive_keeps_joints_and_weights);
     tcase_add_test(read, gltf_morph_targets_and_points_pass_through);
