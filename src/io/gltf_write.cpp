@@ -295,6 +295,18 @@ struct Writer {
         to.scale = from.scale;
     }
 
+    // Node extensions that say how the node's mesh is drawn: they go wherever the mesh goes (a level node, a
+    // node's mesh moved into a child, a side-by-side copy), or a level would show one instance of many.
+    static void copy_mesh_extensions(const tinygltf::Node &from, tinygltf::Node &to)
+    {
+        static const char *const drawn_with_mesh[] = {"EXT_mesh_gpu_instancing"};
+        for (const char *e : drawn_with_mesh) {
+            auto it = from.extensions.find(e);
+            if (it != from.extensions.end())
+                to.extensions[e] = it->second;
+        }
+    }
+
     // The animations that drive node `from`'s morph weights drive node `to`'s too (a level node shows the same
     // targets): one more channel on the same sampler.
     void drive_weights(int from, int to)
@@ -334,6 +346,9 @@ struct Writer {
                 child.mesh = out.nodes[n].mesh;
                 child.skin = out.nodes[n].skin;
                 child.weights = out.nodes[n].weights;
+                copy_mesh_extensions(out.nodes[n], child);
+                for (const auto &e : child.extensions)
+                    out.nodes[n].extensions.erase(e.first);
                 out.nodes[n].mesh = -1;
                 out.nodes[n].skin = -1;
                 out.nodes[n].weights.clear();
@@ -353,6 +368,7 @@ struct Writer {
                 lod.mesh = (int)level_mesh(k, mesh);
                 lod.skin = t.skin;
                 lod.weights = t.weights;
+                copy_mesh_extensions(t, lod);
                 // A skinned mesh ignores its node's transform (the joints place it): a copy would only repeat the
                 // validator's NODE_SKINNED_MESH_LOCAL_TRANSFORMS warning on every level node.
                 if (!moved && t.skin < 0)
@@ -395,8 +411,10 @@ struct Writer {
             copy_transform(s, c);
             c.skin = s.skin;
             c.weights = s.weights;
-            if (s.mesh >= 0)
+            if (s.mesh >= 0) {
                 c.mesh = (int)level_mesh(level, (size_t)s.mesh);
+                copy_mesh_extensions(s, c);
+            }
             std::vector<int> children = s.children;
             bool shows_mesh = s.mesh >= 0;
             out.nodes.push_back(c);
