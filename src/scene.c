@@ -330,7 +330,9 @@ static resurf_status store_attribute(load_ctx *c, const char *where, resurf_mesh
 /* A morphed primitive's targets become extras of its mesh, one per target attribute, named "targets[t].NAME"
  * (RESURF_MORPH_TARGET_PREFIX): the deltas travel with the vertices through every later step, and the writer turns
  * them back into targets (in float). Each must be SCALAR or VECn of finite numbers (VEC3 for POSITION, NORMAL,
- * TANGENT), in any component type (KHR_mesh_quantization allows integers, normalized or not). */
+ * TANGENT), in any component type (KHR_mesh_quantization allows integers, normalized or not). An accessor without
+ * a bufferView is zeros (the glTF 2.0 spec, Accessors), sparse or not: exporters write a target that leaves an
+ * attribute alone so. Its count is the primitive's vertex count (resurfi_scene_check_primitive). */
 static resurf_status store_targets(load_ctx *c, const char *where, const resurfi_gltf_primitive *gp, resurf_mesh *m)
 {
     size_t n = m->vertex_count;
@@ -347,8 +349,6 @@ static resurf_status store_targets(load_ctx *c, const char *where, const resurfi
             else if (a->matrix || a->components < 1 || a->components > 4 || (vec3 && a->components != 3))
                 status = FAIL(c, "%s: targets[%zu].%s is not %s", where, t, na->name,
                               vec3 ? "VEC3" : "SCALAR or VECn");
-            else if (a->buffer_view == RESURFI_GLTF_NONE && !a->sparse)
-                status = FAIL(c, "%s: targets[%zu].%s has no data", where, t, na->name);
             if (status != RESURF_OK)
                 break;
             size_t comps = (size_t)a->components;

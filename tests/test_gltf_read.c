@@ -488,6 +488,49 @@ START_TEST(gltf_morph_targets_and_points_pass_through)
 }
 END_TEST
 
+/* A target accessor without a bufferView is zeros, sparse or not (gltf-transform's `sparse` writes targets so):
+ * target 0 moves vertex 2 by +0.25 z, target 1 moves nothing. */
+START_TEST(gltf_morph_target_without_buffer_view_is_zeros)
+{
+    char *dir = tu_tempdir();
+    tu_bytes b = tu_tetra_bin(); /* 0..71 */
+    tu_put_u8(&b, 2), tu_align4(&b); /* sparse index, 72..75 */
+    tu_put_f32(&b, 0), tu_put_f32(&b, 0), tu_put_f32(&b, 0.25f); /* sparse value, 76..87 */
+    char *json = tu_strf(
+        "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}],"
+        "\"meshes\":[{\"weights\":[1,0.5],\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":1,"
+        "\"targets\":[{\"POSITION\":2},{\"POSITION\":3}]}]}],"
+        "\"accessors\":[" TU_TETRA_ACCESSORS ",{\"componentType\":5126,\"count\":4,\"type\":\"VEC3\","
+        "\"min\":[0,0,0],\"max\":[0,0,0.25],\"sparse\":{\"count\":1,\"indices\":{\"bufferView\":2,"
+        "\"componentType\":5121},\"values\":{\"bufferView\":3}}},"
+        "{\"componentType\":5126,\"count\":4,\"type\":\"VEC3\",\"min\":[0,0,0],\"max\":[0,0,0]}],"
+        "\"bufferViews\":[" TU_TETRA_VIEWS ",{\"buffer\":0,\"byteOffset\":72,\"byteLength\":1},"
+        "{\"buffer\":0,\"byteOffset\":76,\"byteLength\":12}],"
+        "\"buffers\":[{\"byteLength\":%zu,\"uri\":\"zeros.bin\"}]}",
+        b.size);
+    char *path = tu_write_gltf(dir, "zeros", json, &b);
+    resurf_scene *s = tu_load_scene_ok(path);
+    const resurf_mesh *m = resurf_scene_primitive_mesh(s, 0);
+    ck_assert_uint_eq(m->extra_count, 2);
+    for (size_t i = 0; i < 2; ++i) {
+        int moves = !strcmp(m->extras[i].name, "targets[0].POSITION");
+        ck_assert(moves || !strcmp(m->extras[i].name, "targets[1].POSITION"));
+        for (size_t k = 0; k < 12; ++k)
+            ck_assert(m->extras[i].data[k] == (moves && k == 8 ? 0.25f : 0.0f));
+    }
+    char *out = tu_path(dir, "out.glb");
+    tu_save_scene_ok(s, out, NULL, NULL);
+    ck_assert_int_eq(tu_validator_errors(out), 0);
+    free(out);
+    resurf_scene_free(s);
+    free(json);
+    free(path);
+    free(b.data);
+    tu_rmtree(dir);
+    free(dir);
+}
+END_TEST
+
 /* A document with a material, a texture whose PNG is a data: URI, a camera, an animation of the node, extras and
  * an unknown extension: all of it is still there after a save (the image moved into the buffer). */
 START_TEST(gltf_keeps_everything_else)
@@ -977,6 +1020,7 @@ Suite *make_suite(void)
     tcase_add_test(read, gltf_gpu_instancing_goes_with_the_levels);
     tcase_add_test(read, gltf_skinned_primitive_keeps_joints_and_weights);
     tcase_add_test(read, gltf_morph_targets_and_points_pass_through);
+    tcase_add_test(read, gltf_morph_target_without_buffer_view_is_zeros);
     tcase_add_test(read, gltf_keeps_everything_else);
     tcase_add_test(read, gltf_draco_input_decodes);
     tcase_add_test(read, gltf_load_memory_refuses_external_files);
