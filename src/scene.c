@@ -428,13 +428,17 @@ static resurf_status decode_primitive(load_ctx *c, size_t mesh_index, size_t pri
         a->name = gp->attributes[i].name;
         a->accessor = &v->accessors[gp->attributes[i].index];
         const resurfi_draco_attribute *da = NULL;
+        int in_draco = 0;
         for (size_t k = 0; dm && k < gp->draco_attribute_count; ++k)
-            if (!strcmp(gp->draco_attributes[k].name, a->name))
+            if (!strcmp(gp->draco_attributes[k].name, a->name)) {
+                in_draco = 1;
                 for (size_t j = 0; j < dm->attribute_count; ++j)
                     if (dm->attributes[j].unique_id == gp->draco_attributes[k].index)
                         da = &dm->attributes[j];
-        if (!da && a->accessor->buffer_view == RESURFI_GLTF_NONE && !a->accessor->sparse)
-            status = FAIL(c, "%s: %s has neither data nor Draco compression", where, a->name);
+            }
+        /* Outside Draco, an accessor without a bufferView is zeros (sparse or not), as the spec says. */
+        if (!da && in_draco && a->accessor->buffer_view == RESURFI_GLTF_NONE && !a->accessor->sparse)
+            status = FAIL(c, "%s: %s is named by the Draco extension but not in its payload", where, a->name);
         else if (!da && a->accessor->buffer_view == RESURFI_GLTF_NONE && a->accessor->count > c->buffer_bytes + 4096)
             status = resurfi_fail(c->error, RESURF_ERR_LIMIT, c->path, 0, -1,
                                   "%s: %s claims %llu zero vertices, more than the file's size can justify", where,

@@ -488,9 +488,9 @@ START_TEST(gltf_morph_targets_and_points_pass_through)
 }
 END_TEST
 
-/* A target accessor without a bufferView is zeros, sparse or not (gltf-transform's `sparse` writes targets so):
- * target 0 moves vertex 2 by +0.25 z, target 1 moves nothing. */
-START_TEST(gltf_morph_target_without_buffer_view_is_zeros)
+/* An accessor without a bufferView is zeros, sparse or not (gltf-transform's `sparse` writes morph targets so):
+ * target 0 moves vertex 2 by +0.25 z, target 1 moves nothing, and TEXCOORD_0 is (0, 0) everywhere. */
+START_TEST(gltf_accessors_without_buffer_view_are_zeros)
 {
     char *dir = tu_tempdir();
     tu_bytes b = tu_tetra_bin(); /* 0..71 */
@@ -498,12 +498,13 @@ START_TEST(gltf_morph_target_without_buffer_view_is_zeros)
     tu_put_f32(&b, 0), tu_put_f32(&b, 0), tu_put_f32(&b, 0.25f); /* sparse value, 76..87 */
     char *json = tu_strf(
         "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}],"
-        "\"meshes\":[{\"weights\":[1,0.5],\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":1,"
-        "\"targets\":[{\"POSITION\":2},{\"POSITION\":3}]}]}],"
+        "\"meshes\":[{\"weights\":[1,0.5],\"primitives\":[{\"attributes\":{\"POSITION\":0,\"TEXCOORD_0\":4},"
+        "\"indices\":1,\"targets\":[{\"POSITION\":2},{\"POSITION\":3}]}]}],"
         "\"accessors\":[" TU_TETRA_ACCESSORS ",{\"componentType\":5126,\"count\":4,\"type\":\"VEC3\","
         "\"min\":[0,0,0],\"max\":[0,0,0.25],\"sparse\":{\"count\":1,\"indices\":{\"bufferView\":2,"
         "\"componentType\":5121},\"values\":{\"bufferView\":3}}},"
-        "{\"componentType\":5126,\"count\":4,\"type\":\"VEC3\",\"min\":[0,0,0],\"max\":[0,0,0]}],"
+        "{\"componentType\":5126,\"count\":4,\"type\":\"VEC3\",\"min\":[0,0,0],\"max\":[0,0,0]},"
+        "{\"componentType\":5126,\"count\":4,\"type\":\"VEC2\"}],"
         "\"bufferViews\":[" TU_TETRA_VIEWS ",{\"buffer\":0,\"byteOffset\":72,\"byteLength\":1},"
         "{\"buffer\":0,\"byteOffset\":76,\"byteLength\":12}],"
         "\"buffers\":[{\"byteLength\":%zu,\"uri\":\"zeros.bin\"}]}",
@@ -518,6 +519,9 @@ START_TEST(gltf_morph_target_without_buffer_view_is_zeros)
         for (size_t k = 0; k < 12; ++k)
             ck_assert(m->extras[i].data[k] == (moves && k == 8 ? 0.25f : 0.0f));
     }
+    ck_assert_uint_eq(m->texcoord_count, 1);
+    for (size_t k = 0; k < 8; ++k)
+        ck_assert(m->texcoords[0][k] == 0);
     char *out = tu_path(dir, "out.glb");
     tu_save_scene_ok(s, out, NULL, NULL);
     ck_assert_int_eq(tu_validator_errors(out), 0);
@@ -1020,7 +1024,7 @@ Suite *make_suite(void)
     tcase_add_test(read, gltf_gpu_instancing_goes_with_the_levels);
     tcase_add_test(read, gltf_skinned_primitive_keeps_joints_and_weights);
     tcase_add_test(read, gltf_morph_targets_and_points_pass_through);
-    tcase_add_test(read, gltf_morph_target_without_buffer_view_is_zeros);
+    tcase_add_test(read, gltf_accessors_without_buffer_view_are_zeros);
     tcase_add_test(read, gltf_keeps_everything_else);
     tcase_add_test(read, gltf_draco_input_decodes);
     tcase_add_test(read, gltf_load_memory_refuses_external_files);
