@@ -150,7 +150,9 @@ resurf_status resurfi_scene_check_document(load_ctx *c)
         if (v->meshes[i].primitive_count == 0)
             status = FAIL(c, "meshes[%zu] has no primitives (glTF requires at least one)", i);
     for (size_t i = 0; i < v->ref_count && status == RESURF_OK; ++i)
-        if (v->refs[i].index < 0 || (uint64_t)v->refs[i].index >= v->refs[i].limit)
+        if (v->refs[i].index == RESURFI_GLTF_BAD)
+            status = FAIL(c, "%s: not an index (a whole number is required)", v->refs[i].where);
+        else if (v->refs[i].index < 0 || (uint64_t)v->refs[i].index >= v->refs[i].limit)
             status = FAIL(c, "%s: %lld does not exist (%zu to choose from)", v->refs[i].where, v->refs[i].index,
                           v->refs[i].limit);
     return status;

@@ -16,7 +16,7 @@ int resurfi_scene_extension_known(const char *name)
     static const char *const exact[] = {
         "KHR_draco_mesh_compression", "KHR_mesh_quantization", "KHR_lights_punctual", "KHR_materials_variants",
         "KHR_xmp", "KHR_xmp_json_ld", "KHR_animation_pointer", "KHR_node_visibility", "MSFT_lod",
-        "EXT_lights_image_based",
+        "EXT_lights_image_based", "EXT_mesh_gpu_instancing",
     };
     static const char *const prefixes[] = {"KHR_materials_", "KHR_texture_", "EXT_texture_", "MSFT_texture_",
                                            "MSFT_packing_"};

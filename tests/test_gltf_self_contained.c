@@ -446,6 +446,56 @@ START_TEST(gltf_cli_info_describes_scenes)
 }
 END_TEST
 
+/* EXT_mesh_gpu_instancing (required, as gltfpack -mi writes it) draws a node's mesh once per instance: every level
+ * node carries it too (else a viewer that switches to a level shows one instance), where a node with children hands
+ * its mesh to a child of its own the extension goes with the mesh, and the instances' accessors are kept, with
+ * nothing else of the source's data. */
+START_TEST(gltf_gpu_instancing_goes_with_the_levels)
+{
+    char *dir = tu_tempdir();
+    tu_bytes b = tu_tetra_bin();
+    static const float shifts[6] = {0, 0, 0, 5, 0, 0}; /* two instances' TRANSLATION, 72..95 */
+    for (int i = 0; i < 6; ++i)
+        tu_put_f32(&b, shifts[i]);
+    const char *json =
+        "{\"asset\":{\"version\":\"2.0\"},\"extensionsUsed\":[\"EXT_mesh_gpu_instancing\"],"
+        "\"extensionsRequired\":[\"EXT_mesh_gpu_instancing\"],\"scene\":0,"
+        "\"scenes\":[{\"nodes\":[0,1]}],\"nodes\":[{\"mesh\":0,\"extensions\":{\"EXT_mesh_gpu_instancing\":"
+        "{\"attributes\":{\"TRANSLATION\":2}}}},{\"mesh\":0,\"children\":[2],\"extensions\":"
+        "{\"EXT_mesh_gpu_instancing\":{\"attributes\":{\"TRANSLATION\":2}}}},{\"translation\":[0,3,0]}],"
+        "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":1}]}],"
+        "\"accessors\":[" TU_TETRA_ACCESSORS ",{\"bufferView\":2,\"componentType\":5126,\"count\":2,"
+        "\"type\":\"VEC3\"}],\"bufferViews\":[" TU_TETRA_VIEWS ",{\"buffer\":0,\"byteOffset\":72,\"byteLength\":24}],"
+        "\"buffers\":[{\"byteLength\":96,\"uri\":\"gi.bin\"}]}";
+    char *path = tu_write_gltf(dir, "gi", json, &b);
+    resurf_scene *s = tu_load_scene_ok(path);
+    resurf_mesh *lod = tu_tetrahedron();
+    lod->triangle_count = 3;
+    const resurf_mesh *lods[1] = {lod};
+    ck_assert_int_eq(resurf_scene_set_lods(s, 0, lods, 1, NULL), RESURF_OK);
+    char *out = tu_path(dir, "lod.gltf");
+    tu_save_scene_ok(s, out, NULL, NULL);
+    ck_assert_int_eq(tu_validator_errors(out), 0);
+    /* Per node showing the mesh: does it carry MSFT_lod, and do it and its level node draw the two instances? */
+    char *facts = tu_node_eval(dir, TU_JS_LOAD
+                            "const gi=n=>n.extensions&&n.extensions.EXT_mesh_gpu_instancing?"
+                            "doc.accessors[n.extensions.EXT_mesh_gpu_instancing.attributes.TRANSLATION].count:0;"
+                            "console.log(doc.nodes.filter(n=>n.mesh!==undefined&&n.extensions&&n.extensions.MSFT_lod)"
+                            ".map(n=>gi(n)+'/'+gi(doc.nodes[n.extensions.MSFT_lod.ids[0]])).join(' '),"
+                            "doc.nodes.filter(n=>n.mesh===undefined&&gi(n)).length)", out);
+    ck_assert_str_eq(facts, "2/2 2/2 0");
+    ck_assert_int_eq(dead_bytes(out), 0);
+    free(facts);
+    free(out);
+    resurf_mesh_free(lod);
+    resurf_scene_free(s);
+    free(path);
+    free(b.data);
+    tu_rmtree(dir);
+    free(dir);
+}
+END_TEST
+
 Suite *make_suite(void)
 {
     Suite *s = suite_create("gltf_self_contained");
@@ -456,6 +506,7 @@ Suite *make_suite(void)
     tcase_add_test(whole, gltf_empty_objects_stay_empty);
     tcase_add_test(whole, gltf_triangulation_extensions_dropped_no_dead_bytes);
     tcase_add_test(whole, gltf_skinned_node_keeps_its_place);
+    tcase_add_test(whole, gltf_gpu_instancing_goes_with_the_levels);
     tcase_add_test(whole, gltf_cli_info_describes_scenes);
     suite_add_tcase(s, whole);
     return s;

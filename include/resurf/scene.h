@@ -399,7 +399,8 @@ typedef struct resurf_scene_save_report {
  * show; a .gltf otherwise gets a copy of each external image beside itself under its relative name (one that was
  * outside the input's folder under its file name: nothing is written outside the output's folder). Extensions of
  * triangle primitives that may describe the source's triangulation or vertex order (FB_ngon_encoding, unknown
- * ones) are left off the rewritten primitives (report.dropped_extensions); KHR_materials_variants stays. Source
+ * ones) are left off the rewritten primitives (report.dropped_extensions); KHR_materials_variants stays. A node's
+ * EXT_mesh_gpu_instancing goes wherever its mesh goes (its level nodes, a child holding its mesh). Source
  * accessors, bufferViews and buffers that nothing written refers to are not copied (all are kept, at their
  * indices, when an unknown extension elsewhere may refer to them). */
 RESURF_API resurf_status resurf_scene_save(const resurf_scene *scene, const char *path,

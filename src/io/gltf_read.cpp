@@ -519,6 +519,18 @@ void build_view(resurfi_gltf_doc *doc)
             add_ref(doc, where + ".skin", n.skin, m.skins.size());
         if (n.camera != -1)
             add_ref(doc, where + ".camera", n.camera, m.cameras.size());
+        // EXT_mesh_gpu_instancing: its attributes are accessors the writer keeps (one per instance each).
+        auto gi = n.extensions.find("EXT_mesh_gpu_instancing");
+        if (gi != n.extensions.end() && gi->second.IsObject() && gi->second.Has("attributes")) {
+            const tinygltf::Value &at = gi->second.Get("attributes");
+            std::string w = where + ".extensions.EXT_mesh_gpu_instancing.attributes";
+            if (!at.IsObject())
+                add_ref(doc, w, RESURFI_GLTF_BAD, m.accessors.size());
+            for (const std::string &key : at.IsObject() ? at.Keys() : std::vector<std::string>())
+                add_ref(doc, w + "." + key,
+                        at.Get(key).IsInt() ? (long long)at.Get(key).GetNumberAsInt() : RESURFI_GLTF_BAD,
+                        m.accessors.size());
+        }
     }
     doc->scene_nodes.resize(m.scenes.size());
     for (size_t si = 0; si < m.scenes.size(); ++si) {

@@ -82,6 +82,17 @@ struct Writer {
             views.at((size_t)d->view) = 1;
     }
 
+    // The accessors a node's EXT_mesh_gpu_instancing names (checked by the reader: each exists).
+    static std::vector<int> instancing_accessors(const tinygltf::Node &n)
+    {
+        std::vector<int> out;
+        auto gi = n.extensions.find("EXT_mesh_gpu_instancing");
+        if (gi != n.extensions.end() && gi->second.IsObject() && gi->second.Has("attributes"))
+            for (const std::string &key : gi->second.Get("attributes").Keys())
+                out.push_back(gi->second.Get("attributes").Get(key).GetNumberAsInt());
+        return out;
+    }
+
     // Which source accessors and bufferViews the output still needs, and their new indices (source order kept).
     void keep_source_data()
     {
@@ -95,6 +106,9 @@ struct Writer {
         for (const tinygltf::Skin &s : src.skins)
             if (s.inverseBindMatrices >= 0)
                 acc.at((size_t)s.inverseBindMatrices) = 1;
+        for (const tinygltf::Node &n : src.nodes)
+            for (int a : instancing_accessors(n))
+                acc.at((size_t)a) = 1;
         for (size_t m = 0; m < plan.mesh_count; ++m)
             for (size_t i = 0; i < plan.meshes[m].primitive_count; ++i) {
                 const resurfi_gltf_out_primitive &p = plan.meshes[m].primitives[i];
@@ -509,6 +523,16 @@ struct Writer {
         copy_images();
         for (tinygltf::Skin &s : out.skins)
             s.inverseBindMatrices = map_accessor(s.inverseBindMatrices);
+        for (tinygltf::Node &n : out.nodes) {
+            auto gi = n.extensions.find("EXT_mesh_gpu_instancing");
+            if (gi == n.extensions.end() || !gi->second.IsObject() || !gi->second.Has("attributes"))
+                continue;
+            tinygltf::Value::Object ext = gi->second.Get<tinygltf::Value::Object>(), attributes;
+            for (const std::string &key : gi->second.Get("attributes").Keys())
+                attributes[key] = tinygltf::Value(map_accessor(gi->second.Get("attributes").Get(key).GetNumberAsInt()));
+            ext["attributes"] = tinygltf::Value(attributes);
+            gi->second = tinygltf::Value(ext);
+        }
         for (tinygltf::Animation &a : out.animations)
             for (tinygltf::AnimationSampler &s : a.samplers) {
                 s.input = map_accessor(s.input);
