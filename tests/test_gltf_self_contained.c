@@ -496,6 +496,54 @@ START_TEST(gltf_gpu_instancing_goes_with_the_levels)
 }
 END_TEST
 
+/* EXT_meshopt_compression that the document does not require (gltfpack -cf): resurf reads the fallback buffer's
+ * uncompressed bytes, and the output neither uses the extension nor keeps the compressed bytes, even where a
+ * source bufferView is kept (the points primitive, written as it was). */
+START_TEST(gltf_optional_meshopt_reads_the_fallback)
+{
+    char *dir = tu_tempdir();
+    tu_bytes b = tu_tetra_bin(); /* m.bin: the fallback's bytes */
+    unsigned char packed[16]; /* c.bin: stands for the compressed bytes */
+    memset(packed, 0xCC, sizeof packed);
+    char *c_bin = tu_path(dir, "c.bin");
+    ck_assert_int_eq(tu_write_file(c_bin, packed, sizeof packed), 0);
+    free(c_bin);
+    const char *json =
+        "{\"asset\":{\"version\":\"2.0\"},\"extensionsUsed\":[\"EXT_meshopt_compression\"],"
+        "\"scene\":0,\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}],"
+        "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":1},"
+        "{\"attributes\":{\"POSITION\":0},\"mode\":0}]}],"
+        "\"accessors\":[" TU_TETRA_ACCESSORS "],"
+        "\"bufferViews\":[{\"buffer\":1,\"byteLength\":48,\"extensions\":{\"EXT_meshopt_compression\":{\"buffer\":0,"
+        "\"byteLength\":8,\"byteStride\":12,\"mode\":\"ATTRIBUTES\",\"count\":4}}},"
+        "{\"buffer\":1,\"byteOffset\":48,\"byteLength\":24,\"extensions\":{\"EXT_meshopt_compression\":{\"buffer\":0,"
+        "\"byteOffset\":8,\"byteLength\":8,\"byteStride\":2,\"mode\":\"INDICES\",\"count\":12}}}],"
+        "\"buffers\":[{\"byteLength\":16,\"uri\":\"c.bin\"},{\"byteLength\":72,\"uri\":\"m.bin\","
+        "\"extensions\":{\"EXT_meshopt_compression\":{\"fallback\":true}}}]}";
+    char *path = tu_write_gltf(dir, "m", json, &b);
+    resurf_scene *s = tu_load_scene_ok(path);
+    const resurf_mesh *m = resurf_scene_primitive_mesh(s, 0);
+    ck_assert_uint_eq(m->triangle_count, 4);
+    ck_assert(m->positions[0] == 1 && m->positions[1] == 1 && m->positions[2] == 1);
+    add_one_level(s);
+    char *out = tu_path(dir, "out.glb");
+    tu_save_scene_ok(s, out, NULL, NULL);
+    ck_assert_int_eq(tu_validator_errors(out), 0);
+    ck_assert_int_eq(dead_bytes(out), 0);
+    char *facts = tu_node_eval(dir, TU_JS_LOAD "console.log(JSON.stringify(doc.extensionsUsed||[]),"
+                                         "doc.bufferViews.filter(v=>v.extensions).length,"
+                                         "doc.buffers.length)", out);
+    ck_assert_str_eq(facts, "[\"MSFT_lod\"] 0 1");
+    free(facts);
+    free(out);
+    resurf_scene_free(s);
+    free(path);
+    free(b.data);
+    tu_rmtree(dir);
+    free(dir);
+}
+END_TEST
+
 Suite *make_suite(void)
 {
     Suite *s = suite_create("gltf_self_contained");
@@ -507,6 +555,7 @@ Suite *make_suite(void)
     tcase_add_test(whole, gltf_triangulation_extensions_dropped_no_dead_bytes);
     tcase_add_test(whole, gltf_skinned_node_keeps_its_place);
     tcase_add_test(whole, gltf_gpu_instancing_goes_with_the_levels);
+    tcase_add_test(whole, gltf_optional_meshopt_reads_the_fallback);
     tcase_add_test(whole, gltf_cli_info_describes_scenes);
     suite_add_tcase(s, whole);
     return s;

@@ -204,6 +204,42 @@ void outside_extensions(const nlohmann::json &root, std::vector<std::string> &ou
     }
 }
 
+// EXT_meshopt_compression that the document does not require: every compressed bufferView keeps its bytes
+// uncompressed in a fallback buffer (gltfpack -cf), and those are what resurf reads. The extension is taken out of
+// the bufferViews, the buffers and extensionsUsed, so nothing written refers to the compressed bytes. Returns true
+// when it changed the document.
+bool drop_optional_meshopt(nlohmann::json &root)
+{
+    static const char *const ext = "EXT_meshopt_compression";
+    auto required = root.find("extensionsRequired");
+    if (required != root.end() && required->is_array())
+        for (const nlohmann::json &e : *required)
+            if (e.is_string() && e.get_ref<const std::string &>() == ext)
+                return false;
+    bool changed = false;
+    for (const char *key : {"bufferViews", "buffers"}) {
+        auto list = root.find(key);
+        if (list == root.end() || !list->is_array())
+            continue;
+        for (nlohmann::json &x : *list) {
+            auto exts = x.is_object() ? x.find("extensions") : x.end();
+            if (exts == x.end() || !exts->is_object() || !exts->erase(ext))
+                continue;
+            changed = true;
+            if (exts->empty())
+                x.erase("extensions");
+        }
+    }
+    auto used = root.find("extensionsUsed");
+    if (used != root.end() && used->is_array())
+        for (size_t i = used->size(); i-- > 0;)
+            if ((*used)[i].is_string() && (*used)[i].get_ref<const std::string &>() == ext) {
+                used->erase(i);
+                changed = true;
+            }
+    return changed;
+}
+
 // Takes the Draco extensions (and their primitives' indices) out of the document. Returns true when it changed.
 bool take_draco(nlohmann::json &root, std::map<std::pair<size_t, size_t>, DracoRecord> &out)
 {
@@ -709,12 +745,13 @@ resurf_status parse(const char *json, size_t json_size, const unsigned char *bin
                                 "memory cannot refer to",
                                 b, uri.c_str());
     }
+    bool meshopt_dropped = drop_optional_meshopt(root);
     std::string where;
     find_nonfinite(root, where, doc->nonfinite_count, doc->first_nonfinite);
     outside_extensions(root, doc->outside_extensions);
     material_texcoords(root, doc->material_texcoords);
     std::string rewritten;
-    if (take_draco(root, doc->draco) || integers_rewritten)
+    if (take_draco(root, doc->draco) || integers_rewritten || meshopt_dropped)
         rewritten = root.dump();
     root = nlohmann::json();
 
