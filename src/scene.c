@@ -84,6 +84,8 @@ void resurf_scene_free(resurf_scene *scene)
     resurfi_free(a, scene->coverage_count);
     resurfi_free(a, scene->mesh_first);
     resurfi_free(a, scene->world);
+    resurfi_free(a, scene->instance_first);
+    resurfi_free(a, scene->instance_world);
     for (size_t i = 0; i < scene->warning_count; ++i)
         resurfi_free(a, scene->warnings[i]);
     resurfi_free(a, scene->warnings);
@@ -150,7 +152,7 @@ static double normalize(double x, int type)
 }
 
 /* Reads a checked accessor into out (count × components doubles), normalized as the accessor says. */
-static void read_accessor(const resurfi_gltf_view *v, const resurfi_gltf_accessor *a, double *out)
+void resurfi_scene_read_accessor(const resurfi_gltf_view *v, const resurfi_gltf_accessor *a, double *out)
 {
     resurfi_gltf_element e = resurfi_gltf_element_of(a);
     size_t n = (size_t)a->count, comps = (size_t)a->components;
@@ -357,7 +359,7 @@ static resurf_status store_targets(load_ctx *c, const char *where, const resurfi
                 status = oom(c);
                 break;
             }
-            read_accessor(c->v, a, values);
+            resurfi_scene_read_accessor(c->v, a, values);
             resurf_attribute *x = NULL;
             for (size_t k = 0; k < n * comps && status == RESURF_OK; ++k)
                 if (!isfinite(values[k]) || !isfinite((float)values[k]))
@@ -456,7 +458,7 @@ static resurf_status decode_primitive(load_ctx *c, size_t mesh_index, size_t pri
                 a->values[k] = a->accessor->normalized ? normalize(x, a->accessor->component_type) : x;
             }
         } else {
-            read_accessor(v, a->accessor, a->values);
+            resurfi_scene_read_accessor(v, a->accessor, a->values);
         }
     }
     if (dm && dm->face_count) {
@@ -484,7 +486,7 @@ static resurf_status decode_primitive(load_ctx *c, size_t mesh_index, size_t pri
             status = oom(c);
             goto done;
         }
-        read_accessor(v, ia, index_values);
+        resurfi_scene_read_accessor(v, ia, index_values);
     } else {
         index_count = n;
         if (!(index_values = resurfi_alloc(c->alloc, n, sizeof *index_values))) {
@@ -569,7 +571,8 @@ static resurf_status build_scene(load_ctx *c, resurfi_gltf_doc *doc, resurf_scen
         s->mesh_first[m] = k;
         size_t instances = 0;
         for (size_t n = 0; n < v->node_count; ++n)
-            instances += v->nodes[n].mesh == (long long)m;
+            if (v->nodes[n].mesh == (long long)m)
+                instances += resurfi_scene_node_instances(s, n);
         for (size_t p = 0; p < v->meshes[m].primitive_count && status == RESURF_OK; ++p, ++k) {
             s->prims[k].info.instances = instances;
             status = decode_primitive(c, m, p, &s->prims[k]);

@@ -2,6 +2,7 @@
  * afterwards): the JSON's depth, every bufferView and accessor against its buffer (sparse storage included), the
  * node graph, each primitive's mode, accessors and Draco references. Follows glTF 2.0 (3.6 binary data, 3.7
  * geometry, 3.11 sparse accessors) and KHR_draco_mesh_compression; every message names the element at fault. */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -198,6 +199,105 @@ static void mat_mul(const double a[16], const double b[16], double out[16])
     memcpy(out, r, sizeof r);
 }
 
+size_t resurfi_scene_node_instances(const resurf_scene *s, size_t n)
+{
+    size_t count = s->instance_first ? s->instance_first[n + 1] - s->instance_first[n] : 0;
+    return count ? count : 1;
+}
+
+const double *resurfi_scene_instance_world(const resurf_scene *s, size_t n, size_t j)
+{
+    int instanced = s->instance_first && s->instance_first[n + 1] > s->instance_first[n];
+    return instanced ? s->instance_world[s->instance_first[n] + j] : s->world[n];
+}
+
+/* EXT_mesh_gpu_instancing: node n draws its mesh once per instance, at its world matrix times the instance's
+ * T · R · S. The attributes are checked (shape, one count, finite values), then read into s->instance_world. */
+static resurf_status read_instances(load_ctx *c, resurf_scene *s)
+{
+    static const char *const trs[3] = {"TRANSLATION", "ROTATION", "SCALE"};
+    static const int components[3] = {3, 4, 3};
+    const resurfi_gltf_view *v = c->v;
+    size_t n = v->node_count, total = 0;
+    for (size_t i = 0; i < n; ++i) {
+        const resurfi_gltf_node *node = &v->nodes[i];
+        uint64_t count = 0;
+        for (int k = 0; k < 3 && node->has_instances && node->mesh >= 0; ++k) {
+            long long id = node->instance_attributes[k];
+            if (id == RESURFI_GLTF_NONE)
+                continue;
+            const resurfi_gltf_accessor *a = &v->accessors[id]; /* in range: a checked reference */
+            if (a->matrix || a->components != components[k])
+                return FAIL(c, "nodes[%zu].extensions.EXT_mesh_gpu_instancing.attributes.%s: not a VEC%d", i,
+                            trs[k], components[k]);
+            if (count && a->count != count)
+                return FAIL(c, "nodes[%zu].extensions.EXT_mesh_gpu_instancing: its attributes count %llu and %llu "
+                            "instances", i, (unsigned long long)count, (unsigned long long)a->count);
+            if (a->buffer_view == RESURFI_GLTF_NONE && a->count > c->buffer_bytes + 4096)
+                return resurfi_fail(c->error, RESURF_ERR_LIMIT, c->path, 0, -1,
+                                    "nodes[%zu].extensions.EXT_mesh_gpu_instancing: %llu zero instances, more than "
+                                    "the file's size can justify", i, (unsigned long long)a->count);
+            count = a->count;
+        }
+        total += (size_t)count;
+    }
+    if (total == 0)
+        return RESURF_OK;
+    s->instance_first = resurfi_alloc(&s->alloc, n + 1, sizeof *s->instance_first);
+    s->instance_world = resurfi_alloc(&s->alloc, total, sizeof *s->instance_world);
+    double *values = resurfi_alloc(c->alloc, total, 4 * sizeof *values); /* one attribute of one node */
+    if (!s->instance_first || !s->instance_world || !values) {
+        resurfi_free(c->alloc, values);
+        return resurfi_fail(c->error, RESURF_ERR_OUT_OF_MEMORY, c->path, 0, -1, "out of memory reading instances");
+    }
+    resurf_status status = RESURF_OK;
+    size_t at = 0;
+    for (size_t i = 0; i < n && status == RESURF_OK; ++i) {
+        const resurfi_gltf_node *node = &v->nodes[i];
+        s->instance_first[i] = at;
+        size_t count = 0;
+        for (int k = 0; k < 3 && node->has_instances && node->mesh >= 0; ++k)
+            if (node->instance_attributes[k] != RESURFI_GLTF_NONE)
+                count = (size_t)v->accessors[node->instance_attributes[k]].count;
+        /* Each instance's T, R, S as a node of its own (absent attributes: identity), whose local matrix goes
+         * after the node's world matrix. */
+        resurfi_gltf_node identity = {.translation_count = 3, .rotation_count = 4, .scale_count = 3,
+                                      .rotation = {0, 0, 0, 1}, .scale = {1, 1, 1}};
+        resurfi_gltf_node *local = count ? resurfi_alloc(c->alloc, count, sizeof *local) : NULL;
+        if (count && !local) {
+            status = resurfi_fail(c->error, RESURF_ERR_OUT_OF_MEMORY, c->path, 0, -1, "out of memory reading instances");
+            break;
+        }
+        for (size_t j = 0; j < count; ++j)
+            local[j] = identity;
+        for (int k = 0; k < 3 && count && status == RESURF_OK; ++k) {
+            long long id = node->instance_attributes[k];
+            if (id == RESURFI_GLTF_NONE)
+                continue;
+            resurfi_scene_read_accessor(v, &v->accessors[id], values);
+            for (size_t j = 0; j < count && status == RESURF_OK; ++j)
+                for (int x = 0; x < components[k]; ++x) {
+                    double value = values[j * (size_t)components[k] + (size_t)x];
+                    if (!isfinite(value))
+                        status = FAIL(c, "nodes[%zu].extensions.EXT_mesh_gpu_instancing.attributes.%s of instance "
+                                      "%zu is not finite", i, trs[k], j);
+                    double *field = k == 0 ? local[j].translation : k == 1 ? local[j].rotation : local[j].scale;
+                    field[x] = value;
+                }
+        }
+        for (size_t j = 0; j < count && status == RESURF_OK; ++j) {
+            double m[16];
+            node_local(&local[j], m);
+            mat_mul(s->world[i], m, s->instance_world[at + j]);
+        }
+        resurfi_free(c->alloc, local);
+        at += count;
+    }
+    s->instance_first[n] = at;
+    resurfi_free(c->alloc, values);
+    return status;
+}
+
 /* The node graph: meshes, children and scene roots in range, one parent per node, no cycle, roots are roots.
  * Then the world matrices (every node has at most one parent, so each has one). */
 resurf_status resurfi_scene_check_nodes(load_ctx *c, resurf_scene *s)
@@ -275,6 +375,7 @@ resurf_status resurfi_scene_check_nodes(load_ctx *c, resurf_scene *s)
             state[k] = 3;
         }
     }
+    status = read_instances(c, s);
 done:
     resurfi_free(c->alloc, parent);
     resurfi_free(c->alloc, state);

@@ -46,6 +46,8 @@ struct resurf_scene {
     size_t prim_count;
     resurfi_scene_prim *prims;
     double (*world)[16];    /* per node: its world matrix (column-major) in the scene that first reaches it */
+    size_t *instance_first; /* node_count + 1, or NULL: node n's EXT_mesh_gpu_instancing instances are */
+    double (*instance_world)[16]; /* instance_world[instance_first[n] .. instance_first[n + 1]), world matrices */
     int quantized;          /* the source declared KHR_mesh_quantization */
     int unknown_extensions; /* the source uses an extension that may refer to accessors or bufferViews */
     size_t warning_count;
@@ -258,8 +260,15 @@ long long resurfi_json_too_deep(const char *p, size_t size);
  * required extensions were checked by the shim). Sets c->buffer_bytes. */
 resurf_status resurfi_scene_check_document(load_ctx *c);
 /* The node graph: meshes, children and scene roots in range, one parent per node, no cycle, roots are roots; then
- * each node's world matrix into s->world. */
+ * each node's world matrix into s->world, and the world matrix of each of its EXT_mesh_gpu_instancing instances
+ * (TRANSLATION VEC3, ROTATION VEC4, SCALE VEC3, one count) into s->instance_world. */
 resurf_status resurfi_scene_check_nodes(load_ctx *c, resurf_scene *s);
+/* How many times node n draws its mesh (its EXT_mesh_gpu_instancing instances, else once), and the world matrix of
+ * the j-th time (column-major). */
+size_t resurfi_scene_node_instances(const resurf_scene *s, size_t n);
+const double *resurfi_scene_instance_world(const resurf_scene *s, size_t n, size_t j);
+/* Reads a checked accessor into out (count × components doubles), normalized as the accessor says. */
+void resurfi_scene_read_accessor(const resurfi_gltf_view *v, const resurfi_gltf_accessor *a, double *out);
 /* The checks of one primitive (named `where` in messages) before it is decoded: its mode, its accessors (attributes,
  * morph targets, indices) and their counts, and its Draco extension's references. *out_count receives its vertex
  * count. */

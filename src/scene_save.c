@@ -188,18 +188,20 @@ static double scene_width(const resurf_scene *s)
         if (mesh < 0)
             continue;
         static const double identity[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
-        const double *w = s->doc ? s->world[node] : identity;
-        for (size_t i = s->mesh_first[mesh]; i < s->mesh_first[mesh + 1]; ++i) {
-            const resurf_mesh *m = s->prims[i].mesh;
-            if (!m || m->vertex_count == 0)
-                continue;
-            double bmin[3], bmax[3];
-            extent = fmax(extent, resurf_mesh_bounds(m, bmin, bmax));
-            for (int corner = 0; corner < 8; ++corner) {
-                double p[3] = {corner & 1 ? bmax[0] : bmin[0], corner & 2 ? bmax[1] : bmin[1],
-                               corner & 4 ? bmax[2] : bmin[2]};
-                double x = w[0] * p[0] + w[4] * p[1] + w[8] * p[2] + w[12];
-                lo = fmin(lo, x), hi = fmax(hi, x);
+        for (size_t j = 0; j < (s->doc ? resurfi_scene_node_instances(s, node) : 1); ++j) {
+            const double *w = s->doc ? resurfi_scene_instance_world(s, node, j) : identity;
+            for (size_t i = s->mesh_first[mesh]; i < s->mesh_first[mesh + 1]; ++i) {
+                const resurf_mesh *m = s->prims[i].mesh;
+                if (!m || m->vertex_count == 0)
+                    continue;
+                double bmin[3], bmax[3];
+                extent = fmax(extent, resurf_mesh_bounds(m, bmin, bmax));
+                for (int corner = 0; corner < 8; ++corner) {
+                    double p[3] = {corner & 1 ? bmax[0] : bmin[0], corner & 2 ? bmax[1] : bmin[1],
+                                   corner & 4 ? bmax[2] : bmin[2]};
+                    double x = w[0] * p[0] + w[4] * p[1] + w[8] * p[2] + w[12];
+                    lo = fmin(lo, x), hi = fmax(hi, x);
+                }
             }
         }
     }

@@ -27,7 +27,8 @@ resurf_status resurfi_scene_gather(const resurf_scene *scene, const resurf_alloc
 {
     const resurfi_gltf_view *v = scene->view;
     size_t node_count = v ? v->node_count : 0;
-    size_t cap = node_count > scene->mesh_count ? node_count : scene->mesh_count;
+    size_t shown = node_count + (scene->instance_first ? scene->instance_first[node_count] : 0);
+    size_t cap = shown > scene->mesh_count ? shown : scene->mesh_count;
     out->count = 0;
     out->items = resurfi_calloc(alloc, cap ? cap : 1, sizeof *out->items);
     if (!out->items)
@@ -65,9 +66,11 @@ resurf_status resurfi_scene_gather(const resurf_scene *scene, const resurf_alloc
     while (top > 0) {
         long long n = stack[--top];
         const resurfi_gltf_node *node = &v->nodes[n];
-        if (node->mesh >= 0 && out->count < cap) {
+        for (size_t j = 0; node->mesh >= 0 && j < resurfi_scene_node_instances(scene, (size_t)n) && out->count < cap;
+             ++j) {
             resurfi_scene_instance *item = &out->items[out->count++];
-            *item = (resurfi_scene_instance){.mesh = (size_t)node->mesh, .world = scene->world[n]};
+            *item = (resurfi_scene_instance){.mesh = (size_t)node->mesh,
+                                             .world = resurfi_scene_instance_world(scene, (size_t)n, j)};
             read_msft_lod(v, node, item);
         }
         for (size_t c = node->child_count; c-- > 0 && top < node_count;)

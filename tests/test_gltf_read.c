@@ -642,6 +642,15 @@ static const hostile_case hostile_cases[] = {
     {"instancing accessor out of range", H_HEAD "\"nodes\":[{\"mesh\":0,\"extensions\":{\"EXT_mesh_gpu_instancing\":"
                                          "{\"attributes\":{\"TRANSLATION\":7}}}}]," H_MESH H_TETRA_DATA,
      RESURF_ERR_PARSE, "EXT_mesh_gpu_instancing.attributes.TRANSLATION: 7 does not exist"},
+    {"instancing rotation not a VEC4", H_HEAD "\"nodes\":[{\"mesh\":0,\"extensions\":{\"EXT_mesh_gpu_instancing\":"
+                                       "{\"attributes\":{\"ROTATION\":0}}}}]," H_MESH H_TETRA_DATA,
+     RESURF_ERR_PARSE, "attributes.ROTATION: not a VEC4"},
+    {"instancing counts differ", H_HEAD "\"nodes\":[{\"mesh\":0,\"extensions\":{\"EXT_mesh_gpu_instancing\":"
+                                 "{\"attributes\":{\"TRANSLATION\":0,\"SCALE\":2}}}}]," H_MESH
+                                 "\"accessors\":[" TU_TETRA_ACCESSORS ",{\"bufferView\":0,\"componentType\":5126,"
+                                 "\"count\":3,\"type\":\"VEC3\"}],\"bufferViews\":[" TU_TETRA_VIEWS "],"
+                                 "\"buffers\":[{\"byteLength\":72,\"uri\":\"h.bin\"}]}",
+     RESURF_ERR_PARSE, "its attributes count 4 and 3 instances"},
     {"instancing accessor not an index", H_HEAD "\"nodes\":[{\"mesh\":0,\"extensions\":{\"EXT_mesh_gpu_instancing\":"
                                          "{\"attributes\":{\"SCALE\":\"1\"}}}}]," H_MESH H_TETRA_DATA,
      RESURF_ERR_PARSE, "attributes.SCALE: not an index"},

@@ -180,6 +180,57 @@ START_TEST(world_mesh_applies_node_transforms)
 }
 END_TEST
 
+/* EXT_mesh_gpu_instancing: node translation (10, 0, 0) draws the tetrahedron twice, as it is and at T(0, 5, 0) ·
+ * Rz(90°) · S(2), so a corner p of the second lands at (10, 5, 0) + Rz(2p), with Rz(x, y, z) = (-y, x, z). */
+START_TEST(world_mesh_applies_gpu_instances)
+{
+    char *dir = tu_tempdir();
+    tu_bytes b = tu_tetra_bin(); /* 0..71 */
+    static const float t[6] = {0, 0, 0, 0, 5, 0}, r[8] = {0, 0, 0, 1, 0, 0, 0.70710678118654752f, 0.70710678118654752f},
+                       sc[6] = {1, 1, 1, 2, 2, 2};
+    for (int i = 0; i < 6; ++i)
+        tu_put_f32(&b, t[i]); /* 72..95 */
+    for (int i = 0; i < 8; ++i)
+        tu_put_f32(&b, r[i]); /* 96..127 */
+    for (int i = 0; i < 6; ++i)
+        tu_put_f32(&b, sc[i]); /* 128..151 */
+    const char *json =
+        "{\"asset\":{\"version\":\"2.0\"},\"extensionsUsed\":[\"EXT_mesh_gpu_instancing\"],\"scene\":0,"
+        "\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0,\"translation\":[10,0,0],\"extensions\":"
+        "{\"EXT_mesh_gpu_instancing\":{\"attributes\":{\"TRANSLATION\":2,\"ROTATION\":3,\"SCALE\":4}}}}],"
+        "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":1}]}],"
+        "\"accessors\":[" TU_TETRA_ACCESSORS ",{\"bufferView\":2,\"componentType\":5126,\"count\":2,\"type\":\"VEC3\"},"
+        "{\"bufferView\":3,\"componentType\":5126,\"count\":2,\"type\":\"VEC4\"},"
+        "{\"bufferView\":4,\"componentType\":5126,\"count\":2,\"type\":\"VEC3\"}],"
+        "\"bufferViews\":[" TU_TETRA_VIEWS ",{\"buffer\":0,\"byteOffset\":72,\"byteLength\":24},"
+        "{\"buffer\":0,\"byteOffset\":96,\"byteLength\":32},{\"buffer\":0,\"byteOffset\":128,\"byteLength\":24}],"
+        "\"buffers\":[{\"byteLength\":152,\"uri\":\"gi.bin\"}]}";
+    char *path = tu_write_gltf(dir, "gi", json, &b);
+    resurf_scene *s = tu_load_scene_ok(path);
+    resurf_scene_primitive info;
+    resurf_scene_primitive_info(s, 0, &info, NULL);
+    ck_assert_uint_eq(info.instances, 2);
+    resurf_mesh *w = world_ok(s, 0);
+    ck_assert_uint_eq(w->vertex_count, 8);
+    ck_assert_uint_eq(w->triangle_count, 8);
+    static const double p[12] = {1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1}; /* tu_tetra_bin's corners */
+    for (size_t v = 0; v < 4; ++v) {
+        const double *x = p + 3 * v, want0[3] = {x[0] + 10, x[1], x[2]},
+                     want1[3] = {10 - 2 * x[1], 5 + 2 * x[0], 2 * x[2]};
+        for (size_t c = 0; c < 3; ++c) {
+            ck_assert_double_eq_tol(w->positions[3 * v + c], want0[c], 1e-6);
+            ck_assert_double_eq_tol(w->positions[3 * (v + 4) + c], want1[c], 1e-6);
+        }
+    }
+    resurf_mesh_free(w);
+    resurf_scene_free(s);
+    free(path);
+    free(b.data);
+    tu_rmtree(dir);
+    free(dir);
+}
+END_TEST
+
 /* A scene made from a mesh has no nodes: the mesh untransformed, its normals absent. */
 START_TEST(world_mesh_of_a_mesh_scene)
 {
@@ -651,6 +702,7 @@ Suite *make_suite(void)
     Suite *s = suite_create("scene_world");
     TCase *tc = tcase_create("world");
     tcase_add_test(tc, world_mesh_applies_node_transforms);
+    tcase_add_test(tc, world_mesh_applies_gpu_instances);
     tcase_add_test(tc, world_mesh_of_a_mesh_scene);
     suite_add_tcase(s, tc);
     TCase *lod = tcase_create("lod");

@@ -130,7 +130,8 @@ typedef struct resurf_scene_primitive {
     int mode;                 /* glTF mode as in the file: 0 points, 1 lines, 2 loop, 3 strip, 4 triangles, 5 strip, 6 fan */
     resurf_primitive_kind kind;
     bool draco;               /* the input was Draco-compressed */
-    size_t instances;         /* nodes that show its mesh (several: the mesh is still handled once) */
+    size_t instances;         /* nodes that show its mesh, each EXT_mesh_gpu_instancing instance counted (several:
+                                 the mesh is still handled once) */
     size_t lod_count;         /* levels of detail set with resurf_scene_set_lods() */
 } resurf_scene_primitive;
 
@@ -148,7 +149,8 @@ RESURF_API const resurf_mesh *resurf_scene_primitive_mesh(const resurf_scene *sc
 
 /* The whole scene at `level` as one mesh in world space: every triangle primitive with a mesh (morphed ones in
  * their rest pose, weights 0) at that level (0 = full detail; a primitive with fewer levels uses its last), once
- * for each node that shows its mesh, with the node's world matrix applied (through the node hierarchy of the
+ * for each node that shows its mesh (once per instance of its EXT_mesh_gpu_instancing, at the node's world matrix
+ * times the instance's T · R · S), with the node's world matrix applied (through the node hierarchy of the
  * default scene, else scene 0, else of every root node; a scene made from a mesh file or without nodes: each mesh
  * once, untransformed). Normals go through the matrix's inverse transpose and are renormalised. A node whose
  * MSFT_lod extension (in a loaded file) names level nodes shows their meshes at level 1, 2, ... (as

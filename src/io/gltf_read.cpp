@@ -549,6 +549,18 @@ void build_view(resurfi_gltf_doc *doc)
         c.lod_ids = doc->lod_ids[ni].data();
         c.coverage_count = doc->coverage[ni].size();
         c.coverage = doc->coverage[ni].data();
+        c.instance_attributes[0] = c.instance_attributes[1] = c.instance_attributes[2] = RESURFI_GLTF_NONE;
+        auto instancing = n.extensions.find("EXT_mesh_gpu_instancing");
+        if (instancing != n.extensions.end() && instancing->second.IsObject() &&
+            instancing->second.Has("attributes") && instancing->second.Get("attributes").IsObject()) {
+            static const char *const trs[3] = {"TRANSLATION", "ROTATION", "SCALE"};
+            const tinygltf::Value &at = instancing->second.Get("attributes");
+            c.has_instances = 1;
+            for (int k = 0; k < 3; ++k)
+                if (at.Has(trs[k]))
+                    c.instance_attributes[k] =
+                        at.Get(trs[k]).IsInt() ? (long long)at.Get(trs[k]).GetNumberAsInt() : RESURFI_GLTF_BAD;
+        }
         doc->nodes.push_back(c);
         std::string where = "nodes[" + std::to_string(ni) + "]";
         if (n.skin != -1)

@@ -106,6 +106,10 @@ typedef struct resurfi_gltf_node {
     const long long *lod_ids;
     size_t coverage_count;     /* extras.MSFT_screencoverage's numbers (0 when absent or not all numbers) */
     const double *coverage;
+    /* EXT_mesh_gpu_instancing: the accessors of its TRANSLATION, ROTATION and SCALE (RESURFI_GLTF_NONE when absent,
+       RESURFI_GLTF_BAD when not an integer; unchecked, see refs); has_instances 0 without the extension */
+    int has_instances;
+    long long instance_attributes[3];
 } resurfi_gltf_node;
 
 typedef struct resurfi_gltf_scene {
