@@ -103,14 +103,20 @@ static void mix_primitive(const resurfi_lod_pass passes[2], const unsigned char 
 }
 
 /* Level k's figures from another pass's report. */
-static void take_level(resurf_scene_lod_report *r, const resurf_scene_lod_report *from, size_t k, bool plain)
+/* Level k's measured world errors, from one report into another. */
+static void copy_measured(resurf_scene_lod_report *r, const resurf_scene_lod_report *from, size_t k)
 {
-    r->level_triangles[k] = from->level_triangles[k];
     r->level_error_rel[k] = from->level_error_rel[k];
     r->level_error[k] = from->level_error[k];
     r->level_mean_rel[k] = from->level_mean_rel[k];
     r->level_to_full_rel[k] = from->level_to_full_rel[k];
     r->level_from_full_rel[k] = from->level_from_full_rel[k];
+}
+
+static void take_level(resurf_scene_lod_report *r, const resurf_scene_lod_report *from, size_t k, bool plain)
+{
+    r->level_triangles[k] = from->level_triangles[k];
+    copy_measured(r, from, k);
     r->level_unreduced[k] = from->level_unreduced[k];
     r->level_missed[k] = from->level_missed[k];
     r->level_plain[k] = plain;
@@ -226,11 +232,7 @@ static void copy_twin_levels(const resurf_scene *scene, size_t count, const resu
     for (size_t k = 1; k < r->levels; ++k) {
         if (!plain->w->twin_levels[k])
             continue;
-        r->level_error[k] = from->level_error[k];
-        r->level_error_rel[k] = from->level_error_rel[k];
-        r->level_mean_rel[k] = from->level_mean_rel[k];
-        r->level_to_full_rel[k] = from->level_to_full_rel[k];
-        r->level_from_full_rel[k] = from->level_from_full_rel[k];
+        copy_measured(r, from, k);
         for (size_t m = 0; m < scene->mesh_count; ++m)
             if (k < plain->w->mesh_levels[m])
                 plain->w->errors[m * (count + 1) + k] = d->w->errors[m * (count + 1) + k];
