@@ -93,7 +93,7 @@ if has_part valgrind; then
   # valgrind setup sets RESURF_TEST_LIGHT, as the sanitizer build does (tests/meson.build).
   core=(mesh mesh_arrays alloc weld adjacency validate repair io io_obj io_ply io_off io_stl io_corpus bvh normals
         curvature optdir glide restore smooth metrics quadric simplify_queue attributes gltf_read gltf_write
-        gltf_self_contained gltf_schema scene_lods scene_world morph)
+        gltf_self_contained gltf_schema scene_lods scene_world morph meshopt_decode)
   # Only the suites that exist (tests/meson.build builds a suite once its file is there).
   existing=$(meson test -C build --list 2>/dev/null | sed -n 's/^resurf \/ //p')
   suites=()

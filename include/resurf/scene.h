@@ -34,7 +34,8 @@ extern "C" {
  * exactly 1 in their component type, with joint 0 in unused slots (see resurf_scene_save_options.generic_bits for
  * Draco). Integer and normalized component types are decoded as glTF defines them (a normalized ubyte 255 is 1.0),
  * sparse accessors are applied, triangle strips and fans become lists (the joining triangles that repeat an index
- * are dropped), KHR_draco_mesh_compression and KHR_mesh_quantization inputs are decoded.
+ * are dropped), KHR_draco_mesh_compression, KHR_mesh_quantization and EXT_meshopt_compression inputs are decoded
+ * (the last from its fallback buffers when the document does not require it), EXT_mesh_gpu_instancing is read.
  * The JSON is checked against the glTF 2.0 schema first (github.com/KhronosGroup/glTF, specification/2.0/schema):
  * the JSON type of every property of the core objects, required properties, array lengths and unique items, enum
  * values (componentType, accessor type, primitive mode, bufferView target, sampler filters and wraps, camera type,

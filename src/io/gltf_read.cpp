@@ -28,6 +28,7 @@
 #include <tiny_gltf.h>
 
 #include "gltf_internal.hpp"
+#include "gltf_meshopt.hpp"
 #include "gltf_schema.hpp"
 
 namespace {
@@ -739,8 +740,13 @@ resurf_status parse(const char *json, size_t json_size, const unsigned char *bin
     if (problem_count > doc->warnings.size())
         doc->warnings.push_back(std::to_string(problem_count - doc->warnings.size()) +
                                 " more problems with the glTF schema");
-    // A required extension resurf cannot read refuses the document before tinygltf reads what it changes: the
-    // buffers of EXT_meshopt_compression are longer than their bytes, and tinygltf would blame a byteLength.
+    // A required EXT_meshopt_compression is prepared for decoding after tinygltf's reading (gltf_meshopt.cpp).
+    std::vector<MeshoptView> meshopt_views;
+    std::vector<MeshoptPlaceholder> meshopt_holders;
+    std::string meshopt_problem;
+    if (!meshopt_prepare(root, meshopt_views, meshopt_holders, meshopt_problem))
+        return resurfi_fail(error, RESURF_ERR_PARSE, name, 0, -1, "%s", meshopt_problem.c_str());
+    // A required extension resurf cannot read refuses the document before tinygltf reads what it changes.
     auto required = root.find("extensionsRequired");
     if (required != root.end() && required->is_array())
         for (const nlohmann::json &e : *required)
@@ -763,7 +769,7 @@ resurf_status parse(const char *json, size_t json_size, const unsigned char *bin
     outside_extensions(root, doc->outside_extensions);
     material_texcoords(root, doc->material_texcoords);
     std::string rewritten;
-    if (take_draco(root, doc->draco) || integers_rewritten || meshopt_dropped)
+    if (take_draco(root, doc->draco) || integers_rewritten || meshopt_dropped || !meshopt_views.empty())
         rewritten = root.dump();
     root = nlohmann::json();
 
@@ -814,6 +820,8 @@ resurf_status parse(const char *json, size_t json_size, const unsigned char *bin
         return resurfi_fail(error, RESURF_ERR_PARSE, name, 0, -1, "%s",
                             line.empty() ? "tinygltf could not read the document" : line.c_str());
     }
+    if (!meshopt_decode(doc->model, meshopt_views, meshopt_holders, meshopt_problem))
+        return resurfi_fail(error, RESURF_ERR_PARSE, name, 0, -1, "%s", meshopt_problem.c_str());
     // The Draco records are keyed by the JSON's mesh and primitive positions: tinygltf must have kept them all.
     for (const auto &d : doc->draco)
         if (d.first.first >= doc->model.meshes.size() ||

@@ -1,0 +1,37 @@
+// EXT_meshopt_compression required by a document: prepared on the JSON before tinygltf reads it, decoded on the
+// model after (gltf_meshopt.cpp). C++ only, for gltf_read.cpp.
+#ifndef RESURF_GLTF_MESHOPT_HPP
+#define RESURF_GLTF_MESHOPT_HPP
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+#include <tiny_gltf.h>
+
+// One compressed bufferView: where its compressed bytes are, and its own place and layout.
+struct MeshoptView {
+    size_t view;
+    long long source_buffer, source_offset, source_length;
+    long long buffer, offset;
+    size_t length, count, stride;
+    bool had_stride;
+    int mode, filter; // resurfi_meshopt_mode, resurfi_meshopt_filter
+};
+
+// A buffer without data (no uri) that compressed bufferViews decode into, and its declared byteLength.
+struct MeshoptPlaceholder {
+    long long buffer;
+    size_t length;
+};
+
+// Does nothing unless the document requires EXT_meshopt_compression; else records its compressed bufferViews and
+// placeholder buffers and rewrites the JSON as gltf_meshopt.cpp's header says. False with *problem (naming the
+// JSON path) when the extension's JSON is malformed.
+bool meshopt_prepare(nlohmann::json &root, std::vector<MeshoptView> &views, std::vector<MeshoptPlaceholder> &holders,
+                     std::string &problem);
+// Decodes every recorded bufferView into its place in the model. False with *problem when a stream is malformed.
+bool meshopt_decode(tinygltf::Model &model, const std::vector<MeshoptView> &views,
+                    const std::vector<MeshoptPlaceholder> &holders, std::string &problem);
+
+#endif
