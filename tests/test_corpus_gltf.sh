@@ -14,7 +14,8 @@
 #   - Every output: no byte of a buffer that nothing refers to (tests/gltf_dead_bytes.js), and each level has fewer
 #     triangles than the one before (from `resurf lod --json`).
 # The project's skinned test asset (the two-bone cylinder of tools/skinned_cylinder.h, float and normalized-byte
-# weights, bent by its pose) joins them when GEN_ANALYTIC is given.
+# weights, bent by its pose) joins them when GEN_ANALYTIC is given, and so do gltfpack's outputs of every valid
+# input (EXT_meshopt_compression, KHR_mesh_quantization, EXT_mesh_gpu_instancing), which must not be refused.
 # usage: test_corpus_gltf.sh RESURF SOURCE_ROOT [GEN_ANALYTIC]      (RESURF_CORPUS_DIR overrides the assets' folder)
 set -uo pipefail
 resurf=$1
@@ -42,6 +43,14 @@ if [ -n "$gen" ]; then
         { echo "corpus: $gen cannot write the skinned cylinder"; exit 1; }
     inputs+=("$work/skinned-cylinder.glb" "$work/skinned-cylinder-ubyte.glb")
 fi
+# What the peers make of the valid ones, as a pipeline hands them on (gltfpack 1.3, installed by tools/setup.sh):
+# meshopt-compressed and quantized (-c), with filters and GPU instancing (-cc -mi), with fallback buffers (-cf).
+# These must never be refused.
+gltfpack="$root/tools/node/node_modules/gltfpack/cli.js"
+if [ ! -f "$gltfpack" ]; then
+    echo "corpus: $gltfpack is missing (tools/setup.sh installs gltfpack)"
+    exit 1
+fi
 validate "${inputs[@]}" > "$work/inputs.txt" 2>&1
 status=$?
 if [ $status -ge 2 ]; then
@@ -49,6 +58,24 @@ if [ $status -ge 2 ]; then
     cat "$work/inputs.txt"
     exit 1
 fi
+mkdir -p "$work/peer"
+peers=()
+for input in "${inputs[@]}"; do
+    grep -qF "$input: numErrors 0 " "$work/inputs.txt" || continue
+    base=$(basename "${input%.*}")
+    for variant in "c:-c" "cc-mi:-cc -mi" "cf:-cf"; do
+        out="$work/peer/${base}-${variant%%:*}.gltf"
+        # shellcheck disable=SC2086 # the variant's options are words
+        if node "$gltfpack" -i "$input" -o "$out" ${variant#*:} > /dev/null 2>&1; then
+            peers+=("$out")
+        fi
+    done
+done
+if ! validate "${peers[@]}" >> "$work/inputs.txt" 2>&1 && [ $? -ge 2 ]; then
+    echo "corpus: the validator cannot run on gltfpack's outputs"
+    exit 1
+fi
+inputs+=("${peers[@]}")
 for shape in sphere torus cubic; do
     inputs+=("$root/data/$shape.ply")
 done
@@ -79,7 +106,9 @@ for input in "${inputs[@]}"; do
         must_fail=1
     fi
     [ "${in_errors:-1}" = 0 ] && valid=$((valid + 1))
-    for ext in $formats; do
+    input_formats=$formats
+    [[ $input == "$work/peer/"* ]] && input_formats=glb # the reader is what they test: one output format is enough
+    for ext in $input_formats; do
         out="$work/$n-$ext/$name.$ext"
         mkdir -p "$work/$n-$ext"
         if "$resurf" lod "$input" -o "$out" --levels 0.5,0.25 --json > "$work/$n-$ext/report.json" \
@@ -128,7 +157,7 @@ for input in "${inputs[@]}"; do
             fi
         else
             refused=$((refused + 1))
-            if [ "${in_errors:-1}" = 0 ] && ! grep -q '"extensionsRequired"' "$input"; then
+            if [ "${in_errors:-1}" = 0 ] && { ! grep -q '"extensionsRequired"' "$input" || [[ $input == "$work/peer/"* ]]; }; then
                 fail "$input ($ext): valid input, yet resurf lod failed: $(head -c 300 "$work/$n-$ext/stderr")"
             fi
             lines=$(wc -l < "$work/$n-$ext/stderr")

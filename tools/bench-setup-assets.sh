@@ -1,22 +1,14 @@
 #!/usr/bin/env bash
 # What build/tools/bench-assets and bench-draco need besides the build (kept out of tools/setup.sh so that the test
 # suite's set-up stays fast), idempotent and quiet when nothing is missing: Debian's assimp-testmodels (the glTF2
-# assets, in /usr/share/assimp/models/glTF2), npm gltfpack 1.3 (meshoptimizer's glTF tool, compiled to wasm, run
-# under node) and npm @gltf-transform/cli 4.5 (bench-draco's `gltf-transform draco`) in tools/node/. Run as root on
-# Debian 12, after tools/setup.sh.
+# assets, in /usr/share/assimp/models/glTF2) and npm @gltf-transform/cli 4.5 (bench-draco's `gltf-transform draco`)
+# in tools/node/; gltfpack 1.3, the other peer, comes with tools/setup.sh. Run as root on Debian 12, after
+# tools/setup.sh.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 . tools/packages.sh
 install_missing bench-setup-assets assimp-testmodels
-
-# The version the benchmark was measured with (issue 19 compares against gltfpack 1.3).
-version=1.3
-installed=$(node -p "try { require('./tools/node/node_modules/gltfpack/package.json').version } catch { '' }")
-if [ "${installed%.*}" != "$version" ]; then
-  echo "bench-setup-assets: installing gltfpack@$version (npm)" >&2
-  npm install --prefix tools/node --no-audit --no-fund "gltfpack@$version" >/dev/null
-fi
 
 # bench-draco's level-by-level peer (issue 20 item 10 compares against glTF-Transform 4.5).
 version=4.5

@@ -16,6 +16,15 @@ if [ ! -f tools/node/node_modules/gltf-validator/package.json ]; then
   npm install --prefix tools/node --no-audit --no-fund gltf-validator >/dev/null
 fi
 
+# gltfpack 1.3 (meshoptimizer's glTF tool, wasm under node): the corpus test feeds its compressed, quantized and
+# instanced outputs to resurf (tests/test_corpus_gltf.sh), and bench-assets measures against it.
+version=1.3
+installed=$(node -p "try { require('./tools/node/node_modules/gltfpack/package.json').version } catch { '' }")
+if [ "${installed%.*}" != "$version" ]; then
+  echo "setup: installing gltfpack@$version (npm)" >&2
+  npm install --prefix tools/node --no-audit --no-fund "gltfpack@$version" >/dev/null
+fi
+
 bash tools/fetch-data.sh
 
 # Quiet when all is well; the log's tail when something fails.
