@@ -469,10 +469,7 @@ START_TEST(gltf_gpu_instancing_goes_with_the_levels)
         "\"buffers\":[{\"byteLength\":96,\"uri\":\"gi.bin\"}]}";
     char *path = tu_write_gltf(dir, "gi", json, &b);
     resurf_scene *s = tu_load_scene_ok(path);
-    resurf_mesh *lod = tu_tetrahedron();
-    lod->triangle_count = 3;
-    const resurf_mesh *lods[1] = {lod};
-    ck_assert_int_eq(resurf_scene_set_lods(s, 0, lods, 1, NULL), RESURF_OK);
+    add_one_level(s);
     char *out = tu_path(dir, "lod.gltf");
     tu_save_scene_ok(s, out, NULL, NULL);
     ck_assert_int_eq(tu_validator_errors(out), 0);
@@ -487,7 +484,6 @@ START_TEST(gltf_gpu_instancing_goes_with_the_levels)
     ck_assert_int_eq(dead_bytes(out), 0);
     free(facts);
     free(out);
-    resurf_mesh_free(lod);
     resurf_scene_free(s);
     free(path);
     free(b.data);
