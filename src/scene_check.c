@@ -211,6 +211,15 @@ const double *resurfi_scene_instance_world(const resurf_scene *s, size_t n, size
     return instanced ? s->instance_world[s->instance_first[n] + j] : s->world[n];
 }
 
+/* How many instances a node's EXT_mesh_gpu_instancing draws (its attributes' count), 0 without the extension. */
+static size_t instances_of(const resurfi_gltf_view *v, const resurfi_gltf_node *node)
+{
+    for (int k = 0; k < 3 && node->has_instances && node->mesh >= 0; ++k)
+        if (node->instance_attributes[k] != RESURFI_GLTF_NONE)
+            return (size_t)v->accessors[node->instance_attributes[k]].count;
+    return 0;
+}
+
 /* EXT_mesh_gpu_instancing: node n draws its mesh once per instance, at its world matrix times the instance's
  * T · R · S. The attributes are checked (shape, one count, finite values), then read into s->instance_world. */
 static resurf_status read_instances(load_ctx *c, resurf_scene *s)
@@ -239,7 +248,7 @@ static resurf_status read_instances(load_ctx *c, resurf_scene *s)
                                     "the file's size can justify", i, (unsigned long long)a->count);
             count = a->count;
         }
-        total += (size_t)count;
+        total += instances_of(v, node);
     }
     if (total == 0)
         return RESURF_OK;
@@ -255,10 +264,7 @@ static resurf_status read_instances(load_ctx *c, resurf_scene *s)
     for (size_t i = 0; i < n && status == RESURF_OK; ++i) {
         const resurfi_gltf_node *node = &v->nodes[i];
         s->instance_first[i] = at;
-        size_t count = 0;
-        for (int k = 0; k < 3 && node->has_instances && node->mesh >= 0; ++k)
-            if (node->instance_attributes[k] != RESURFI_GLTF_NONE)
-                count = (size_t)v->accessors[node->instance_attributes[k]].count;
+        size_t count = instances_of(v, node);
         /* Each instance's T, R, S as a node of its own (absent attributes: identity), whose local matrix goes
          * after the node's world matrix. */
         resurfi_gltf_node identity = {.translation_count = 3, .rotation_count = 4, .scale_count = 3,
