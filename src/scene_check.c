@@ -271,7 +271,8 @@ static resurf_status read_instances(load_ctx *c, resurf_scene *s)
                                       .rotation = {0, 0, 0, 1}, .scale = {1, 1, 1}};
         resurfi_gltf_node *local = count ? resurfi_alloc(c->alloc, count, sizeof *local) : NULL;
         if (count && !local) {
-            status = resurfi_fail(c->error, RESURF_ERR_OUT_OF_MEMORY, c->path, 0, -1, "out of memory reading instances");
+            status = resurfi_fail(c->error, RESURF_ERR_OUT_OF_MEMORY, c->path, 0, -1,
+                                  "out of memory reading instances");
             break;
         }
         for (size_t j = 0; j < count; ++j)

@@ -157,7 +157,9 @@ for input in "${inputs[@]}"; do
             fi
         else
             refused=$((refused + 1))
-            if [ "${in_errors:-1}" = 0 ] && { ! grep -q '"extensionsRequired"' "$input" || [[ $input == "$work/peer/"* ]]; }; then
+            peer=0
+            [[ $input == "$work/peer/"* ]] && peer=1
+            if [ "${in_errors:-1}" = 0 ] && { [ $peer = 1 ] || ! grep -q '"extensionsRequired"' "$input"; }; then
                 fail "$input ($ext): valid input, yet resurf lod failed: $(head -c 300 "$work/$n-$ext/stderr")"
             fi
             lines=$(wc -l < "$work/$n-$ext/stderr")

@@ -919,8 +919,8 @@ START_TEST(gltf_meshopt_compressed_input_decodes)
         if (cut) {
             ck_assert_int_eq(st, RESURF_ERR_PARSE);
             ck_assert_ptr_null(s);
-            ck_assert_str_eq(e.message,
-                             "bufferViews[0].extensions.EXT_meshopt_compression: the stream ends inside an attribute block");
+            ck_assert_str_eq(e.message, "bufferViews[0].extensions.EXT_meshopt_compression: the stream ends inside "
+                                        "an attribute block");
         } else {
             ck_assert_msg(st == RESURF_OK, "%s", e.message);
             const resurf_mesh *m = resurf_scene_primitive_mesh(s, 0);

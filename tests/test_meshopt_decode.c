@@ -133,8 +133,9 @@ START_TEST(meshopt_malformed_streams_fail)
     unsigned char out[64], bad[sizeof attributes];
     memcpy(bad, attributes, sizeof bad);
     bad[0] = 0xa1;
-    ck_assert_str_eq(resurfi_meshopt_decode(RESURFI_MESHOPT_ATTRIBUTES, RESURFI_MESHOPT_NONE, 2, 4, bad, sizeof bad, out),
-                     "the attribute stream's header is not 0xa0 (another version of the bitstream)");
+    ck_assert_str_eq(
+        resurfi_meshopt_decode(RESURFI_MESHOPT_ATTRIBUTES, RESURFI_MESHOPT_NONE, 2, 4, bad, sizeof bad, out),
+        "the attribute stream's header is not 0xa0 (another version of the bitstream)");
     ck_assert_ptr_nonnull(resurfi_meshopt_decode(RESURFI_MESHOPT_ATTRIBUTES, RESURFI_MESHOPT_NONE, 2, 6, attributes,
                                                  sizeof attributes, out));
     ck_assert_ptr_nonnull(resurfi_meshopt_decode(RESURFI_MESHOPT_TRIANGLES, RESURFI_MESHOPT_NONE, 14, 2, triangles,

@@ -74,7 +74,8 @@ bool meshopt_prepare(nlohmann::json &root, std::vector<MeshoptView> &views, std:
                       std::to_string(length) + ")";
             return false;
         }
-        if (bv.contains("byteStride") && (!bv["byteStride"].is_number_integer() || bv["byteStride"].get<long long>() != stride)) {
+        long long own_stride;
+        if (bv.contains("byteStride") && (!get_index(bv, "byteStride", -1, own_stride) || own_stride != stride)) {
             problem = where + ": its byteStride differs from the bufferView's";
             return false;
         }
