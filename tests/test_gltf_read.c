@@ -932,6 +932,11 @@ START_TEST(gltf_meshopt_compressed_input_decodes)
                 ck_assert(m->positions[i] == want);
                 ck_assert_uint_eq(m->indices[i], ((const uint16_t *)(tetra.data + 48))[i]);
             }
+            /* `resurf info` tells the file as it is. */
+            char text[4096];
+            size_t length = 0;
+            ck_assert_int_eq(resurf_scene_describe(s, false, text, sizeof text, &length, NULL), RESURF_OK);
+            ck_assert_ptr_nonnull(strstr(text, "extensions required EXT_meshopt_compression"));
             char *out = tu_path(dir, "out.glb");
             tu_save_scene_ok(s, out, NULL, NULL);
             ck_assert_int_eq(tu_validator_errors(out), 0);

@@ -153,8 +153,8 @@ json describe_document(const resurfi_gltf_doc *doc, const resurfi_describe_prim 
     for (const tinygltf::Camera &c : m.cameras)
         d["cameras"].push_back({{"name", c.name}, {"type", c.type}});
     d["extensions"] = names(m.extensions);
-    d["extensionsUsed"] = m.extensionsUsed;
-    d["extensionsRequired"] = m.extensionsRequired;
+    d["extensionsUsed"] = doc->file_extensions_used;
+    d["extensionsRequired"] = doc->file_extensions_required;
     return d;
 }
 

@@ -740,6 +740,13 @@ resurf_status parse(const char *json, size_t json_size, const unsigned char *bin
     if (problem_count > doc->warnings.size())
         doc->warnings.push_back(std::to_string(problem_count - doc->warnings.size()) +
                                 " more problems with the glTF schema");
+    for (auto [key, out] : {std::make_pair("extensionsUsed", &doc->file_extensions_used),
+                            std::make_pair("extensionsRequired", &doc->file_extensions_required)}) {
+        auto names = root.find(key);
+        for (size_t i = 0; names != root.end() && names->is_array() && i < names->size(); ++i)
+            if ((*names)[i].is_string())
+                out->push_back((*names)[i].get<std::string>());
+    }
     // A required EXT_meshopt_compression is prepared for decoding after tinygltf's reading (gltf_meshopt.cpp).
     std::vector<MeshoptView> meshopt_views;
     std::vector<MeshoptPlaceholder> meshopt_holders;
