@@ -31,8 +31,8 @@ bool get_index(const nlohmann::json &o, const char *key, long long fallback, lon
 
 } // namespace
 
-bool meshopt_prepare(nlohmann::json &root, std::vector<MeshoptView> &views, std::vector<MeshoptPlaceholder> &holders,
-                     std::string &problem)
+bool meshopt_prepare(nlohmann::json &root, bool is_glb, std::vector<MeshoptView> &views,
+                     std::vector<MeshoptPlaceholder> &holders, std::string &problem)
 {
     static const char *const ext = "EXT_meshopt_compression";
     auto required = root.find("extensionsRequired");
@@ -104,7 +104,7 @@ bool meshopt_prepare(nlohmann::json &root, std::vector<MeshoptView> &views, std:
     }
     for (long long b : parents) {
         nlohmann::json &buffer = (*buffers)[(size_t)b];
-        if (!buffer.is_object() || buffer.contains("uri"))
+        if (!buffer.is_object() || buffer.contains("uri") || (is_glb && b == 0))
             continue; // data of its own (a fallback, or the GLB chunk): decoded over in place
         long long length;
         if (!get_index(buffer, "byteLength", -1, length)) {

@@ -28,8 +28,9 @@ struct MeshoptPlaceholder {
 // Does nothing unless the document requires EXT_meshopt_compression; else records its compressed bufferViews and
 // placeholder buffers and rewrites the JSON as gltf_meshopt.cpp's header says. False with *problem (naming the
 // JSON path) when the extension's JSON is malformed.
-bool meshopt_prepare(nlohmann::json &root, std::vector<MeshoptView> &views, std::vector<MeshoptPlaceholder> &holders,
-                     std::string &problem);
+// is_glb: buffer 0 without a uri is the GLB's binary chunk, data of its own, not a placeholder.
+bool meshopt_prepare(nlohmann::json &root, bool is_glb, std::vector<MeshoptView> &views,
+                     std::vector<MeshoptPlaceholder> &holders, std::string &problem);
 // Decodes every recorded bufferView into its place in the model. False with *problem when a stream is malformed.
 bool meshopt_decode(tinygltf::Model &model, const std::vector<MeshoptView> &views,
                     const std::vector<MeshoptPlaceholder> &holders, std::string &problem);

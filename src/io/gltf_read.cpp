@@ -751,7 +751,7 @@ resurf_status parse(const char *json, size_t json_size, const unsigned char *bin
     std::vector<MeshoptView> meshopt_views;
     std::vector<MeshoptPlaceholder> meshopt_holders;
     std::string meshopt_problem;
-    if (!meshopt_prepare(root, meshopt_views, meshopt_holders, meshopt_problem))
+    if (!meshopt_prepare(root, is_glb != 0, meshopt_views, meshopt_holders, meshopt_problem))
         return resurfi_fail(error, RESURF_ERR_PARSE, name, 0, -1, "%s", meshopt_problem.c_str());
     // A required extension resurf cannot read refuses the document before tinygltf reads what it changes.
     auto required = root.find("extensionsRequired");
