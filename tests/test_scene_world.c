@@ -210,6 +210,10 @@ START_TEST(world_mesh_applies_gpu_instances)
     resurf_scene_primitive info;
     resurf_scene_primitive_info(s, 0, &info, NULL);
     ck_assert_uint_eq(info.instances, 2);
+    char text[2048];
+    size_t length = 0;
+    ck_assert_int_eq(resurf_scene_describe(s, false, text, sizeof text, &length, NULL), RESURF_OK);
+    ck_assert_ptr_nonnull(strstr(text, "nodes[0]: mesh 0, instances 2, transform translation"));
     resurf_mesh *w = world_ok(s, 0);
     ck_assert_uint_eq(w->vertex_count, 8);
     ck_assert_uint_eq(w->triangle_count, 8);

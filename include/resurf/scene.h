@@ -416,10 +416,11 @@ RESURF_API resurf_status resurf_scene_save(const resurf_scene *scene, const char
 RESURF_API size_t resurf_scene_level_path(char *dst, size_t dst_size, const char *path, unsigned level);
 
 /* A description of the scene, as text lines for people (as_json 0) or as one JSON object: its scenes, nodes (mesh,
- * skin, camera, children, extensions), meshes and their primitives (triangles and vertices as decoded, mode,
- * material, attribute names, morph targets and their attributes, Draco, extensions), materials (textures,
- * extensions), textures, images (uri, bufferView or embedded; mimeType; bytes; missing), skins, animations
- * (channels, samplers, animated paths), cameras and the extensions used and required. A scene made from a mesh
+ * the instances of its EXT_mesh_gpu_instancing, skin, camera, children, extensions), meshes and their primitives
+ * (triangles and vertices as decoded, mode, material, attribute names, morph targets and their attributes, Draco,
+ * extensions), materials (textures, extensions), textures, images (uri, bufferView or embedded; mimeType; bytes;
+ * missing), skins, animations (channels, samplers, animated paths), cameras and the extensions used and required
+ * (as the file gives them: EXT_meshopt_compression too, which the load decodes). A scene made from a mesh
  * (a .drc, a mesh file) is one mesh with one primitive. Written into dst like snprintf (NUL-terminated when
  * dst_size > 0; dst may be NULL with dst_size 0); *out_length gets the length of the whole description. */
 RESURF_API resurf_status resurf_scene_describe(const resurf_scene *scene, bool as_json, char *dst, size_t dst_size,

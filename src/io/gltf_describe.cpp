@@ -81,6 +81,12 @@ json describe_document(const resurfi_gltf_doc *doc, const resurfi_describe_prim 
             if (!t.second->empty())
                 transform.push_back(t.first);
         o["transform"] = transform;
+        auto instancing = n.extensions.find("EXT_mesh_gpu_instancing"); // its accessors were checked by the load
+        if (instancing != n.extensions.end() && instancing->second.IsObject() &&
+            instancing->second.Has("attributes") && !instancing->second.Get("attributes").Keys().empty()) {
+            const tinygltf::Value &at = instancing->second.Get("attributes");
+            o["instances"] = m.accessors.at((size_t)at.Get(at.Keys()[0]).GetNumberAsInt()).count;
+        }
         o["children"] = n.children;
         o["extensions"] = names(n.extensions);
         d["nodes"].push_back(o);
@@ -234,7 +240,7 @@ std::string text(const json &d)
     section("nodes", "");
     for (size_t i = 0; i < d["nodes"].size(); ++i)
         line("  nodes[" + std::to_string(i) + "]" + quoted_name(d["nodes"][i]) + ": " +
-             fields(d["nodes"][i], {"mesh", "skin", "camera", "transform", "children", "extensions"}));
+             fields(d["nodes"][i], {"mesh", "instances", "skin", "camera", "transform", "children", "extensions"}));
     section("meshes", "");
     for (size_t i = 0; i < d["meshes"].size(); ++i) {
         const json &m = d["meshes"][i];
