@@ -550,36 +550,31 @@ void build_view(resurfi_gltf_doc *doc)
         c.lod_ids = doc->lod_ids[ni].data();
         c.coverage_count = doc->coverage[ni].size();
         c.coverage = doc->coverage[ni].data();
+        std::string where = "nodes[" + std::to_string(ni) + "]";
+        // EXT_mesh_gpu_instancing: every attribute is an accessor the writer keeps (a checked reference), and
+        // TRANSLATION, ROTATION and SCALE place the instances in the world.
         c.instance_attributes[0] = c.instance_attributes[1] = c.instance_attributes[2] = RESURFI_GLTF_NONE;
         auto instancing = n.extensions.find("EXT_mesh_gpu_instancing");
-        if (instancing != n.extensions.end() && instancing->second.IsObject() &&
-            instancing->second.Has("attributes") && instancing->second.Get("attributes").IsObject()) {
+        if (instancing != n.extensions.end() && instancing->second.IsObject() && instancing->second.Has("attributes")) {
             static const char *const trs[3] = {"TRANSLATION", "ROTATION", "SCALE"};
             const tinygltf::Value &at = instancing->second.Get("attributes");
-            c.has_instances = 1;
-            for (int k = 0; k < 3; ++k)
-                if (at.Has(trs[k]))
-                    c.instance_attributes[k] =
-                        at.Get(trs[k]).IsInt() ? (long long)at.Get(trs[k]).GetNumberAsInt() : RESURFI_GLTF_BAD;
+            std::string w = where + ".extensions.EXT_mesh_gpu_instancing.attributes";
+            if (!at.IsObject())
+                add_ref(doc, w, RESURFI_GLTF_BAD, m.accessors.size());
+            c.has_instances = at.IsObject();
+            for (const std::string &key : at.IsObject() ? at.Keys() : std::vector<std::string>()) {
+                long long id = at.Get(key).IsInt() ? (long long)at.Get(key).GetNumberAsInt() : RESURFI_GLTF_BAD;
+                add_ref(doc, w + "." + key, id, m.accessors.size());
+                for (int k = 0; k < 3; ++k)
+                    if (key == trs[k])
+                        c.instance_attributes[k] = id;
+            }
         }
         doc->nodes.push_back(c);
-        std::string where = "nodes[" + std::to_string(ni) + "]";
         if (n.skin != -1)
             add_ref(doc, where + ".skin", n.skin, m.skins.size());
         if (n.camera != -1)
             add_ref(doc, where + ".camera", n.camera, m.cameras.size());
-        // EXT_mesh_gpu_instancing: its attributes are accessors the writer keeps (one per instance each).
-        auto gi = n.extensions.find("EXT_mesh_gpu_instancing");
-        if (gi != n.extensions.end() && gi->second.IsObject() && gi->second.Has("attributes")) {
-            const tinygltf::Value &at = gi->second.Get("attributes");
-            std::string w = where + ".extensions.EXT_mesh_gpu_instancing.attributes";
-            if (!at.IsObject())
-                add_ref(doc, w, RESURFI_GLTF_BAD, m.accessors.size());
-            for (const std::string &key : at.IsObject() ? at.Keys() : std::vector<std::string>())
-                add_ref(doc, w + "." + key,
-                        at.Get(key).IsInt() ? (long long)at.Get(key).GetNumberAsInt() : RESURFI_GLTF_BAD,
-                        m.accessors.size());
-        }
     }
     doc->scene_nodes.resize(m.scenes.size());
     for (size_t si = 0; si < m.scenes.size(); ++si) {
