@@ -1,4 +1,5 @@
-/* EXT_meshopt_compression decoded (the specification's Appendix A, bitstreams, and B, filters). The streams are
+/* EXT_meshopt_compression and KHR_meshopt_compression decoded (their specifications' Appendix A, bitstreams, and
+ * B, filters; KHR's adds version 1 of the attribute bitstream and the colour filter). The streams are
  * untrusted: a reader that would step past its end or leave bytes over fails, and each write is inside out. */
 #include <math.h>
 #include <stdint.h>
@@ -46,15 +47,15 @@ static int read_varint(reader *r, uint32_t *out)
 
 /* ---- mode 0: attributes -------------------------------------------------------------------------------------- */
 
-/* One group of 16 byte deltas in its header's encoding (0: zeros, 1: 2-bit, 2: 4-bit, 3: bytes), sentinels (all
- * bits set) followed by their byte after the packed bits. */
-static int read_group(reader *r, unsigned mode, uint8_t deltas[16])
+/* One group of 16 byte deltas of `bits` bits each (0: all zero, 8: the bytes themselves), sentinels (all bits set)
+ * followed by their byte after the packed bits. 2- and 4-bit deltas are packed from the most significant bits of a
+ * byte, 1-bit ones from the least. */
+static int read_group(reader *r, unsigned bits, uint8_t deltas[16])
 {
-    if (mode == 0) {
+    if (bits == 0) {
         memset(deltas, 0, 16);
         return 1;
     }
-    unsigned bits = mode == 1 ? 2 : mode == 2 ? 4 : 8;
     size_t packed = 16 * bits / 8;
     if ((size_t)(r->end - r->p) < packed)
         return 0;
@@ -65,8 +66,8 @@ static int read_group(reader *r, unsigned mode, uint8_t deltas[16])
         return 1;
     }
     unsigned per_byte = 8 / bits, sentinel = (1u << bits) - 1;
-    for (unsigned i = 0; i < 16; ++i) { /* most significant bits first */
-        unsigned shift = 8 - bits * (i % per_byte + 1);
+    for (unsigned i = 0; i < 16; ++i) {
+        unsigned shift = bits == 1 ? i % 8 : 8 - bits * (i % per_byte + 1);
         unsigned d = (bytes[i / per_byte] >> shift) & sentinel;
         if (d == sentinel) {
             if (r->p == r->end)
@@ -78,40 +79,104 @@ static int read_group(reader *r, unsigned mode, uint8_t deltas[16])
     return 1;
 }
 
-static const char *decode_attributes(size_t count, size_t stride, const unsigned char *src, size_t size,
+/* The bits of a group's deltas by its 2 header bits: version 0, and version 1's control modes 0 and 1. */
+static const unsigned group_bits[3][4] = {{0, 2, 4, 8}, {0, 1, 2, 4}, {1, 2, 4, 8}};
+
+/* Byte k's deltas of a block of `elements` elements, by its control mode (version 1; version 0 is control 0 of its
+ * own table): header bits and groups of 16, nothing (all zero), or the deltas as bytes. */
+static int read_byte_deltas(reader *r, int version, unsigned control, size_t elements, uint8_t *deltas)
+{
+    size_t groups = (elements + 15) / 16;
+    if (control == 2) {
+        memset(deltas, 0, 16 * groups);
+        return 1;
+    }
+    if (control == 3) { /* the block's deltas as bytes, as many as it has elements */
+        if ((size_t)(r->end - r->p) < elements)
+            return 0;
+        memcpy(deltas, r->p, elements);
+        r->p += elements;
+        return 1;
+    }
+    size_t header = (groups + 3) / 4;
+    if ((size_t)(r->end - r->p) < header)
+        return 0;
+    const unsigned char *modes = r->p;
+    r->p += header;
+    const unsigned *bits = group_bits[version ? 1 + control : 0];
+    for (size_t g = 0; g < groups; ++g)
+        if (!read_group(r, bits[(modes[g / 4] >> (2 * (g % 4))) & 3], deltas + 16 * g))
+            return 0;
+    return 1;
+}
+
+static uint32_t rotate_right(uint32_t v, unsigned r) { return (v >> r) | (v << ((32 - r) & 31)); }
+
+/* One element's 4-byte channel from the one before (last, updated) and its deltas (d[i] is byte i's): zigzag
+ * deltas of its bytes (channel mode 0) or of two 16-bit values (1), or the XOR of the two 32-bit values that the
+ * encoder rotated left by `rot` bits (2). */
+static void undo_channel(unsigned mode, unsigned rot, const uint8_t d[4], unsigned char last[4])
+{
+    if (mode == 0) {
+        for (int i = 0; i < 4; ++i)
+            last[i] = (uint8_t)(last[i] + unzigzag8(d[i]));
+    } else if (mode == 1) {
+        for (int h = 0; h < 4; h += 2) {
+            uint16_t z = (uint16_t)(d[h] | d[h + 1] << 8), delta = (z & 1) ? (uint16_t)~(z >> 1) : (uint16_t)(z >> 1);
+            put_le(last + h, 2, (uint16_t)(get_le(last + h, 2) + delta));
+        }
+    } else {
+        put_le(last, 4, get_le(last, 4) ^ rotate_right(get_le(d, 4), rot));
+    }
+}
+
+/* Version 0 (EXT_meshopt_compression's, header 0xa0) or, with KHR_meshopt_compression, version 1 (0xa1: a control
+ * mode per byte and block, a channel mode per 4 bytes in the tail). */
+static const char *decode_attributes(int khr, size_t count, size_t stride, const unsigned char *src, size_t size,
                                      unsigned char *out)
 {
     if (stride == 0 || stride > 256 || stride % 4)
         return "ATTRIBUTES needs a byteStride that is a multiple of 4, at most 256";
-    size_t tail = stride < 32 ? 32 : stride; /* the baseline element, padded to 32 bytes */
+    if (size < 1)
+        return "the stream is shorter than its header and tail";
+    int version = src[0] == 0xa1 && khr ? 1 : 0;
+    if (src[0] != 0xa0 && !version)
+        return khr ? "the attribute stream's header is neither 0xa0 nor 0xa1 (another version of the bitstream)"
+                   : "the attribute stream's header is not 0xa0 (another version of the bitstream)";
+    size_t channels = stride / 4, tail_block = version ? stride + channels : stride;
+    size_t tail = tail_block < (version ? 24u : 32u) ? (version ? 24u : 32u) : tail_block; /* padded */
     if (size < 1 + tail)
         return "the stream is shorter than its header and tail";
-    if (src[0] != 0xa0)
-        return "the attribute stream's header is not 0xa0 (another version of the bitstream)";
     unsigned char last[256];
-    memcpy(last, src + size - stride, stride);
+    const unsigned char *channel_modes = src + size - tail_block + stride;
+    memcpy(last, src + size - tail_block, stride);
+    for (size_t c = 0; version && c < channels; ++c)
+        if ((channel_modes[c] & 15) > 2 || ((channel_modes[c] & 15) < 2 && channel_modes[c] >> 4))
+            return "a channel mode of the attribute stream is not one the bitstream defines";
     reader r = {src + 1, src + size - tail};
     size_t block_max = (8192 / stride) & ~(size_t)15;
     if (block_max > 256)
         block_max = 256;
+    uint8_t deltas[8192]; /* a block's deltas, byte k's at k * 16 * groups (block_max × stride <= 8192) */
     for (size_t start = 0; start < count; start += block_max) {
         size_t block = count - start < block_max ? count - start : block_max, groups = (block + 15) / 16;
-        for (size_t k = 0; k < stride; ++k) {
-            size_t header = (groups + 3) / 4;
-            if ((size_t)(r.end - r.p) < header)
+        const unsigned char *control = r.p;
+        if (version && (size_t)(r.end - r.p) < channels)
+            return "the stream ends inside an attribute block";
+        r.p += version ? channels : 0;
+        for (size_t k = 0; k < stride; ++k)
+            if (!read_byte_deltas(&r, version, version ? (control[k / 4] >> (2 * (k % 4))) & 3 : 0, block,
+                                  deltas + k * 16 * groups))
                 return "the stream ends inside an attribute block";
-            const unsigned char *modes = r.p;
-            r.p += header;
-            for (size_t g = 0; g < groups; ++g) {
-                uint8_t deltas[16];
-                if (!read_group(&r, (modes[g / 4] >> (2 * (g % 4))) & 3, deltas))
-                    return "the stream ends inside an attribute block";
-                for (size_t i = 0; i < 16 && 16 * g + i < block; ++i) {
-                    last[k] = (uint8_t)(last[k] + unzigzag8(deltas[i]));
-                    out[(start + 16 * g + i) * stride + k] = last[k];
-                }
+        for (size_t i = 0; i < block; ++i)
+            for (size_t c = 0; c < channels; ++c) {
+                uint8_t d[4];
+                for (int b = 0; b < 4; ++b)
+                    d[b] = deltas[(4 * c + (size_t)b) * 16 * groups + i];
+                unsigned mode = version ? channel_modes[c] & 15 : 0, rot = version ? channel_modes[c] >> 4 : 0;
+                undo_channel(mode, rot, d, last + 4 * c);
+                memcpy(out + (start + i) * stride + 4 * c, last + 4 * c, 4);
             }
-        }
     }
     return r.p == r.end ? NULL : "the attribute stream has bytes left over before its tail";
 }
@@ -309,16 +374,45 @@ static void exponential(unsigned char *data, size_t values)
     }
 }
 
-const char *resurfi_meshopt_decode(resurfi_meshopt_mode mode, resurfi_meshopt_filter filter, size_t count,
+/* Colours as YCoCg, 8- or 16-bit components: luma unsigned, the chroma signed, K bits each, and alpha in K - 1
+ * bits under a set bit K - 1 that gives K. Out: RGBA as unsigned normalized integers. */
+static void color(unsigned char *data, size_t count, size_t stride)
+{
+    size_t bytes = stride / 4;
+    float max = bytes == 1 ? 255.0f : 65535.0f;
+    for (size_t i = 0; i < count; ++i) {
+        unsigned char *e = data + i * stride;
+        uint32_t alpha = get_le(e + 3 * bytes, bytes);
+        if (alpha == 0) /* no bit gives K: not a valid encoding, left as it is */
+            continue;
+        int msb = 31;
+        while (!(alpha >> msb))
+            --msb;
+        int32_t scale = (int32_t)((2u << msb) - 1), y = (int32_t)get_le(e, bytes);
+        int32_t co = get_signed(e + bytes, bytes), cg = get_signed(e + 2 * bytes, bytes);
+        int32_t a = (int32_t)(alpha & (uint32_t)(scale >> 1));
+        int32_t rgba[4] = {y + co - cg, y + cg, y - co - cg, (a << 1) | (a & 1)};
+        float s = max / (float)scale;
+        for (int k = 0; k < 4; ++k) {
+            float v = roundf((float)rgba[k] * s); /* an encoder keeps these in range; a hostile one is clamped */
+            put_le(e + (size_t)k * bytes, bytes, (uint32_t)fminf(fmaxf(v, 0.0f), max));
+        }
+    }
+}
+
+const char *resurfi_meshopt_decode(int khr, resurfi_meshopt_mode mode, resurfi_meshopt_filter filter, size_t count,
                                    size_t stride, const unsigned char *src, size_t size, unsigned char *out)
 {
+    if (filter == RESURFI_MESHOPT_COLOR && !khr)
+        return "the COLOR filter is KHR_meshopt_compression's";
     if (mode != RESURFI_MESHOPT_ATTRIBUTES && filter != RESURFI_MESHOPT_NONE)
         return "a filter applies to ATTRIBUTES alone";
     if ((filter == RESURFI_MESHOPT_OCTAHEDRAL && stride != 4 && stride != 8) ||
         (filter == RESURFI_MESHOPT_QUATERNION && stride != 8) ||
-        (filter == RESURFI_MESHOPT_EXPONENTIAL && stride % 4))
+        (filter == RESURFI_MESHOPT_EXPONENTIAL && stride % 4) ||
+        (filter == RESURFI_MESHOPT_COLOR && stride != 4 && stride != 8))
         return "the filter does not allow this byteStride";
-    const char *problem = mode == RESURFI_MESHOPT_ATTRIBUTES ? decode_attributes(count, stride, src, size, out)
+    const char *problem = mode == RESURFI_MESHOPT_ATTRIBUTES ? decode_attributes(khr, count, stride, src, size, out)
                           : mode == RESURFI_MESHOPT_TRIANGLES ? decode_triangles(count, stride, src, size, out)
                                                               : decode_indices(count, stride, src, size, out);
     if (problem)
@@ -329,5 +423,7 @@ const char *resurfi_meshopt_decode(resurfi_meshopt_mode mode, resurfi_meshopt_fi
         quaternion(out, count);
     else if (filter == RESURFI_MESHOPT_EXPONENTIAL)
         exponential(out, count * stride / 4);
+    else if (filter == RESURFI_MESHOPT_COLOR)
+        color(out, count, stride);
     return NULL;
 }

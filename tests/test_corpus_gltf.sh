@@ -15,7 +15,8 @@
 #     triangles than the one before (from `resurf lod --json`).
 # The project's skinned test asset (the two-bone cylinder of tools/skinned_cylinder.h, float and normalized-byte
 # weights, bent by its pose) joins them when GEN_ANALYTIC is given, and so do gltfpack's outputs of every valid
-# input (EXT_meshopt_compression, KHR_mesh_quantization, EXT_mesh_gpu_instancing), which must not be refused.
+# input (EXT_ and KHR_meshopt_compression, KHR_mesh_quantization, EXT_mesh_gpu_instancing), which must not be
+# refused.
 # usage: test_corpus_gltf.sh RESURF SOURCE_ROOT [GEN_ANALYTIC]      (RESURF_CORPUS_DIR overrides the assets' folder)
 set -uo pipefail
 resurf=$1
@@ -44,7 +45,8 @@ if [ -n "$gen" ]; then
     inputs+=("$work/skinned-cylinder.glb" "$work/skinned-cylinder-ubyte.glb")
 fi
 # What the peers make of the valid ones, as a pipeline hands them on (gltfpack 1.3, installed by tools/setup.sh):
-# meshopt-compressed and quantized (-c), with filters and GPU instancing (-cc -mi), with fallback buffers (-cf).
+# meshopt-compressed and quantized (-c), with filters and GPU instancing (-cc -mi), with fallback buffers (-cf),
+# and as KHR_meshopt_compression (-cc -ce khr: version 1 of the attribute bitstream, the colour filter).
 # These must never be refused.
 gltfpack="$root/tools/node/node_modules/gltfpack/cli.js"
 if [ ! -f "$gltfpack" ]; then
@@ -63,7 +65,7 @@ peers=()
 for input in "${inputs[@]}"; do
     grep -qF "$input: numErrors 0 " "$work/inputs.txt" || continue
     base=$(basename "${input%.*}")
-    for variant in "c:-c" "cc-mi:-cc -mi" "cf:-cf"; do
+    for variant in "c:-c" "cc-mi:-cc -mi" "cf:-cf" "cc-khr:-cc -ce khr"; do
         out="$work/peer/${base}-${variant%%:*}.gltf"
         # shellcheck disable=SC2086 # the variant's options are words
         if node "$gltfpack" -i "$input" -o "$out" ${variant#*:} > /dev/null 2>&1; then

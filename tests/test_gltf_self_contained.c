@@ -492,10 +492,10 @@ START_TEST(gltf_gpu_instancing_goes_with_the_levels)
 }
 END_TEST
 
-/* EXT_meshopt_compression that the document does not require (gltfpack -cf): resurf reads the fallback buffer's
- * uncompressed bytes, and the output neither uses the extension nor keeps the compressed bytes, even where a
- * source bufferView is kept (the points primitive, written as it was). */
-START_TEST(gltf_optional_meshopt_reads_the_fallback)
+/* EXT_meshopt_compression or KHR_meshopt_compression that the document does not require (gltfpack -cf, with -ce
+ * khr): resurf reads the fallback buffer's uncompressed bytes, and the output neither uses the extension nor keeps
+ * the compressed bytes, even where a source bufferView is kept (the points primitive, written as it was). */
+static void optional_meshopt_reads_the_fallback(const char *ext)
 {
     char *dir = tu_tempdir();
     tu_bytes b = tu_tetra_bin(); /* m.bin: the fallback's bytes */
@@ -504,18 +504,19 @@ START_TEST(gltf_optional_meshopt_reads_the_fallback)
     char *c_bin = tu_path(dir, "c.bin");
     ck_assert_int_eq(tu_write_file(c_bin, packed, sizeof packed), 0);
     free(c_bin);
-    const char *json =
-        "{\"asset\":{\"version\":\"2.0\"},\"extensionsUsed\":[\"EXT_meshopt_compression\"],"
+    char *json = tu_strf(
+        "{\"asset\":{\"version\":\"2.0\"},\"extensionsUsed\":[\"%s\"],"
         "\"scene\":0,\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}],"
         "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":1},"
         "{\"attributes\":{\"POSITION\":0},\"mode\":0}]}],"
         "\"accessors\":[" TU_TETRA_ACCESSORS "],"
-        "\"bufferViews\":[{\"buffer\":1,\"byteLength\":48,\"extensions\":{\"EXT_meshopt_compression\":{\"buffer\":0,"
+        "\"bufferViews\":[{\"buffer\":1,\"byteLength\":48,\"extensions\":{\"%s\":{\"buffer\":0,"
         "\"byteLength\":8,\"byteStride\":12,\"mode\":\"ATTRIBUTES\",\"count\":4}}},"
-        "{\"buffer\":1,\"byteOffset\":48,\"byteLength\":24,\"extensions\":{\"EXT_meshopt_compression\":{\"buffer\":0,"
+        "{\"buffer\":1,\"byteOffset\":48,\"byteLength\":24,\"extensions\":{\"%s\":{\"buffer\":0,"
         "\"byteOffset\":8,\"byteLength\":8,\"byteStride\":2,\"mode\":\"INDICES\",\"count\":12}}}],"
         "\"buffers\":[{\"byteLength\":16,\"uri\":\"c.bin\"},{\"byteLength\":72,\"uri\":\"m.bin\","
-        "\"extensions\":{\"EXT_meshopt_compression\":{\"fallback\":true}}}]}";
+        "\"extensions\":{\"%s\":{\"fallback\":true}}}]}",
+        ext, ext, ext, ext);
     char *path = tu_write_gltf(dir, "m", json, &b);
     resurf_scene *s = tu_load_scene_ok(path);
     const resurf_mesh *m = resurf_scene_primitive_mesh(s, 0);
@@ -534,9 +535,16 @@ START_TEST(gltf_optional_meshopt_reads_the_fallback)
     free(out);
     resurf_scene_free(s);
     free(path);
+    free(json);
     free(b.data);
     tu_rmtree(dir);
     free(dir);
+}
+
+START_TEST(gltf_optional_meshopt_reads_the_fallback)
+{
+    optional_meshopt_reads_the_fallback("EXT_meshopt_compression");
+    optional_meshopt_reads_the_fallback("KHR_meshopt_compression");
 }
 END_TEST
 

@@ -34,8 +34,9 @@ extern "C" {
  * exactly 1 in their component type, with joint 0 in unused slots (see resurf_scene_save_options.generic_bits for
  * Draco). Integer and normalized component types are decoded as glTF defines them (a normalized ubyte 255 is 1.0),
  * sparse accessors are applied, triangle strips and fans become lists (the joining triangles that repeat an index
- * are dropped), KHR_draco_mesh_compression, KHR_mesh_quantization and EXT_meshopt_compression inputs are decoded
- * (the last from its fallback buffers when the document does not require it), EXT_mesh_gpu_instancing is read.
+ * are dropped), KHR_draco_mesh_compression, KHR_mesh_quantization, EXT_meshopt_compression and
+ * KHR_meshopt_compression inputs are decoded (the last two from their fallback buffers when the document does not
+ * require them), EXT_mesh_gpu_instancing is read.
  * The JSON is checked against the glTF 2.0 schema first (github.com/KhronosGroup/glTF, specification/2.0/schema):
  * the JSON type of every property of the core objects, required properties, array lengths and unique items, enum
  * values (componentType, accessor type, primitive mode, bufferView target, sampler filters and wraps, camera type,
@@ -420,7 +421,7 @@ RESURF_API size_t resurf_scene_level_path(char *dst, size_t dst_size, const char
  * (triangles and vertices as decoded, mode, material, attribute names, morph targets and their attributes, Draco,
  * extensions), materials (textures, extensions), textures, images (uri, bufferView or embedded; mimeType; bytes;
  * missing), skins, animations (channels, samplers, animated paths), cameras and the extensions used and required
- * (as the file gives them: EXT_meshopt_compression too, which the load decodes). A scene made from a mesh
+ * (as the file gives them: EXT_ and KHR_meshopt_compression too, which the load decodes). A scene made from a mesh
  * (a .drc, a mesh file) is one mesh with one primitive. Written into dst like snprintf (NUL-terminated when
  * dst_size > 0; dst may be NULL with dst_size 0); *out_length gets the length of the whole description. */
 RESURF_API resurf_status resurf_scene_describe(const resurf_scene *scene, bool as_json, char *dst, size_t dst_size,

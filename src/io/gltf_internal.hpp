@@ -28,7 +28,7 @@ struct resurfi_gltf_doc {
     std::string first_nonfinite;
     std::vector<std::string> warnings;
     std::vector<std::string> outside_extensions; // found on anything but a primitive, each once
-    // extensionsUsed and extensionsRequired as the file gives them (the reader takes out EXT_meshopt_compression,
+    // extensionsUsed and extensionsRequired as the file gives them (the reader takes out EXT_ and KHR_meshopt_compression,
     // which it decodes), for resurf_scene_describe.
     std::vector<std::string> file_extensions_used, file_extensions_required;
 

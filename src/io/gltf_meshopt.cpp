@@ -1,5 +1,6 @@
-// EXT_meshopt_compression in a document that requires it: its compressed bufferViews are decoded into the layout
-// their parent bufferViews describe, so that the rest of the reader sees an ordinary document.
+// EXT_meshopt_compression or KHR_meshopt_compression in a document that requires it: its compressed bufferViews are
+// decoded into the layout their parent bufferViews describe, so that the rest of the reader sees an ordinary
+// document. The two extensions' JSON is the same; KHR's streams may also be of version 1 and use the colour filter.
 //
 // Two steps around tinygltf's reading. Before (meshopt_prepare, on the JSON): each compressed bufferView points at
 // its compressed bytes for the time being, a placeholder buffer without data (no uri) gets a 4-byte data: URI, and
@@ -31,16 +32,18 @@ bool get_index(const nlohmann::json &o, const char *key, long long fallback, lon
 
 } // namespace
 
+const char *const meshopt_extensions[2] = {"EXT_meshopt_compression", "KHR_meshopt_compression"};
+
 bool meshopt_prepare(nlohmann::json &root, bool is_glb, std::vector<MeshoptView> &views,
                      std::vector<MeshoptPlaceholder> &holders, std::string &problem)
 {
-    static const char *const ext = "EXT_meshopt_compression";
+    bool is_required[2] = {false, false};
     auto required = root.find("extensionsRequired");
-    bool is_required = false;
     if (required != root.end() && required->is_array())
         for (const nlohmann::json &e : *required)
-            is_required |= e.is_string() && e.get_ref<const std::string &>() == ext;
-    if (!is_required)
+            for (int k = 0; k < 2; ++k)
+                is_required[k] |= e.is_string() && e.get_ref<const std::string &>() == meshopt_extensions[k];
+    if (!is_required[0] && !is_required[1])
         return true;
     auto list = root.find("bufferViews");
     auto buffers = root.find("buffers");
@@ -49,12 +52,22 @@ bool meshopt_prepare(nlohmann::json &root, bool is_glb, std::vector<MeshoptView>
     for (size_t i = 0; list != root.end() && list->is_array() && i < list->size(); ++i) {
         nlohmann::json &bv = (*list)[i];
         auto exts = bv.is_object() ? bv.find("extensions") : bv.end();
-        if (exts == bv.end() || !exts->is_object() || !exts->contains(ext))
+        int k = exts == bv.end() || !exts->is_object() ? -1
+                : is_required[1] && exts->contains(meshopt_extensions[1]) ? 1
+                : is_required[0] && exts->contains(meshopt_extensions[0]) ? 0
+                                                                          : -1;
+        if (k < 0)
             continue;
+        const char *ext = meshopt_extensions[k];
         const nlohmann::json &e = (*exts)[ext];
-        std::string where = "bufferViews[" + std::to_string(i) + "].extensions.EXT_meshopt_compression";
+        std::string where = "bufferViews[" + std::to_string(i) + "].extensions." + ext;
+        if (exts->contains(meshopt_extensions[1 - k])) {
+            problem = where + ": the bufferView uses both " + ext + " and " + meshopt_extensions[1 - k];
+            return false;
+        }
         MeshoptView v;
         v.view = i;
+        v.khr = k == 1;
         long long count, stride, length;
         if (!e.is_object() || !get_index(e, "buffer", -1, v.source_buffer) ||
             !get_index(e, "byteOffset", 0, v.source_offset) || !get_index(e, "byteLength", -1, v.source_length) ||
@@ -85,8 +98,12 @@ bool meshopt_prepare(nlohmann::json &root, bool is_glb, std::vector<MeshoptView>
         std::string filter =
             e.contains("filter") ? (e["filter"].is_string() ? e["filter"].get<std::string>() : "?") : "NONE";
         v.mode = mode == "ATTRIBUTES" ? 0 : mode == "TRIANGLES" ? 1 : mode == "INDICES" ? 2 : -1;
-        v.filter = filter == "NONE" ? 0 : filter == "OCTAHEDRAL" ? 1 : filter == "QUATERNION" ? 2
-                                                                   : filter == "EXPONENTIAL" ? 3 : -1;
+        v.filter = filter == "NONE"                 ? 0
+                   : filter == "OCTAHEDRAL"         ? 1
+                   : filter == "QUATERNION"         ? 2
+                   : filter == "EXPONENTIAL"        ? 3
+                   : filter == "COLOR" && v.khr     ? 4
+                                                    : -1;
         if (v.mode < 0 || v.filter < 0) {
             problem = where + ": mode '" + mode + "' or filter '" + filter + "' is not one the extension defines";
             return false;
@@ -115,18 +132,23 @@ bool meshopt_prepare(nlohmann::json &root, bool is_glb, std::vector<MeshoptView>
         buffer["uri"] = "data:application/octet-stream;base64,AAAAAA==";
         buffer["byteLength"] = 4;
     }
-    for (size_t b = 0; b < buffer_count; ++b) {
-        nlohmann::json &buffer = (*buffers)[b];
-        auto exts = buffer.is_object() ? buffer.find("extensions") : buffer.end();
-        if (exts != buffer.end() && exts->is_object() && exts->erase(ext) && exts->empty())
-            buffer.erase("extensions");
-    }
-    for (const char *key : {"extensionsUsed", "extensionsRequired"}) {
-        auto names = root.find(key);
-        if (names != root.end() && names->is_array())
-            for (size_t i = names->size(); i-- > 0;)
-                if ((*names)[i].is_string() && (*names)[i].get_ref<const std::string &>() == ext)
-                    names->erase(i);
+    for (int k = 0; k < 2; ++k) {
+        if (!is_required[k])
+            continue;
+        const char *ext = meshopt_extensions[k];
+        for (size_t b = 0; b < buffer_count; ++b) {
+            nlohmann::json &buffer = (*buffers)[b];
+            auto exts = buffer.is_object() ? buffer.find("extensions") : buffer.end();
+            if (exts != buffer.end() && exts->is_object() && exts->erase(ext) && exts->empty())
+                buffer.erase("extensions");
+        }
+        for (const char *key : {"extensionsUsed", "extensionsRequired"}) {
+            auto names = root.find(key);
+            if (names != root.end() && names->is_array())
+                for (size_t i = names->size(); i-- > 0;)
+                    if ((*names)[i].is_string() && (*names)[i].get_ref<const std::string &>() == ext)
+                        names->erase(i);
+        }
     }
     return true;
 }
@@ -134,14 +156,15 @@ bool meshopt_prepare(nlohmann::json &root, bool is_glb, std::vector<MeshoptView>
 bool meshopt_decode(tinygltf::Model &model, const std::vector<MeshoptView> &views,
                     const std::vector<MeshoptPlaceholder> &holders, std::string &problem)
 {
-    // A placeholder holds what its bufferViews decode to: at most 64 bytes per compressed byte (2 header bits per
-    // 16 bytes) and a little more, so a hostile byteLength cannot claim the machine.
+    // A placeholder holds what its bufferViews decode to: at most 64 bytes per compressed byte of version 0 (2 header
+    // bits per 16 bytes), 1,024 of KHR's version 1 (a block of 256 elements of zero deltas takes its control byte
+    // for each 4 bytes alone), and a little more, so a hostile byteLength cannot claim the machine.
     for (const MeshoptPlaceholder &h : holders) {
-        size_t compressed = 0;
+        size_t most = 1u << 20;
         for (const MeshoptView &v : views)
             if (v.buffer == h.buffer)
-                compressed += (size_t)v.source_length;
-        if (h.length > 64 * compressed + (1u << 20)) {
+                most += (v.khr ? 1024 : 64) * (size_t)v.source_length;
+        if (h.length > most) {
             problem = "buffers[" + std::to_string(h.buffer) + "]: its byteLength " + std::to_string(h.length) +
                       " is more than its compressed bufferViews can decode to";
             return false;
@@ -149,7 +172,7 @@ bool meshopt_decode(tinygltf::Model &model, const std::vector<MeshoptView> &view
         model.buffers[(size_t)h.buffer].data.assign(h.length, 0);
     }
     for (const MeshoptView &v : views) {
-        std::string where = "bufferViews[" + std::to_string(v.view) + "].extensions.EXT_meshopt_compression";
+        std::string where = "bufferViews[" + std::to_string(v.view) + "].extensions." + meshopt_extensions[v.khr];
         const std::vector<unsigned char> &src = model.buffers[(size_t)v.source_buffer].data;
         std::vector<unsigned char> &dst = model.buffers[(size_t)v.buffer].data;
         if ((size_t)v.source_offset > src.size() || (size_t)v.source_length > src.size() - (size_t)v.source_offset) {
@@ -165,7 +188,7 @@ bool meshopt_decode(tinygltf::Model &model, const std::vector<MeshoptView> &view
             problem = where + ": the compressed bytes are in the buffer they decode into";
             return false;
         }
-        const char *why = resurfi_meshopt_decode((resurfi_meshopt_mode)v.mode, (resurfi_meshopt_filter)v.filter,
+        const char *why = resurfi_meshopt_decode(v.khr, (resurfi_meshopt_mode)v.mode, (resurfi_meshopt_filter)v.filter,
                                                  v.count, v.stride, src.data() + v.source_offset,
                                                  (size_t)v.source_length, dst.data() + v.offset);
         if (why) {

@@ -1,4 +1,4 @@
-// EXT_meshopt_compression required by a document: prepared on the JSON before tinygltf reads it, decoded on the
+// EXT_meshopt_compression or KHR_meshopt_compression required by a document: prepared on the JSON before tinygltf reads it, decoded on the
 // model after (gltf_meshopt.cpp). C++ only, for gltf_read.cpp.
 #ifndef RESURF_GLTF_MESHOPT_HPP
 #define RESURF_GLTF_MESHOPT_HPP
@@ -15,7 +15,7 @@ struct MeshoptView {
     long long source_buffer, source_offset, source_length;
     long long buffer, offset;
     size_t length, count, stride;
-    bool had_stride;
+    bool had_stride, khr; // khr: KHR_meshopt_compression's, else EXT_meshopt_compression's
     int mode, filter; // resurfi_meshopt_mode, resurfi_meshopt_filter
 };
 
@@ -25,7 +25,10 @@ struct MeshoptPlaceholder {
     size_t length;
 };
 
-// Does nothing unless the document requires EXT_meshopt_compression; else records its compressed bufferViews and
+// The two extensions' names, EXT's first.
+extern const char *const meshopt_extensions[2];
+
+// Does nothing unless the document requires EXT_meshopt_compression or KHR_meshopt_compression; else records its compressed bufferViews and
 // placeholder buffers and rewrites the JSON as gltf_meshopt.cpp's header says. False with *problem (naming the
 // JSON path) when the extension's JSON is malformed.
 // is_glb: buffer 0 without a uri is the GLB's binary chunk, data of its own, not a placeholder.

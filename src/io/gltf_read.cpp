@@ -205,39 +205,42 @@ void outside_extensions(const nlohmann::json &root, std::vector<std::string> &ou
     }
 }
 
-// EXT_meshopt_compression that the document does not require: every compressed bufferView keeps its bytes
-// uncompressed in a fallback buffer (gltfpack -cf), and those are what resurf reads. The extension is taken out of
-// the bufferViews, the buffers and extensionsUsed, so nothing written refers to the compressed bytes. Returns true
-// when it changed the document.
+// EXT_meshopt_compression or KHR_meshopt_compression that the document does not require: every compressed
+// bufferView keeps its bytes uncompressed in a fallback buffer (gltfpack -cf), and those are what resurf reads. The
+// extension is taken out of the bufferViews, the buffers and extensionsUsed, so nothing written refers to the
+// compressed bytes. Returns true when it changed the document.
 bool drop_optional_meshopt(nlohmann::json &root)
 {
-    static const char *const ext = "EXT_meshopt_compression";
-    auto required = root.find("extensionsRequired");
-    if (required != root.end() && required->is_array())
-        for (const nlohmann::json &e : *required)
-            if (e.is_string() && e.get_ref<const std::string &>() == ext)
-                return false;
     bool changed = false;
-    for (const char *key : {"bufferViews", "buffers"}) {
-        auto list = root.find(key);
-        if (list == root.end() || !list->is_array())
+    for (const char *ext : meshopt_extensions) {
+        bool required = false;
+        auto names = root.find("extensionsRequired");
+        if (names != root.end() && names->is_array())
+            for (const nlohmann::json &e : *names)
+                required |= e.is_string() && e.get_ref<const std::string &>() == ext;
+        if (required)
             continue;
-        for (nlohmann::json &x : *list) {
-            auto exts = x.is_object() ? x.find("extensions") : x.end();
-            if (exts == x.end() || !exts->is_object() || !exts->erase(ext))
+        for (const char *key : {"bufferViews", "buffers"}) {
+            auto list = root.find(key);
+            if (list == root.end() || !list->is_array())
                 continue;
-            changed = true;
-            if (exts->empty())
-                x.erase("extensions");
-        }
-    }
-    auto used = root.find("extensionsUsed");
-    if (used != root.end() && used->is_array())
-        for (size_t i = used->size(); i-- > 0;)
-            if ((*used)[i].is_string() && (*used)[i].get_ref<const std::string &>() == ext) {
-                used->erase(i);
+            for (nlohmann::json &x : *list) {
+                auto exts = x.is_object() ? x.find("extensions") : x.end();
+                if (exts == x.end() || !exts->is_object() || !exts->erase(ext))
+                    continue;
                 changed = true;
+                if (exts->empty())
+                    x.erase("extensions");
             }
+        }
+        auto used = root.find("extensionsUsed");
+        if (used != root.end() && used->is_array())
+            for (size_t i = used->size(); i-- > 0;)
+                if ((*used)[i].is_string() && (*used)[i].get_ref<const std::string &>() == ext) {
+                    used->erase(i);
+                    changed = true;
+                }
+    }
     return changed;
 }
 
@@ -742,7 +745,7 @@ resurf_status parse(const char *json, size_t json_size, const unsigned char *bin
             if ((*names)[i].is_string())
                 out->push_back((*names)[i].get<std::string>());
     }
-    // A required EXT_meshopt_compression is prepared for decoding after tinygltf's reading (gltf_meshopt.cpp).
+    // A required EXT_ or KHR_meshopt_compression is prepared for decoding after tinygltf's reading (gltf_meshopt.cpp).
     std::vector<MeshoptView> meshopt_views;
     std::vector<MeshoptPlaceholder> meshopt_holders;
     std::string meshopt_problem;
