@@ -4,7 +4,7 @@
  *
  *   bench-simplify [--small] [--large] [--scan FILE] [--scaling] [--calls] [--ratios 0.5,0.1,0.02] [--shape NAME]
  *                  [--threads N] [--sag S] [--normal-deg D] [--midpoint] [--post]
- *                  [--normals K] [--repeat N] [--no-cgal] [--no-js]
+ *                  [--normals K] [--repeat N] [--no-cgal] [--no-js] [--oracle]
  *   (K: the restorer's resurf_normal_scheme, 0..4; --shape none: only the scan; N runs per method, the time is the
  *   best of them, default 1; --no-cgal, --no-js: leave those peers out)
  *
@@ -41,7 +41,9 @@
  * then the ratios resurf/peer for each peer (none/..., inline/...) and mopt-js/meshopt (the npm version against the
  * native 0.18), and last the issue's targets, met or not: on the analytic shapes the true-surface mean of
  * resurf-inline ≤ 0.8× cgal-lt's and ≤ 0.5× meshopt's; on a scan its two-sided Hausdorff ≤ 0.8× meshopt's; on
- * every mesh the default's two-sided Hausdorff and mean to the input ≤ 1.0× resurf-none's.
+ * every mesh the default's two-sided Hausdorff and mean to the input ≤ 1.0× resurf-none's. --oracle adds the
+ * resurf-inline and cgal-lt levels polished against the analytic surface (tools/oracle_polish.h: the best placement
+ * their connectivity allows) as rows "+orc", and a table of bounds: their true-surface means against cgal-lt's.
  * --scaling times the sphere at 10% from 20k to 2M triangles and prints time / (n log2 n). --calls times whole
  * calls as a caller makes them (the defaults with inline and with measured restoration, the report measured) on
  * the 20k shapes, one and two threads, idle and beside a busy-looping process per core, against meshopt_simplify
@@ -60,6 +62,7 @@
 
 #include "bench.h"
 #include "internal.h"
+#include "oracle_polish.h"
 #include "peers.h"
 #include "shapes.h"
 #ifdef HAVE_MESHOPTIMIZER
@@ -192,6 +195,7 @@ typedef struct config {
     int normals; /* resurf_normal_scheme of the restorer, or -1 for its default */
     int repeat;  /* runs per method: the time is the best of them */
     int cgal, js; /* run those peers */
+    int oracle;   /* also polish the inline and cgal-lt levels with the analytic surface (tools/oracle_polish.h) */
 } config;
 
 static int run_resurf(const resurf_mesh *m, double ratio, resurf_restore_mode mode, const config *cfg,
@@ -363,6 +367,40 @@ static int run_method(int i, const resurf_mesh *m, double ratio, const config *c
     }
 }
 
+/* --oracle: the inline and cgal-lt levels polished against the analytic surface (their connectivity's best
+ * placement, tools/oracle_polish.h), each printed as a row, and their true-surface means against cgal-lt's as it
+ * came: how far any placement rule could take either level. Frees the levels. */
+static char bounds[64][160];
+static size_t bound_count;
+
+static void print_bounds(const char *name, const resurf_mesh *m, shape_kind kind, double ratio,
+                         resurf_mesh *polished[M_COUNT], const result res[M_COUNT])
+{
+    static const int which[2] = {M_RESURF, M_CGAL_LT};
+    for (int w = 0; w < 2; ++w) {
+        resurf_mesh *lod = polished[which[w]];
+        if (!lod)
+            continue;
+        result r = res[which[w]];
+        char method[32];
+        snprintf(method, sizeof method, "%s+orc", r.method);
+        r.method = method;
+        r.why[0] = 0;
+        r.time = r.bytes = NAN;
+        long changes = oracle_polish(kind, lod);
+        if (changes >= 0) {
+            measure(m, kind, lod, &r);
+            print_row(name, ratio, m->triangle_count, &r);
+            if (res[M_CGAL_LT].ok && bound_count < sizeof bounds / sizeof bounds[0])
+                snprintf(bounds[bound_count++], sizeof bounds[0], "%-22s %5.2f true_mean %-24s %7.3f  (%ld changes)",
+                         name, ratio, w ? "cgal-lt+oracle/cgal-lt" : "inline+oracle/cgal-lt",
+                         quotient(r.true_mean, res[M_CGAL_LT].true_mean), changes);
+        }
+        resurf_mesh_free(lod);
+        polished[which[w]] = NULL;
+    }
+}
+
 static void bench_mesh(const char *name, const resurf_mesh *m, shape_kind kind, const double *ratios, size_t nr,
                        const config *cfg)
 {
@@ -371,6 +409,7 @@ static void bench_mesh(const char *name, const resurf_mesh *m, shape_kind kind, 
     static const char *const peer_labels[M_COUNT] = {"mopt", "", "", "", "cgal-lt", "cgal-gh", "mopt-js", "js-upd"};
     for (size_t k = 0; k < nr; ++k) {
         result res[M_COUNT];
+        resurf_mesh *polished[M_COUNT] = {NULL};
         memset(res, 0, sizeof res);
         for (int i = 0; i < M_COUNT; ++i) {
             res[i].method = i == M_RESURF && cfg->post ? "resurf-post" : methods[i];
@@ -403,8 +442,11 @@ static void bench_mesh(const char *name, const resurf_mesh *m, shape_kind kind, 
                 printf("  (%s stopped at %zu triangles of %zu asked: its ratios are not at equal counts)\n",
                        res[i].method, res[i].tris, asked);
             fflush(stdout);
+            if (ok && cfg->oracle && kind != SHAPE_COUNT && (i == M_RESURF || i == M_CGAL_LT))
+                polished[i] = lod, lod = NULL;
             resurf_mesh_free(lod);
         }
+        print_bounds(name, m, kind, ratios[k], polished, res);
         char label[32];
         for (int a = M_NONE; a <= M_DEFAULT; ++a)
             for (int b = 0; b < M_COUNT; ++b)
@@ -445,6 +487,12 @@ static void print_targets(void)
     printf("\ntargets (issue 19, at equal triangle counts)\n");
     for (size_t i = 0; i < target_count; ++i)
         printf("%s\n", targets[i]);
+    if (!bound_count)
+        return;
+    printf("\nbounds (--oracle: each level's vertices and edges polished against the analytic surface, which no\n"
+           "simplifier has; what the best placement on its connectivity reaches, against cgal-lt as it came)\n");
+    for (size_t i = 0; i < bound_count; ++i)
+        printf("%s\n", bounds[i]);
 }
 
 /* ---- --calls: the time of one call, as a caller sees it ------------------------------------------------------ */
@@ -594,7 +642,7 @@ int main(int argc, char **argv)
     const char *scan = "data/scans/dragon.ply";
     double ratios[8] = {0.5, 0.1, 0.02};
     size_t nr = 3;
-    config cfg = {0, -1, 0, 0, 0, -1, 1, 1, 1};
+    config cfg = {0, -1, 0, 0, 0, -1, 1, 1, 1, 0};
     for (int i = 1; i < argc; ++i) {
         if (!strcmp(argv[i], "--small"))
             small = 1;
@@ -630,10 +678,12 @@ int main(int argc, char **argv)
             cfg.cgal = 0;
         else if (!strcmp(argv[i], "--no-js"))
             cfg.js = 0;
+        else if (!strcmp(argv[i], "--oracle"))
+            cfg.oracle = 1;
         else {
             fprintf(stderr, "usage: bench-simplify [--small] [--large] [--scan FILE|''] [--scaling] [--calls] [--ratios R,..]"
                             " [--shape NAME] [--threads N] [--sag S] [--normal-deg D] [--midpoint] [--post]"
-                            " [--normals K] [--repeat N] [--no-cgal] [--no-js]\n");
+                            " [--normals K] [--repeat N] [--no-cgal] [--no-js] [--oracle]\n");
             return 2;
         }
     }
