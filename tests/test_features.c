@@ -92,6 +92,46 @@ START_TEST(vertex_lock_keeps_positions_exactly)
 }
 END_TEST
 
+/* A locked vertex is bit-exact also where the weld joins it with copies a rounding apart: the sphere as a soup
+ * whose second and third copies of each position are moved by 1e-12 of the diagonal (well within the default
+ * weld_tolerance_rel), the second copy of every 5th position locked, so that another place comes first. Each locked
+ * place is in the level exactly; the copies still weld (the level reaches its target as the welded sphere does). */
+START_TEST(vertex_lock_keeps_its_place_in_a_tolerance_weld)
+{
+    resurf_mesh *welded = shape_mesh(SHAPE_SPHERE, 2000, 0.3, 11, 0);
+    ck_assert_ptr_nonnull(welded);
+    size_t nt = welded->triangle_count;
+    resurf_mesh *soup = NULL;
+    ck_assert_int_eq(resurf_mesh_create(3 * nt, nt, 0, &soup, NULL), RESURF_OK);
+    unsigned char *copies = calloc(welded->vertex_count, 1);
+    uint8_t *lock = calloc(3 * nt, 1);
+    size_t locked = 0;
+    for (size_t c = 0; c < 3 * nt; ++c) {
+        uint32_t v = welded->indices[c];
+        unsigned k = copies[v] < 255 ? copies[v]++ : 255; /* this corner's copy of v: 0, 1, 2, ... */
+        for (int a = 0; a < 3; ++a)
+            soup->positions[3 * c + a] = welded->positions[3 * v + a] + (k == 1 ? 2e-12 : k == 2 ? -2e-12 : 0) * (a + 1);
+        soup->indices[c] = (uint32_t)c;
+        if (k == 1 && v % 5 == 0)
+            lock[c] = 1, ++locked;
+    }
+    resurf_simplify_options o = resurf_simplify_options_default();
+    o.target_ratio = 0.1;
+    o.measure_samples = 0;
+    o.vertex_lock = lock;
+    resurf_mesh *out = NULL;
+    resurf_simplify_report r;
+    ck_assert_int_eq(resurf_simplify(soup, &o, &out, &r, NULL), RESURF_OK);
+    ck_assert_uint_eq(locked_found(soup, lock, out), locked);
+    ck_assert_uint_le(out->triangle_count, (size_t)(0.25 * (double)nt)); /* welded: not held by the soup's rims */
+    resurf_mesh_free(out);
+    free(lock);
+    free(copies);
+    resurf_mesh_free(soup);
+    resurf_mesh_free(welded);
+}
+END_TEST
+
 /* A position is locked when any of its vertices is: the sphere as a triangle soup (three vertices per triangle),
  * one copy of each chosen position locked. */
 START_TEST(vertex_lock_one_copy_locks_the_position)
@@ -705,6 +745,7 @@ Suite *make_suite(void)
     TCase *lock = tcase_create("lock");
     tcase_add_test(lock, vertex_lock_keeps_positions_exactly);
     tcase_add_test(lock, vertex_lock_one_copy_locks_the_position);
+    tcase_add_test(lock, vertex_lock_keeps_its_place_in_a_tolerance_weld);
     suite_add_tcase(s, lock);
     TCase *features = tcase_create("features");
     tcase_add_test(features, features_cube_keeps_corners_and_flat_faces);

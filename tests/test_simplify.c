@@ -1027,6 +1027,65 @@ END_TEST
  * small hand-made mesh reproduced it. */
 static resurf_mesh *pencil(unsigned rings) { return tube(6, rings, 0.01, 1, 0.01, 0); }
 
+/* A latitude-longitude sphere as exporters write it, each pole a ring of copies: at the north pole cos 0 and sin 0
+ * are exact, so its copies are one place; at the south pole sin π is 1.2e-16, so its copies lie a rounding apart.
+ * Welded exactly they are a hole whose rim the border guards hold, and the level stops well above its target
+ * (weld_tolerance_rel 0); with the default tolerance they are one position: the level reaches 10% and every vertex
+ * lies on the unit sphere up to the input's chord sag (restored onto S, without the sag offset). On a
+ * finer sphere (32 × 16) the hole's rim shrinks along itself and exact welding reaches 10% too: the coarse levels of
+ * small meshes are what the hole holds back. */
+static resurf_mesh *lat_long_sphere(unsigned around, unsigned rings)
+{
+    resurf_mesh *m = NULL;
+    size_t nv = (size_t)around * (rings + 1), nt = 2 * (size_t)around * (rings - 1);
+    ck_assert_int_eq(resurf_mesh_create(nv, nt, 0, &m, NULL), RESURF_OK);
+    for (unsigned j = 0; j <= rings; ++j)
+        for (unsigned i = 0; i < around; ++i) {
+            double th = M_PI * j / rings, ph = 2 * M_PI * i / around, *p = m->positions + 3 * (j * around + i);
+            p[0] = sin(th) * cos(ph), p[1] = cos(th), p[2] = sin(th) * sin(ph);
+        }
+    size_t t = 0;
+    for (unsigned j = 0; j < rings; ++j)
+        for (unsigned i = 0; i < around; ++i) {
+            uint32_t a = j * around + i, b = j * around + (i + 1) % around;
+            uint32_t c = (j + 1) * around + (i + 1) % around, d = (j + 1) * around + i;
+            if (j > 0)
+                m->indices[3 * t] = a, m->indices[3 * t + 1] = c, m->indices[3 * t + 2] = b, ++t;
+            if (j + 1 < rings)
+                m->indices[3 * t] = a, m->indices[3 * t + 1] = d, m->indices[3 * t + 2] = c, ++t;
+        }
+    ck_assert_uint_eq(t, nt);
+    return m;
+}
+
+START_TEST(simplify_welds_copies_a_rounding_apart)
+{
+    resurf_mesh *in = lat_long_sphere(16, 8); /* 224 triangles: the level has 22 */
+    resurf_simplify_options o = resurf_simplify_options_default();
+    o.target_ratio = 0.1;
+    o.restore = RESURF_RESTORE_INLINE;
+    o.sag_offset = 0; /* the vertices on S, which lies within the input's chord sag (h²/8 = 0.019) of the sphere */
+    size_t target = (size_t)(0.1 * (double)in->triangle_count);
+    resurf_simplify_report r;
+    resurf_mesh *out = simplify_ok(in, &o, &r);
+    ck_assert_int_eq(r.stop, RESURF_STOP_TARGET);
+    ck_assert_uint_le(out->triangle_count, target);
+    assert_clean(out);
+    for (size_t v = 0; v < out->vertex_count; ++v) {
+        double l = v3_len(resurfi_position(out, (uint32_t)v));
+        ck_assert_msg(fabs(l - 1) < 0.02, "vertex %zu at %.4f from the centre", v, l);
+    }
+    resurf_mesh_free(out);
+    o.weld_tolerance_rel = 0; /* exact copies only */
+    out = simplify_ok(in, &o, &r);
+    ck_assert_int_eq(r.stop, RESURF_STOP_BLOCKED);
+    ck_assert_uint_gt(r.blocked_border, 0);
+    ck_assert_uint_gt(out->triangle_count, target + target / 2); /* 36 where 22 are asked */
+    resurf_mesh_free(out);
+    resurf_mesh_free(in);
+}
+END_TEST
+
 START_TEST(simplify_keeps_a_pencils_length)
 {
     resurf_mesh *m = pencil(60);
@@ -1284,6 +1343,12 @@ START_TEST(simplify_rejects_bad_input_and_options)
     o = resurf_simplify_options_default();
     o.max_error = NAN;
     ck_assert_int_eq(resurf_simplify(m, &o, &out, NULL, &e), RESURF_ERR_INVALID_OPTIONS);
+    for (int k = 0; k < 3; ++k) {
+        o = resurf_simplify_options_default();
+        o.weld_tolerance_rel = k == 0 ? -1e-9 : k == 1 ? 2e-3 : NAN;
+        ck_assert_int_eq(resurf_simplify(m, &o, &out, NULL, &e), RESURF_ERR_INVALID_OPTIONS);
+        ck_assert(strstr(e.message, "weld_tolerance_rel"));
+    }
     o = resurf_simplify_options_default();
     resurf_restore_options ro;
     memset(&ro, 0, sizeof ro);
@@ -1480,6 +1545,7 @@ Suite *make_suite(void)
     tcase_add_test(guards, simplify_keeps_double_sided_sheets);
     tcase_add_test(guards, simplify_chooses_attached_sheets_by_measure);
     tcase_add_test(guards, simplify_keeps_a_pencils_length);
+    tcase_add_test(guards, simplify_welds_copies_a_rounding_apart);
     tcase_add_test(guards, simplify_keeps_a_scanned_spike);
     tcase_add_test(guards, simplify_restored_scan_covers_its_tips);
     tcase_add_test(guards, simplify_does_not_bridge_a_notch);

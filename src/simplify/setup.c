@@ -1,5 +1,5 @@
-/* The simplifier's set-up: everything up to the first candidates. The input checked; positions welded exactly and
- * attribute vertices with equal attributes merged into wedges; fins dropped (drop_fins) and triangles with a
+/* The simplifier's set-up: everything up to the first candidates. The input checked; positions welded (copies a
+ * rounding apart too, weld_tolerance_rel) and attribute vertices with equal attributes merged into wedges; fins dropped (drop_fins) and triangles with a
  * repeated position; each position's corners threaded into a list; per position (in parallel, beside the
  * restorer's set-up): border, seam and non-manifold flags and the quadric; the attribute charts; the restorer's
  * homes; the wedges' attribute quadrics (attributes.c); the first candidates (collapse.c) and the scheduler's buffers (schedule.c). */
@@ -365,19 +365,66 @@ static void *calloc_shared(const simplifier *s, size_t count, size_t size)
     return j.base;
 }
 
+/* The positions of the input, welded: vertices closer than weld_tolerance_rel × the diagonal are one position (an
+ * exporter's rounding leaves copies of a position a few units of the last place apart, as at a sphere's pole, where
+ * sin π is not 0: welded exactly they are a hole whose rim the border guards hold, and the level stops far above
+ * its target), numbered by first appearance. place[p] is the vertex whose coordinates position p takes: its first
+ * vertex (the restorer's too), or its first locked one (vertex_lock: bit-exact in every level). A locked vertex at
+ * another place than that one (two locked places a rounding apart) and its exact copies get a position of their
+ * own. */
+static resurf_status weld_positions(simplifier *s, uint32_t *remap, size_t *count, uint32_t **out_place,
+                                    resurf_error *error)
+{
+    const resurf_mesh *in = s->in;
+    size_t nv = in->vertex_count;
+    const uint8_t *lock = s->opt.vertex_lock;
+    *out_place = NULL;
+    resurf_status st = resurfi_weld_map(s->alloc, in, s->opt.weld_tolerance_rel, remap, count, error);
+    if (st != RESURF_OK)
+        return st;
+    /* Room for a split-off position per vertex at most. */
+    uint32_t *place = resurfi_alloc(s->alloc, *count + nv + 1, sizeof *place), *exact = NULL, *own = NULL;
+    size_t exact_count = 0;
+    int tolerant = lock && s->opt.weld_tolerance_rel > 0;
+    if (!place || (tolerant && (!(exact = resurfi_alloc(s->alloc, nv ? nv : 1, sizeof *exact)) ||
+                                resurfi_weld_exact(s->alloc, in->positions, nv, exact, &exact_count) != RESURF_OK ||
+                                !(own = resurfi_alloc(s->alloc, exact_count ? exact_count : 1, sizeof *own))))) {
+        resurfi_free(s->alloc, place), resurfi_free(s->alloc, exact), resurfi_free(s->alloc, own);
+        return resurfi_error(error, RESURF_ERR_OUT_OF_MEMORY, "out of memory welding the mesh's positions");
+    }
+    memset(place, 0xff, *count * sizeof *place);
+    for (size_t v = 0; v < nv; ++v) /* the first vertex, or the first locked one */
+        if (place[remap[v]] == NONE || (lock && lock[v] && !lock[place[remap[v]]]))
+            place[remap[v]] = (uint32_t)v;
+    if (tolerant) {
+        memset(own, 0xff, exact_count * sizeof *own);
+        for (size_t v = 0; v < nv; ++v)
+            if (lock[v] && exact[v] != exact[place[remap[v]]] && own[exact[v]] == NONE) {
+                place[*count] = (uint32_t)v;
+                own[exact[v]] = (uint32_t)(*count)++;
+            }
+        for (size_t v = 0; v < nv; ++v)
+            if (own[exact[v]] != NONE)
+                remap[v] = own[exact[v]];
+    }
+    resurfi_free(s->alloc, exact), resurfi_free(s->alloc, own);
+    *out_place = place;
+    return RESURF_OK;
+}
+
 static resurf_status prepare_mesh(simplifier *s, resurf_error *error)
 {
     const resurf_mesh *in = s->in;
     size_t nv = in->vertex_count;
     uint32_t *remap = resurfi_alloc(s->alloc, nv, sizeof *remap);
     uint32_t *rep = resurfi_alloc(s->alloc, nv, sizeof *rep);
-    uint32_t *first = NULL, *chain = NULL;
+    uint32_t *first = NULL, *chain = NULL, *place = NULL;
     uint8_t *drop = NULL;
     resurf_status st = RESURF_ERR_OUT_OF_MEMORY;
     if (!remap || !rep)
         goto done;
     size_t pc = 0;
-    if ((st = resurfi_weld_exact(s->alloc, in->positions, nv, remap, &pc)) != RESURF_OK)
+    if ((st = weld_positions(s, remap, &pc, &place, error)) != RESURF_OK)
         goto done;
     st = RESURF_ERR_OUT_OF_MEMORY;
     s->pos_count = pc;
@@ -442,8 +489,8 @@ static resurf_status prepare_mesh(simplifier *s, resurf_error *error)
         s->src[nt++] = (uint32_t)t;
     }
     s->area_floor = nt ? AREA_FLOOR * area / (double)nt : 0;
-    for (size_t v = 0; v < nv; ++v)
-        s->P[remap[v]].p = resurfi_position(in, (uint32_t)v);
+    for (size_t p = 0; p < pc; ++p)
+        s->P[p].p = resurfi_position(in, place[p]);
     /* Lists in increasing triangle order: insert from the back. The heads are built in the (still unused) marks,
      * 4 bytes per position, not in the 128-byte records: 3 random writes per triangle then stay in the cache. */
     uint32_t *head = s->mark;
@@ -472,6 +519,7 @@ done:
     resurfi_free(s->alloc, first);
     resurfi_free(s->alloc, chain);
     resurfi_free(s->alloc, drop);
+    resurfi_free(s->alloc, place);
     if (st == RESURF_ERR_OUT_OF_MEMORY)
         return resurfi_error(error, st, "out of memory preparing %zu triangles for simplification",
                              in->triangle_count);

@@ -81,6 +81,7 @@ resurf_simplify_options resurf_simplify_options_default(void)
     o.skin_weight = 1.4;
     o.morph_weight = 1;
     o.measure_samples = 20000;
+    o.weld_tolerance_rel = 1e-7;
     return o;
 }
 
@@ -120,6 +121,8 @@ static resurf_status check_options(const resurf_simplify_options *o, resurf_erro
              !(o->skin_weight >= 0 && isfinite(o->skin_weight)) ||
              !(o->morph_weight >= 0 && isfinite(o->morph_weight)))
         bad = "normal_weight, texcoord_weight, color_weight, skin_weight and morph_weight must be finite and >= 0";
+    else if (!(o->weld_tolerance_rel >= 0 && o->weld_tolerance_rel <= 1e-3))
+        bad = "weld_tolerance_rel must be in [0, 1e-3]";
     else if (o->restore_options && o->restore_options->struct_size != sizeof(resurf_restore_options))
         bad = "restore_options was not initialised by resurf_restore_options_default()";
     else if (o->thread_pool && !o->thread_pool->run)

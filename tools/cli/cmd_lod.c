@@ -52,6 +52,8 @@ static const char usage[] =
     "                         across (default: the library's; 180 = none)\n"
     "  --corner-angle DEG     a border turning by more than DEG makes a corner that never moves (default: the\n"
     "                         library's; 180 = none)\n"
+    "  --weld-tolerance R     vertices closer than R x their mesh's diagonal are one position (copies a\n"
+    "                         rounding apart; default: the library's, 1e-7; 0 = exact copies only)\n"
     "  --restore MODE         measured (default: each level made with inline restoration and without; the\n"
     "                         restored one kept where it is as near IN in max and mean), inline, post or none\n"
     "  --threads N            worker threads, 0 = all cores (default)\n"
@@ -150,6 +152,7 @@ int cmd_lod(int argc, char **argv)
         {"attribute-weights", required_argument, NULL, 'W'},
         {"feature-angle", required_argument, NULL, 'F'},
         {"corner-angle", required_argument, NULL, 'C'},
+        {"weld-tolerance", required_argument, NULL, 'w'},
         {"json", no_argument, NULL, 'j'},
         {"preview", required_argument, NULL, 'P'},
         {"preview-size", required_argument, NULL, 'Z'},
@@ -251,6 +254,12 @@ int cmd_lod(int argc, char **argv)
         case 'C':
             if (cli_parse_angle("lod", "corner-angle", optarg, &sim.corner_angle_deg))
                 return CLI_USAGE;
+            break;
+        case 'w':
+            if (cli_parse_double("lod", "weld-tolerance", optarg, &sim.weld_tolerance_rel))
+                return CLI_USAGE;
+            if (!(sim.weld_tolerance_rel >= 0 && sim.weld_tolerance_rel <= 1e-3))
+                return cli_usage("lod", "--weld-tolerance must be in [0, 1e-3], not %s", optarg);
             break;
         case 'j': json = 1; break;
         case 'P': preview = optarg; break;

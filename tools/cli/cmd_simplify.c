@@ -43,6 +43,8 @@ static const char usage[] =
     "                            restored across (default: the library's; 180 = none)\n"
     "  --corner-angle DEG        a border turning by more than DEG makes a corner that never moves\n"
     "                            (default: the library's; 180 = none)\n"
+    "  --weld-tolerance R        vertices closer than R x the diagonal are one position (copies a rounding\n"
+    "                            apart; default: the library's, 1e-7; 0 = exact copies only)\n"
     "  --samples N               samples of the result measured against IN, and of IN against the result, for\n"
     "                            the report (0 = none)\n"
     "  --threads N               worker threads, 0 = all cores (default); the result is the same for any N\n"
@@ -160,6 +162,7 @@ int cmd_simplify(int argc, char **argv)
         {"attribute-weights", required_argument, NULL, 'W'},
         {"feature-angle", required_argument, NULL, 'F'},
         {"corner-angle", required_argument, NULL, 'C'},
+        {"weld-tolerance", required_argument, NULL, 'w'},
         {"samples", required_argument, NULL, 's'},
         {"threads", required_argument, NULL, 't'},
         {"json", no_argument, NULL, 'j'},
@@ -257,6 +260,12 @@ int cmd_simplify(int argc, char **argv)
         case 'C':
             if (cli_parse_angle("simplify", "corner-angle", optarg, &o.corner_angle_deg))
                 return CLI_USAGE;
+            break;
+        case 'w':
+            if (cli_parse_double("simplify", "weld-tolerance", optarg, &o.weld_tolerance_rel))
+                return CLI_USAGE;
+            if (!(o.weld_tolerance_rel >= 0 && o.weld_tolerance_rel <= 1e-3))
+                return cli_usage("simplify", "--weld-tolerance must be in [0, 1e-3], not %s", optarg);
             break;
         case 's':
             if (cli_parse_unsigned("simplify", "samples", optarg, &n))
