@@ -716,6 +716,30 @@ uint32_t resurfi_bvh_closest(const resurfi_bvh *bvh, vec3 p, double max_dist2, v
     return s.best_id;
 }
 
+uint32_t resurfi_bvh_closest_near(const resurfi_bvh *bvh, vec3 p, uint32_t hint, vec3 *out_point, double out_bary[3],
+                                  double *out_dist2)
+{
+    if (hint == UINT32_MAX || !v3_finite(p))
+        return resurfi_bvh_closest(bvh, p, INFINITY, out_point, out_bary, out_dist2);
+    /* The hint is the best so far: the search prunes from its distance on, and finds what a search from nothing
+     * finds (the nearest, the lowest index among ties), since every triangle at most as far as the hint is still
+     * in reach. */
+    closest_state s = {.best_id = hint};
+    const uint32_t *t = bvh->indices + 3 * (size_t)hint;
+    s.best_point = resurfi_closest_on_triangle(p, v3_load(bvh->positions + 3 * (size_t)t[0]),
+                                               v3_load(bvh->positions + 3 * (size_t)t[1]),
+                                               v3_load(bvh->positions + 3 * (size_t)t[2]), s.best_bary);
+    s.best_d2 = v3_dist2(p, s.best_point);
+    traverse(bvh, p, s.best_d2, visit_closest, &s);
+    if (out_point)
+        *out_point = s.best_point;
+    if (out_bary)
+        memcpy(out_bary, s.best_bary, sizeof s.best_bary);
+    if (out_dist2)
+        *out_dist2 = s.best_d2;
+    return s.best_id;
+}
+
 typedef struct within_state {
     double max_d2;
     int (*fn)(void *ctx, uint32_t triangle, vec3 point, const double bary[3], double dist2);

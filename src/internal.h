@@ -222,6 +222,12 @@ size_t resurfi_bvh_triangle_count(const resurfi_bvh *bvh);
 uint32_t resurfi_bvh_closest(const resurfi_bvh *bvh, vec3 p, double max_dist2, vec3 *out_point, double out_bary[3],
                              double *out_dist2);
 
+/* resurfi_bvh_closest (everywhere) from a triangle near p: the same answer, found faster the nearer the hint (the
+ * answer at a point a small step away, say). hint must be a triangle the tree holds (one it returned), or
+ * UINT32_MAX for none. */
+uint32_t resurfi_bvh_closest_near(const resurfi_bvh *bvh, vec3 p, uint32_t hint, vec3 *out_point, double out_bary[3],
+                                  double *out_dist2);
+
 /* Calls fn once for every triangle whose closest point to p is within sqrt(max_dist2), with that point, its
  * barycentrics and squared distance, in a deterministic (tree) order, not sorted by distance. fn returning nonzero
  * stops the walk; the return value is then 1, else 0. Thread-safe (read-only). For the restorer's searches of

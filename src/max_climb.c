@@ -45,13 +45,18 @@ void resurfi_max_starts_offer(resurfi_max_starts *s, double d, uint32_t t, const
     memcpy(s->start[at].b, b, sizeof s->start[at].b);
 }
 
-static double distance_at(const resurf_mesh *from, const uint32_t *f, const double b[3], const resurfi_bvh *to)
+/* The distance at barycentrics b of from's triangle f; *near is the closest triangle of `to` at the last point
+ * measured (a step away: the search starts from it), updated. */
+static double distance_at(const resurf_mesh *from, const uint32_t *f, const double b[3], const resurfi_bvh *to,
+                          uint32_t *near)
 {
     vec3 p = v3_scale(resurfi_position(from, f[0]), b[0]);
     p = v3_madd(p, resurfi_position(from, f[1]), b[1]);
     p = v3_madd(p, resurfi_position(from, f[2]), b[2]);
     double d2;
-    return resurfi_bvh_closest(to, p, INFINITY, NULL, NULL, &d2) == UINT32_MAX ? INFINITY : sqrt(d2);
+    uint32_t c = resurfi_bvh_closest_near(to, p, *near, NULL, NULL, &d2);
+    *near = c;
+    return c == UINT32_MAX ? INFINITY : sqrt(d2);
 }
 
 /* A compass search with CLIMB_DIRECTIONS directions evenly spread in the triangle's plane (in space, not in
@@ -79,6 +84,7 @@ static double climb(const resurf_mesh *from, const resurfi_max_start *start, con
     }
     double b[3] = {start->b[0], start->b[1], start->b[2]}, best = start->d;
     int evals = 0, last = 0;
+    uint32_t near = UINT32_MAX;
     for (double h = CLIMB_FIRST_STEP * size; h >= CLIMB_LAST_STEP * size && evals < CLIMB_EVALS;) {
         int moved = 0;
         for (int i = 0; i < CLIMB_DIRECTIONS && evals < CLIMB_EVALS && !moved; ++i) {
@@ -87,7 +93,7 @@ static double climb(const resurf_mesh *from, const resurfi_max_start *start, con
             nb[0] = 1 - nb[1] - nb[2];
             if (nb[0] < 0 || nb[1] < 0 || nb[2] < 0)
                 continue;
-            double d = distance_at(from, f, nb, to);
+            double d = distance_at(from, f, nb, to, &near);
             ++evals;
             if (d > best && isfinite(d)) {
                 best = d;
