@@ -45,6 +45,28 @@ static size_t locked_found(const resurf_mesh *in, const uint8_t *lock, const res
 
 /* ---- vertex_lock --------------------------------------------------------------------------------------------- */
 
+/* An irregular sphere (*welded, 2000 triangles) as a triangle soup, three vertices a triangle: each position's
+ * second copy moved by `apart` × (1, 2, 3), its third by -apart × (1, 2, 3), the others exact copies. */
+static resurf_mesh *sphere_soup(uint64_t seed, double apart, resurf_mesh **welded)
+{
+    *welded = shape_mesh(SHAPE_SPHERE, 2000, 0.3, seed, 0);
+    ck_assert_ptr_nonnull(*welded);
+    size_t nt = (*welded)->triangle_count;
+    resurf_mesh *soup = NULL;
+    ck_assert_int_eq(resurf_mesh_create(3 * nt, nt, 0, &soup, NULL), RESURF_OK);
+    unsigned char *copies = calloc((*welded)->vertex_count, 1);
+    for (size_t c = 0; c < 3 * nt; ++c) {
+        uint32_t v = (*welded)->indices[c];
+        unsigned k = copies[v] < 255 ? copies[v]++ : 255;
+        double shift = k == 1 ? apart : k == 2 ? -apart : 0;
+        for (int a = 0; a < 3; ++a)
+            soup->positions[3 * c + a] = (*welded)->positions[3 * (size_t)v + a] + shift * (a + 1);
+        soup->indices[c] = (uint32_t)c;
+    }
+    free(copies);
+    return soup;
+}
+
 /* Every 7th vertex of an irregular sphere is locked; at 10% with inline restoration and the sag offset (which move
  * every other vertex off the input), with POST restoration, and through a LOD chain, each locked position is in
  * the result bit-exact. Without the lock most of them are gone, so the check can fail. */
@@ -98,21 +120,14 @@ END_TEST
  * place is in the level exactly; the copies still weld (the level reaches its target as the welded sphere does). */
 START_TEST(vertex_lock_keeps_its_place_in_a_tolerance_weld)
 {
-    resurf_mesh *welded = shape_mesh(SHAPE_SPHERE, 2000, 0.3, 11, 0);
-    ck_assert_ptr_nonnull(welded);
+    resurf_mesh *welded = NULL, *soup = sphere_soup(11, 2e-12, &welded);
     size_t nt = welded->triangle_count;
-    resurf_mesh *soup = NULL;
-    ck_assert_int_eq(resurf_mesh_create(3 * nt, nt, 0, &soup, NULL), RESURF_OK);
     unsigned char *copies = calloc(welded->vertex_count, 1);
     uint8_t *lock = calloc(3 * nt, 1);
     size_t locked = 0;
-    for (size_t c = 0; c < 3 * nt; ++c) {
+    for (size_t c = 0; c < 3 * nt; ++c) { /* the second copy of every 5th position */
         uint32_t v = welded->indices[c];
-        unsigned k = copies[v] < 255 ? copies[v]++ : 255; /* this corner's copy of v: 0, 1, 2, ... */
-        for (int a = 0; a < 3; ++a)
-            soup->positions[3 * c + a] = welded->positions[3 * v + a] + (k == 1 ? 2e-12 : k == 2 ? -2e-12 : 0) * (a + 1);
-        soup->indices[c] = (uint32_t)c;
-        if (k == 1 && v % 5 == 0)
+        if (copies[v]++ == 1 && v % 5 == 0)
             lock[c] = 1, ++locked;
     }
     resurf_simplify_options o = resurf_simplify_options_default();
@@ -136,15 +151,8 @@ END_TEST
  * one copy of each chosen position locked. */
 START_TEST(vertex_lock_one_copy_locks_the_position)
 {
-    resurf_mesh *welded = shape_mesh(SHAPE_SPHERE, 2000, 0.3, 9, 0);
-    ck_assert_ptr_nonnull(welded);
+    resurf_mesh *welded = NULL, *soup = sphere_soup(9, 0, &welded);
     size_t nt = welded->triangle_count;
-    resurf_mesh *soup = NULL;
-    ck_assert_int_eq(resurf_mesh_create(3 * nt, nt, 0, &soup, NULL), RESURF_OK);
-    for (size_t c = 0; c < 3 * nt; ++c) {
-        memcpy(soup->positions + 3 * c, welded->positions + 3 * welded->indices[c], 3 * sizeof(double));
-        soup->indices[c] = (uint32_t)c;
-    }
     uint8_t *lock = calloc(3 * nt, 1), *chosen = calloc(welded->vertex_count, 1), *seen = calloc(welded->vertex_count, 1);
     for (size_t c = 0; c < 3 * nt; ++c) { /* the first copy of every 5th position */
         uint32_t v = welded->indices[c];

@@ -54,6 +54,8 @@ int cli_parse_double(const char *command, const char *option, const char *text, 
 int cli_parse_unsigned(const char *command, const char *option, const char *text, unsigned long *out);
 /* An angle option in degrees, in (0, 180]. */
 int cli_parse_angle(const char *command, const char *option, const char *text, double *out);
+/* --weld-tolerance: resurf_simplify_options.weld_tolerance_rel, in [0, 1e-3]. */
+int cli_parse_weld_tolerance(const char *command, const char *text, double *out);
 
 /* An option naming one of names[0..count): its index in *out; else a usage error listing them, CLI_USAGE. */
 int cli_parse_choice(const char *command, const char *option, const char *text, const char *const *names, int count,

@@ -87,6 +87,17 @@ int cli_parse_angle(const char *command, const char *option, const char *text, d
     return 0;
 }
 
+int cli_parse_weld_tolerance(const char *command, const char *text, double *out)
+{
+    double v = 0;
+    if (cli_parse_double(command, "weld-tolerance", text, &v))
+        return CLI_USAGE;
+    if (!(v >= 0 && v <= 1e-3))
+        return cli_usage(command, "--weld-tolerance must be in [0, 1e-3], not %s", text);
+    *out = v;
+    return 0;
+}
+
 int cli_parse_choice(const char *command, const char *option, const char *text, const char *const *names, int count,
                      int *out)
 {

@@ -256,10 +256,8 @@ int cmd_lod(int argc, char **argv)
                 return CLI_USAGE;
             break;
         case 'w':
-            if (cli_parse_double("lod", "weld-tolerance", optarg, &sim.weld_tolerance_rel))
+            if (cli_parse_weld_tolerance("lod", optarg, &sim.weld_tolerance_rel))
                 return CLI_USAGE;
-            if (!(sim.weld_tolerance_rel >= 0 && sim.weld_tolerance_rel <= 1e-3))
-                return cli_usage("lod", "--weld-tolerance must be in [0, 1e-3], not %s", optarg);
             break;
         case 'j': json = 1; break;
         case 'P': preview = optarg; break;

@@ -262,10 +262,8 @@ int cmd_simplify(int argc, char **argv)
                 return CLI_USAGE;
             break;
         case 'w':
-            if (cli_parse_double("simplify", "weld-tolerance", optarg, &o.weld_tolerance_rel))
+            if (cli_parse_weld_tolerance("simplify", optarg, &o.weld_tolerance_rel))
                 return CLI_USAGE;
-            if (!(o.weld_tolerance_rel >= 0 && o.weld_tolerance_rel <= 1e-3))
-                return cli_usage("simplify", "--weld-tolerance must be in [0, 1e-3], not %s", optarg);
             break;
         case 's':
             if (cli_parse_unsigned("simplify", "samples", optarg, &n))
