@@ -53,4 +53,24 @@ static inline void put_f32(bytes *b, float f)
     put_u32(b, x);
 }
 
+/* A .glb of the JSON text (json_len bytes, padded here with spaces) and the binary chunk (padded with zeros), framed
+ * into glb: header, JSON chunk, BIN chunk. */
+static inline void put_glb(bytes *glb, const char *json, size_t json_len, const bytes *bin)
+{
+    size_t json_padded = (json_len + 3) & ~(size_t)3, bin_padded = (bin->size + 3) & ~(size_t)3;
+    put(glb, "glTF", 4);
+    put_u32(glb, 2);
+    put_u32(glb, (uint32_t)(12 + 8 + json_padded + 8 + bin_padded));
+    put_u32(glb, (uint32_t)json_padded);
+    put(glb, "JSON", 4);
+    put(glb, json, json_len);
+    for (size_t i = json_len; i < json_padded; ++i)
+        put(glb, " ", 1);
+    put_u32(glb, (uint32_t)bin_padded);
+    put(glb, "BIN\0", 4);
+    put(glb, bin->data, bin->size);
+    for (size_t i = bin->size; i < bin_padded; ++i)
+        put(glb, "", 1);
+}
+
 #endif

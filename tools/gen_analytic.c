@@ -5,6 +5,7 @@
  *                                         the sphere with a morph target that makes an ellipsoid (morph_asset.h)
  *   resurf-gen-analytic --data DIR        the bundled set in data/ (what tools/make-data.sh runs)
  *   resurf-gen-analytic --skinned-cylinder OUT.glb [--ubyte-weights]   the two-bone cylinder of skinned_cylinder.h
+ *   resurf-gen-analytic --sphere-scene N OUT.glb   N small latitude-longitude spheres, a mesh each (sphere_scene.h)
  */
 #include <stdio.h>
 #include <stdlib.h>
@@ -13,6 +14,7 @@
 #include "morph_asset.h"
 #include "shapes.h"
 #include "skinned_cylinder.h"
+#include "sphere_scene.h"
 
 /* The bundled meshes: small, irregular, reproducible. */
 static const struct {
@@ -76,6 +78,7 @@ static int usage(void)
                     "       resurf-gen-analytic morph-sphere TRIANGLES OUT.glb [--jitter J] [--seed S]\n"
                     "       resurf-gen-analytic --data DIR\n"
                     "       resurf-gen-analytic --skinned-cylinder OUT.glb [--ubyte-weights]\n"
+                    "       resurf-gen-analytic --sphere-scene N OUT.glb\n"
                     "shapes: sphere torus cubic cylinder saddle plane\n");
     return 2;
 }
@@ -92,6 +95,22 @@ int main(int argc, char **argv)
         char path[4096];
         snprintf(path, sizeof path, "%s/morph-sphere.glb", argv[2]);
         return rc | write_morph(1200, 0.35, 1, path);
+    }
+    if (argc == 4 && !strcmp(argv[1], "--sphere-scene")) {
+        char *end;
+        unsigned long count = strtoul(argv[2], &end, 10);
+        if (*end || count == 0 || count > 100000)
+            return usage();
+        size_t size = 0;
+        unsigned char *glb = sphere_scene_glb((unsigned)count, 16, 8, &size);
+        FILE *f = glb ? fopen(argv[3], "wb") : NULL;
+        int rc = !f || fwrite(glb, 1, size, f) != size;
+        if (f && fclose(f))
+            rc = 1;
+        free(glb);
+        if (rc)
+            fprintf(stderr, "resurf-gen-analytic: cannot write %s\n", argv[3]);
+        return rc;
     }
     if ((argc == 3 || argc == 4) && !strcmp(argv[1], "--skinned-cylinder")) {
         int ubyte = argc == 4 && !strcmp(argv[3], "--ubyte-weights");

@@ -166,20 +166,7 @@ unsigned char *morph_glb(const resurf_mesh *m, size_t *out_size)
         free(bin.data);
         return NULL;
     }
-    size_t json_len = ((size_t)n + 3) & ~(size_t)3, bin_len = (bin.size + 3) & ~(size_t)3;
-    put_u32(&glb, 0x46546C67); /* "glTF" */
-    put_u32(&glb, 2);
-    put_u32(&glb, (uint32_t)(12 + 8 + json_len + 8 + bin_len));
-    put_u32(&glb, (uint32_t)json_len);
-    put_u32(&glb, 0x4E4F534A); /* "JSON" */
-    put(&glb, json, (size_t)n);
-    for (size_t i = (size_t)n; i < json_len; ++i)
-        put(&glb, " ", 1);
-    put_u32(&glb, (uint32_t)bin_len);
-    put_u32(&glb, 0x004E4942); /* "BIN\0" */
-    put(&glb, bin.data, bin.size);
-    for (size_t i = bin.size; i < bin_len; ++i)
-        put(&glb, "", 1);
+    put_glb(&glb, json, (size_t)n, &bin);
     free(json);
     int failed = bin.failed || glb.failed;
     free(bin.data);

@@ -131,19 +131,8 @@ int skinned_cylinder_write(const char *path, unsigned segments, unsigned rings, 
         free(bin.data);
         return -1;
     }
-    size_t json_len = ((size_t)n + 3) & ~(size_t)3;
-    for (size_t i = (size_t)n; i < json_len; ++i)
-        json[i] = ' ';
     bytes glb = {0};
-    put(&glb, "glTF", 4);
-    put_u32(&glb, 2);
-    put_u32(&glb, (uint32_t)(12 + 8 + json_len + 8 + bin.size));
-    put_u32(&glb, (uint32_t)json_len);
-    put(&glb, "JSON", 4);
-    put(&glb, json, json_len);
-    put_u32(&glb, (uint32_t)bin.size);
-    put(&glb, "BIN\0", 4);
-    put(&glb, bin.data, bin.size);
+    put_glb(&glb, json, (size_t)n, &bin);
     free(bin.data);
     FILE *f = glb.failed ? NULL : fopen(path, "wb");
     int ok = f && fwrite(glb.data, 1, glb.size, f) == glb.size;
