@@ -81,7 +81,7 @@ resurf_simplify_options resurf_simplify_options_default(void)
     o.skin_weight = 1.4;
     o.morph_weight = 1;
     o.measure_samples = 20000;
-    o.weld_tolerance_rel = 1e-7;
+    o.weld_tolerance_rel = 1e-8;
     return o;
 }
 

@@ -53,7 +53,7 @@ static const char usage[] =
     "  --corner-angle DEG     a border turning by more than DEG makes a corner that never moves (default: the\n"
     "                         library's; 180 = none)\n"
     "  --weld-tolerance R     vertices closer than R x their mesh's diagonal are one position (copies a\n"
-    "                         rounding apart; default: the library's, 1e-7; 0 = exact copies only)\n"
+    "                         rounding apart; default: the library's, 1e-8; 0 = exact copies only)\n"
     "  --restore MODE         measured (default: each level made with inline restoration and without; the\n"
     "                         restored one kept where it is as near IN in max and mean), inline, post or none\n"
     "  --threads N            worker threads, 0 = all cores (default)\n"

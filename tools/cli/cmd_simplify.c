@@ -44,7 +44,7 @@ static const char usage[] =
     "  --corner-angle DEG        a border turning by more than DEG makes a corner that never moves\n"
     "                            (default: the library's; 180 = none)\n"
     "  --weld-tolerance R        vertices closer than R x the diagonal are one position (copies a rounding\n"
-    "                            apart; default: the library's, 1e-7; 0 = exact copies only)\n"
+    "                            apart; default: the library's, 1e-8; 0 = exact copies only)\n"
     "  --samples N               samples of the result measured against IN, and of IN against the result, for\n"
     "                            the report (0 = none)\n"
     "  --threads N               worker threads, 0 = all cores (default); the result is the same for any N\n"
