@@ -1,8 +1,9 @@
 /* The simplifier's set-up: everything up to the first candidates. The input checked; positions welded (copies a
  * rounding apart too, weld_tolerance_rel) and attribute vertices with equal attributes merged into wedges; fins
- * dropped (drop_fins) and triangles with a repeated position; each position's corners threaded into a list; per position (in parallel, beside the
- * restorer's set-up): border, seam and non-manifold flags and the quadric; the attribute charts; the restorer's
- * homes; the wedges' attribute quadrics (attributes.c); the first candidates (collapse.c) and the scheduler's buffers (schedule.c). */
+ * dropped (drop_fins) and triangles with a repeated position; each position's corners threaded into a list; per
+ * position (in parallel, beside the restorer's set-up): border, seam and non-manifold flags and the quadric; the
+ * attribute charts; the restorer's homes; the wedges' attribute quadrics (attributes.c); the first candidates
+ * (collapse.c) and the scheduler's buffers (schedule.c). */
 #include <math.h>
 #include <stdlib.h>
 
