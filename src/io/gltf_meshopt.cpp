@@ -30,6 +30,42 @@ bool get_index(const nlohmann::json &o, const char *key, long long fallback, lon
     return out >= 0;
 }
 
+// Is `name` among the strings of root[key] (extensionsUsed, extensionsRequired)?
+bool listed(const nlohmann::json &root, const char *key, const char *name)
+{
+    auto names = root.find(key);
+    if (names != root.end() && names->is_array())
+        for (const nlohmann::json &e : *names)
+            if (e.is_string() && e.get_ref<const std::string &>() == name)
+                return true;
+    return false;
+}
+
+// Takes `name` out of root[key]; true when it was there.
+bool unlist(nlohmann::json &root, const char *key, const char *name)
+{
+    bool removed = false;
+    auto names = root.find(key);
+    if (names != root.end() && names->is_array())
+        for (size_t i = names->size(); i-- > 0;)
+            if ((*names)[i].is_string() && (*names)[i].get_ref<const std::string &>() == name) {
+                names->erase(i);
+                removed = true;
+            }
+    return removed;
+}
+
+// Takes extension `name` out of object x (and its extensions object when that is left empty); true when it was there.
+bool erase_extension(nlohmann::json &x, const char *name)
+{
+    auto exts = x.is_object() ? x.find("extensions") : x.end();
+    if (exts == x.end() || !exts->is_object() || !exts->erase(name))
+        return false;
+    if (exts->empty())
+        x.erase("extensions");
+    return true;
+}
+
 } // namespace
 
 const char *const meshopt_extensions[2] = {"EXT_meshopt_compression", "KHR_meshopt_compression"};
@@ -37,12 +73,8 @@ const char *const meshopt_extensions[2] = {"EXT_meshopt_compression", "KHR_mesho
 bool meshopt_prepare(nlohmann::json &root, bool is_glb, std::vector<MeshoptView> &views,
                      std::vector<MeshoptPlaceholder> &holders, std::string &problem)
 {
-    bool is_required[2] = {false, false};
-    auto required = root.find("extensionsRequired");
-    if (required != root.end() && required->is_array())
-        for (const nlohmann::json &e : *required)
-            for (int k = 0; k < 2; ++k)
-                is_required[k] |= e.is_string() && e.get_ref<const std::string &>() == meshopt_extensions[k];
+    const bool is_required[2] = {listed(root, "extensionsRequired", meshopt_extensions[0]),
+                                 listed(root, "extensionsRequired", meshopt_extensions[1])};
     if (!is_required[0] && !is_required[1])
         return true;
     auto list = root.find("bufferViews");
@@ -115,9 +147,7 @@ bool meshopt_prepare(nlohmann::json &root, bool is_glb, std::vector<MeshoptView>
         bv["byteOffset"] = v.source_offset;
         bv["byteLength"] = v.source_length;
         bv.erase("byteStride");
-        exts->erase(ext);
-        if (exts->empty())
-            bv.erase("extensions");
+        erase_extension(bv, ext);
     }
     for (long long b : parents) {
         nlohmann::json &buffer = (*buffers)[(size_t)b];
@@ -135,22 +165,29 @@ bool meshopt_prepare(nlohmann::json &root, bool is_glb, std::vector<MeshoptView>
     for (int k = 0; k < 2; ++k) {
         if (!is_required[k])
             continue;
-        const char *ext = meshopt_extensions[k];
-        for (size_t b = 0; b < buffer_count; ++b) {
-            nlohmann::json &buffer = (*buffers)[b];
-            auto exts = buffer.is_object() ? buffer.find("extensions") : buffer.end();
-            if (exts != buffer.end() && exts->is_object() && exts->erase(ext) && exts->empty())
-                buffer.erase("extensions");
-        }
-        for (const char *key : {"extensionsUsed", "extensionsRequired"}) {
-            auto names = root.find(key);
-            if (names != root.end() && names->is_array())
-                for (size_t i = names->size(); i-- > 0;)
-                    if ((*names)[i].is_string() && (*names)[i].get_ref<const std::string &>() == ext)
-                        names->erase(i);
-        }
+        for (size_t b = 0; b < buffer_count; ++b)
+            erase_extension((*buffers)[b], meshopt_extensions[k]);
+        unlist(root, "extensionsUsed", meshopt_extensions[k]);
+        unlist(root, "extensionsRequired", meshopt_extensions[k]);
     }
     return true;
+}
+
+bool drop_optional_meshopt(nlohmann::json &root)
+{
+    bool changed = false;
+    for (const char *ext : meshopt_extensions) {
+        if (listed(root, "extensionsRequired", ext))
+            continue;
+        for (const char *key : {"bufferViews", "buffers"}) {
+            auto list = root.find(key);
+            if (list != root.end() && list->is_array())
+                for (nlohmann::json &x : *list)
+                    changed |= erase_extension(x, ext);
+        }
+        changed |= unlist(root, "extensionsUsed", ext);
+    }
+    return changed;
 }
 
 bool meshopt_decode(tinygltf::Model &model, const std::vector<MeshoptView> &views,

@@ -34,6 +34,11 @@ extern const char *const meshopt_extensions[2];
 // is_glb: buffer 0 without a uri is the GLB's binary chunk, data of its own, not a placeholder.
 bool meshopt_prepare(nlohmann::json &root, bool is_glb, std::vector<MeshoptView> &views,
                      std::vector<MeshoptPlaceholder> &holders, std::string &problem);
+// EXT_ or KHR_meshopt_compression that the document does not require: every compressed bufferView keeps its bytes
+// uncompressed in a fallback buffer (gltfpack -cf), and those are what resurf reads. The extension is taken out of
+// the bufferViews, the buffers and extensionsUsed, so nothing written refers to the compressed bytes. Returns true
+// when it changed the document.
+bool drop_optional_meshopt(nlohmann::json &root);
 // Decodes every recorded bufferView into its place in the model. False with *problem when a stream is malformed.
 bool meshopt_decode(tinygltf::Model &model, const std::vector<MeshoptView> &views,
                     const std::vector<MeshoptPlaceholder> &holders, std::string &problem);

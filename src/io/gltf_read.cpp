@@ -205,45 +205,6 @@ void outside_extensions(const nlohmann::json &root, std::vector<std::string> &ou
     }
 }
 
-// EXT_meshopt_compression or KHR_meshopt_compression that the document does not require: every compressed
-// bufferView keeps its bytes uncompressed in a fallback buffer (gltfpack -cf), and those are what resurf reads. The
-// extension is taken out of the bufferViews, the buffers and extensionsUsed, so nothing written refers to the
-// compressed bytes. Returns true when it changed the document.
-bool drop_optional_meshopt(nlohmann::json &root)
-{
-    bool changed = false;
-    for (const char *ext : meshopt_extensions) {
-        bool required = false;
-        auto names = root.find("extensionsRequired");
-        if (names != root.end() && names->is_array())
-            for (const nlohmann::json &e : *names)
-                required |= e.is_string() && e.get_ref<const std::string &>() == ext;
-        if (required)
-            continue;
-        for (const char *key : {"bufferViews", "buffers"}) {
-            auto list = root.find(key);
-            if (list == root.end() || !list->is_array())
-                continue;
-            for (nlohmann::json &x : *list) {
-                auto exts = x.is_object() ? x.find("extensions") : x.end();
-                if (exts == x.end() || !exts->is_object() || !exts->erase(ext))
-                    continue;
-                changed = true;
-                if (exts->empty())
-                    x.erase("extensions");
-            }
-        }
-        auto used = root.find("extensionsUsed");
-        if (used != root.end() && used->is_array())
-            for (size_t i = used->size(); i-- > 0;)
-                if ((*used)[i].is_string() && (*used)[i].get_ref<const std::string &>() == ext) {
-                    used->erase(i);
-                    changed = true;
-                }
-    }
-    return changed;
-}
-
 // Takes the Draco extensions (and their primitives' indices) out of the document. Returns true when it changed.
 bool take_draco(nlohmann::json &root, std::map<std::pair<size_t, size_t>, DracoRecord> &out)
 {
