@@ -46,7 +46,7 @@ unsigned char *sphere_scene_glb(unsigned count, unsigned around, unsigned rings,
         for (unsigned j = 0; j <= rings; ++j)
             for (unsigned i = 0; i < around; ++i) {
                 double th = M_PI * j / rings, ph = 2 * M_PI * i / around;
-                double r = radius * (1 + bulge * sin(3 * ph) * sin(th) * sin(th));
+                double r = radius * (1 + bulge * sin(3 * ph + 0.1 * k) * sin(th) * sin(th));
                 float p[3] = {(float)(r * sin(th) * cos(ph)), (float)(r * cos(th)), (float)(r * sin(th) * sin(ph))};
                 for (int a = 0; a < 3; ++a) {
                     put_f32(&bin, p[a]);
