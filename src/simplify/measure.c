@@ -16,8 +16,7 @@
  * The input's side is the same for every level of a chain: its cumulative areas and used vertices are found once
  * (measure_input) and its points drawn again from their indices. Points are pure functions of their index, each
  * block of BLOCK_SAMPLES writes its own max and sums, and those are combined in block order: the figures do not
- * depend on the thread count. A block's points follow the triangles' order, so each search starts from the closest
- * triangle of the point before (resurfi_bvh_closest_near: the same answer, a shorter search). */
+ * depend on the thread count. */
 #include <math.h>
 #include <stdatomic.h>
 #include <stdlib.h>
@@ -129,7 +128,6 @@ static int measure_block(void *ctx, size_t begin, size_t end, unsigned worker)
     double mx = 0, sum = 0, vertex_sum = 0;
     resurfi_max_starts *starts = &sd->block_starts[begin / BLOCK_SAMPLES];
     starts->count = 0;
-    uint32_t hint = NONE; /* the last point's closest triangle: points in index order lie near each other */
     for (size_t i = sd->first + begin; i < sd->first + end; ++i) {
         if (atomic_load_explicit(sd->rejected, memory_order_relaxed))
             break;
@@ -159,8 +157,7 @@ static int measure_block(void *ctx, size_t begin, size_t end, unsigned worker)
             c = hit.t, d2 = hit.d2;
         }
         if (c == NONE)
-            c = resurfi_bvh_closest_near(sd->to, p, hint, NULL, uv ? cb : NULL, &d2);
-        hint = c;
+            c = resurfi_bvh_closest(sd->to, p, INFINITY, NULL, uv ? cb : NULL, &d2);
         double d = c == NONE ? INFINITY : sqrt(d2);
         if (sd->reject_scale * d > sd->reject_bound) {
             atomic_store_explicit(sd->rejected, 1, memory_order_relaxed);
