@@ -265,8 +265,8 @@ double resurfi_mesh_area(const resurf_mesh *m)
  * the budget. A fixed count per primitive made a 200-triangle part cost as much to measure as a 20,000-triangle one:
  * on 2CylinderEngine (29 primitives) 29 x 100k samples per side and level, about 85% of the call's time. The samples
  * serve a primitive's mean (its maximum comes from the vertices, the facet points and the climb): on 15 converted
- * assets of 500 to 2,000 triangles, 250 samples gave the maxima of 100k and means within 5% (11% at worst). 1,000
- * made a scene of 400 small spheres spend 40% of its time on samples. */
+ * assets of 500 to 2,000 triangles, 250 samples gave the maxima of 100k and means within 5% (11% at worst). With
+ * 1,000 a scene of 400 spheres of 224 triangles took 2.20 s, with 250 1.51 s (docs/performance.md, stop 43). */
 #define MIN_PRIMITIVE_SAMPLES 250
 
 static size_t primitive_samples(size_t budget, double world_area, double scene_area)
