@@ -314,7 +314,7 @@ typedef struct resurf_scene_lod_report {
  * - simplify: NULL = resurf_simplify_options_default(); target_triangles and target_ratio are ignored, its
  *   progress and vertex_lock are not used (options->progress and keep_shared_borders are); its max_error / max_error_rel, in each primitive's own units,
  *   apply to every level beside options' bounds; measure_samples is the budget of the whole scene: each
- *   primitive's own report measures its share of it, by world area (at least 1,000 samples, at most the budget),
+ *   primitive's own report measures its share of it, by world area (at least 250 samples, at most the budget),
  *   and it is also the world measurement's sample count.
  * - ratios: count values in (0, 1], non-increasing; or NULL when every level has an error bound (a chain by
  *   errors alone: each level as far as its bound allows); 1 <= count <= RESURF_SCENE_MAX_LEVELS - 1.
