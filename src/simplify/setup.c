@@ -128,216 +128,6 @@ resurf_status simplify_check_input(const resurf_mesh *in, resurf_error *error)
     return RESURF_OK;
 }
 
-/* What find_fins decides for a triangle: left out, kept, kept as one side of a double-sided sheet, or left out of
- * the working mesh as that side's mirror (written back mirrored in every level, output.c). */
-enum { FIN_DROP = 1, FIN_KEEP = 2, FIN_SHEET = 3, FIN_MIRROR = 4 };
-
-static int fin_left_out(const uint8_t *drop, size_t t)
-{
-    return drop && (drop[t] == FIN_DROP || drop[t] == FIN_MIRROR);
-}
-
-/* Triangle t, filed under its lowest position p, as the other two positions lo < hi and the way it runs: +1 for
- * (p, lo, hi), −1 for (p, hi, lo). */
-static int fin_key(const resurf_mesh *in, const uint32_t *remap, uint32_t t, uint32_t p, uint32_t *lo, uint32_t *hi)
-{
-    const uint32_t *i = in->indices + 3 * (size_t)t;
-    int k = remap[i[0]] == p ? 0 : remap[i[1]] == p ? 1 : 2;
-    uint32_t u = remap[i[(k + 1) % 3]], w = remap[i[(k + 2) % 3]];
-    *lo = u < w ? u : w;
-    *hi = u < w ? w : u;
-    return u < w ? 1 : -1;
-}
-
-/* Are input triangles t and u of the same group? A fin's two sides in two materials (a double-sided sign) are two
- * surfaces the input means, not a modelling slip. */
-static int same_group(const resurf_mesh *in, uint32_t t, uint32_t u)
-{
-    return !in->triangle_groups || in->triangle_groups[t] == in->triangle_groups[u];
-}
-
-/* A double-sided sheet (a leaf card, a flag, a sign modelled as two sheets over the same positions) is fins
- * throughout, and dropping its pairs would drop the sheet: the positions only its triangles use would leave the
- * result, and with them the whole card. A scan's fins are strays among surface triangles (the dragon-48k scan:
- * 1,052 pairs in 973 groups, 179 of them with one position of their own, 5 with two or three). So the dropped
- * triangles are grouped by the positions they share, and a group with at least SHEET_OWN positions that no kept
- * triangle uses, and at most SHEET_ATTACHED that one does, is a sheet: of each of its opposite pairs the
- * first-written triangle stays (exporters write one side, then its mirror) and the sheet is simplified as one
- * side; the other triangle of the pair is its mirror (s->mirror), and every level writes the mirror of each
- * triangle descended from that side back, so the back of a card with a one-sided material stays visible. A sheet
- * attached along a longer line is kept so only with attached_sheets KEEP: its line is then non-manifold edges,
- * which hold still (XGL_Wuson's dewlap, 15 positions of its own along 15 of the body: kept, the 25% level's
- * Hausdorff distance falls from 1.66% to 0.70% of the diagonal, but the held line raises the 10% level's from 4.4%
- * to 6.5%); the measured default makes both and keeps the nearer (simplify.c). */
-enum { SHEET_OWN = 4, SHEET_ATTACHED = 2 };
-
-static resurf_status keep_sheets(simplifier *s, const uint32_t *remap, const uint32_t *filed, const uint32_t *offset,
-                                 uint8_t *drop, size_t *dropped)
-{
-    const resurf_mesh *in = s->in;
-    size_t nt = in->triangle_count, pc = s->pos_count;
-    /* group: union-find over the dropped triangles' positions; count: per group root, its positions of its own
-     * and those it shares with kept triangles; use: per position, USE_* bits */
-    uint32_t *group = resurfi_alloc(s->alloc, pc, sizeof *group);
-    uint32_t *count = resurfi_calloc(s->alloc, 2 * pc, sizeof *count);
-    uint8_t *use = resurfi_calloc(s->alloc, pc, 1);
-    resurf_status st = RESURF_ERR_OUT_OF_MEMORY;
-    if (!group || !count || !use)
-        goto done;
-    enum { USE_KEPT = 1, USE_DROPPED = 2 };
-    for (size_t p = 0; p < pc; ++p)
-        group[p] = (uint32_t)p;
-    for (size_t t = 0; t < nt; ++t) {
-        const uint32_t *i = in->indices + 3 * t;
-        uint32_t a = remap[i[0]], b = remap[i[1]], c = remap[i[2]];
-        if (a == b || b == c || a == c)
-            continue;
-        uint8_t bit = drop[t] == FIN_DROP ? USE_DROPPED : USE_KEPT;
-        use[a] |= bit, use[b] |= bit, use[c] |= bit;
-        if (bit == USE_DROPPED) {
-            resurfi_uf_union(group, a, b);
-            resurfi_uf_union(group, a, c);
-        }
-    }
-    for (size_t p = 0; p < pc; ++p)
-        if (use[p] & USE_DROPPED)
-            count[2 * resurfi_uf_find(group, (uint32_t)p) + (use[p] != USE_DROPPED)]++;
-    for (size_t p = 0; p < pc; ++p) {
-        const uint32_t *c = count + 2 * p;
-        s->attached_sheets += resurfi_uf_find(group, (uint32_t)p) == p && c[0] >= SHEET_OWN && c[1] > SHEET_ATTACHED;
-    }
-    size_t attached_max = s->opt.attached_sheets == RESURF_SHEETS_KEEP ? SIZE_MAX : SHEET_ATTACHED;
-    /* in a sheet, the first-written triangle of every set over the same three positions stays */
-    for (size_t p = 0; p < pc; ++p)
-        for (uint32_t x = offset[p]; x < offset[p + 1]; ++x) {
-            uint32_t t = filed[x], lo, hi;
-            const uint32_t *c = count + 2 * resurfi_uf_find(group, (uint32_t)p);
-            if (drop[t] != FIN_DROP || c[0] < SHEET_OWN || c[1] > attached_max)
-                continue;
-            fin_key(in, remap, t, (uint32_t)p, &lo, &hi);
-            int first = 1;
-            for (uint32_t y = offset[p]; y < offset[p + 1] && first; ++y) {
-                uint32_t lo2, hi2, m = filed[y];
-                fin_key(in, remap, m, (uint32_t)p, &lo2, &hi2);
-                if (m != t && lo2 == lo && hi2 == hi && same_group(in, t, m))
-                    first = drop[m] != FIN_KEEP && drop[m] != FIN_SHEET && m > t;
-            }
-            if (first) {
-                drop[t] = FIN_SHEET;
-                --*dropped;
-            }
-        }
-    /* each kept side's mirror: an opposite triangle over its three positions, left out and not yet taken */
-    for (size_t p = 0; p < pc; ++p)
-        for (uint32_t x = offset[p]; x < offset[p + 1]; ++x) {
-            uint32_t t = filed[x], lo, hi;
-            if (drop[t] != FIN_SHEET)
-                continue;
-            int side = fin_key(in, remap, t, (uint32_t)p, &lo, &hi);
-            for (uint32_t y = offset[p]; y < offset[p + 1]; ++y) {
-                uint32_t lo2, hi2, m = filed[y];
-                if (drop[m] != FIN_DROP || fin_key(in, remap, m, (uint32_t)p, &lo2, &hi2) == side || lo2 != lo ||
-                    hi2 != hi || !same_group(in, t, m))
-                    continue;
-                if (!s->mirror) {
-                    if (!(s->mirror = resurfi_alloc(s->alloc, nt, sizeof *s->mirror)))
-                        goto done;
-                    memset(s->mirror, 0xff, nt * sizeof *s->mirror);
-                }
-                s->mirror[t] = m;
-                drop[m] = FIN_MIRROR;
-                --*dropped;
-                break;
-            }
-        }
-    st = RESURF_OK;
-done:
-    resurfi_free(s->alloc, group);
-    resurfi_free(s->alloc, count);
-    resurfi_free(s->alloc, use);
-    return st;
-}
-
-/* The triangles drop_fins leaves out (see resurf_simplify_options): (*out_drop)[t] == FIN_DROP for them, or
- * *out_drop = NULL when there are none. Triangles over the same three positions share their lowest position, so
- * each is compared only with the few others filed under it. Of n+ triangles running one way and n− the other,
- * min(n+, n−) opposite pairs go, and of the rest all but the first. */
-static resurf_status find_fins(simplifier *s, const uint32_t *remap, uint8_t **out_drop)
-{
-    const resurf_mesh *in = s->in;
-    size_t nt = in->triangle_count, pc = s->pos_count;
-    *out_drop = NULL;
-    uint32_t *offset = resurfi_calloc(s->alloc, pc + 1, sizeof *offset);
-    uint32_t *filed = resurfi_alloc(s->alloc, nt, sizeof *filed);
-    uint8_t *drop = resurfi_calloc(s->alloc, nt, 1);
-    size_t dropped = 0;
-    if (!offset || !filed || !drop)
-        goto oom;
-    /* file every non-degenerate triangle under its lowest position */
-    for (size_t t = 0; t < nt; ++t) {
-        const uint32_t *i = in->indices + 3 * t;
-        uint32_t a = remap[i[0]], b = remap[i[1]], c = remap[i[2]];
-        if (a != b && b != c && a != c)
-            offset[(a < b ? (a < c ? a : c) : (b < c ? b : c)) + 1]++;
-    }
-    for (size_t p = 0; p < pc; ++p)
-        offset[p + 1] += offset[p];
-    for (size_t t = 0; t < nt; ++t) {
-        const uint32_t *i = in->indices + 3 * t;
-        uint32_t a = remap[i[0]], b = remap[i[1]], c = remap[i[2]];
-        if (a != b && b != c && a != c)
-            filed[offset[a < b ? (a < c ? a : c) : (b < c ? b : c)]++] = (uint32_t)t;
-    }
-    for (size_t p = pc; p > 0; --p) /* back to the starts */
-        offset[p] = offset[p - 1];
-    offset[0] = 0;
-    for (size_t p = 0; p < pc; ++p) {
-        for (uint32_t x = offset[p]; x < offset[p + 1]; ++x) {
-            uint32_t t = filed[x], lo, hi;
-            if (drop[t])
-                continue; /* decided with an earlier member of its group */
-            int side = fin_key(in, remap, t, (uint32_t)p, &lo, &hi), balance = side;
-            size_t members = 1;
-            for (uint32_t y = x + 1; y < offset[p + 1]; ++y) {
-                uint32_t lo2, hi2;
-                int side2 = fin_key(in, remap, filed[y], (uint32_t)p, &lo2, &hi2);
-                if (!drop[filed[y]] && lo2 == lo && hi2 == hi && same_group(in, t, filed[y]))
-                    balance += side2, ++members;
-            }
-            if (members == 1)
-                continue;
-            /* the first member on the side with more members stays (none when the sides balance) */
-            int keep = balance > 0 ? 1 : balance < 0 ? -1 : 0;
-            for (uint32_t y = x; y < offset[p + 1]; ++y) {
-                uint32_t lo2, hi2, m = filed[y];
-                int side2 = fin_key(in, remap, m, (uint32_t)p, &lo2, &hi2);
-                if (drop[m] || lo2 != lo || hi2 != hi || !same_group(in, t, m))
-                    continue;
-                if (side2 == keep)
-                    drop[m] = FIN_KEEP, keep = 0;
-                else
-                    drop[m] = FIN_DROP, ++dropped;
-            }
-        }
-    }
-    if (dropped && keep_sheets(s, remap, filed, offset, drop, &dropped) != RESURF_OK)
-        goto oom;
-    s->rep.dropped_fins = dropped;
-    if (dropped || s->mirror) { /* a sheet's mirrors are left out of the working mesh too */
-        *out_drop = drop;
-        drop = NULL;
-    }
-    resurfi_free(s->alloc, offset);
-    resurfi_free(s->alloc, filed);
-    resurfi_free(s->alloc, drop);
-    return RESURF_OK;
-oom:
-    resurfi_free(s->alloc, offset);
-    resurfi_free(s->alloc, filed);
-    resurfi_free(s->alloc, drop);
-    return RESURF_ERR_OUT_OF_MEMORY;
-}
-
 typedef struct zero_job {
     unsigned char *base;
     size_t bytes;
@@ -454,14 +244,14 @@ static resurf_status prepare_mesh(simplifier *s, resurf_error *error)
             }
     }
 
-    if (s->opt.drop_fins && (st = find_fins(s, remap, &drop)) != RESURF_OK)
+    if (s->opt.drop_fins && (st = resurfi_find_fins(s, remap, &drop)) != RESURF_OK)
         goto done;
     st = RESURF_ERR_OUT_OF_MEMORY;
     size_t nt = 0, sheet = 0;
     for (size_t t = 0; t < in->triangle_count; ++t) {
         const uint32_t *i = in->indices + 3 * t;
         uint32_t a = remap[i[0]], b = remap[i[1]], c = remap[i[2]];
-        nt += a != b && b != c && a != c && !fin_left_out(drop, t);
+        nt += a != b && b != c && a != c && !resurfi_fin_left_out(drop, t);
         sheet += s->mirror && s->mirror[t] != NONE;
     }
     s->tri_count = nt;
@@ -479,7 +269,7 @@ static resurf_status prepare_mesh(simplifier *s, resurf_error *error)
     for (size_t t = 0; t < in->triangle_count; ++t) {
         const uint32_t *i = in->indices + 3 * t;
         uint32_t a = remap[i[0]], b = remap[i[1]], c = remap[i[2]];
-        if (a == b || b == c || a == c || fin_left_out(drop, t))
+        if (a == b || b == c || a == c || resurfi_fin_left_out(drop, t))
             continue;
         for (int k = 0; k < 3; ++k) {
             TV(3 * nt + k) = remap[i[k]];

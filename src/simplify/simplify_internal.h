@@ -441,6 +441,15 @@ int analyse_position(simplifier *s, uint32_t a, scratch *sc, pos_flags *out_flag
 int feature_edge(const simplifier *s, uint32_t ti, uint32_t tj, uint32_t ci, uint32_t cj);
 int group_border(const simplifier *s, uint32_t ti, uint32_t tj);
 resurf_status simplify_start(simplifier *s, scratch *scratch, resurf_error *error);
+/* Fins and double-sided sheets (fins.c). resurfi_find_fins: (*out_drop)[t] says what drop_fins does with input
+ * triangle t (0: an ordinary triangle), or *out_drop = NULL when no triangle is left out or mirrored; a sheet's
+ * mirrors go to s->mirror. */
+enum { FIN_DROP = 1, FIN_KEEP = 2, FIN_SHEET = 3, FIN_MIRROR = 4 };
+resurf_status resurfi_find_fins(simplifier *s, const uint32_t *remap, uint8_t **out_drop);
+static inline int resurfi_fin_left_out(const uint8_t *drop, size_t t)
+{
+    return drop && (drop[t] == FIN_DROP || drop[t] == FIN_MIRROR);
+}
 /* Flat shading (facets.c). facets_derive: *out_derived is NULL, or a copy of in whose flat-shaded parts have zero
  * normals (the call simplifies it instead). facets_shade: each vertex of a level with a zero normal is split by
  * the directions of its faces and given their normal. */
