@@ -1021,6 +1021,72 @@ START_TEST(simplify_chooses_attached_sheets_by_measure)
 }
 END_TEST
 
+/* A closed tube (radius 0.5, length 2, cone caps) written double-sided as some exporters write it: every face and
+ * then its mirror, but with the mirror first on every other face, so that the first-written triangles face both
+ * ways; and its bottom cap written once, so that the double-sided part is a sheet attached along the cap's ring
+ * (Sweet Home 3D's porch column: 3,082 such pairs and 24 single faces). The sheet's kept side must run the way the
+ * cap does, which makes the kept triangles one closed, consistently oriented surface: the level then reaches its
+ * target, every face of the sheet written with its mirror, and lies on the tube to rounding. Keeping the first-written
+ * triangle of each pair instead left a surface folded along half its edges, which the collapses cannot cross: the
+ * kept level stopped blocked, and the level chosen dropped the tube. */
+START_TEST(simplify_sheet_side_follows_the_surface)
+{
+    enum { SIDES = 24, RINGS = 20 };
+    resurf_mesh *body = tube(SIDES, RINGS, 0.5, 2, 0.5, 0), *m = NULL;
+    size_t nv = body->vertex_count, nt = body->triangle_count, caps = 0;
+    const uint32_t bottom = RINGS * SIDES;
+    for (size_t t = 0; t < nt; ++t)
+        caps += body->indices[3 * t] == bottom;
+    ck_assert_uint_eq(caps, SIDES);
+    size_t total = 2 * nt - caps;
+    ck_assert_int_eq(resurf_mesh_create(nv, total, 0, &m, NULL), RESURF_OK);
+    memcpy(m->positions, body->positions, 3 * nv * sizeof(double));
+    uint32_t *w = m->indices;
+    for (size_t t = 0; t < nt; ++t) {
+        const uint32_t *f = body->indices + 3 * t;
+        uint32_t mirror[3] = {f[0], f[2], f[1]};
+        if (f[0] == bottom) { /* the cap: once */
+            memcpy(w, f, sizeof mirror), w += 3;
+            continue;
+        }
+        const uint32_t *first = t % 2 ? mirror : f, *second = t % 2 ? f : mirror;
+        memcpy(w, first, sizeof mirror), w += 3;
+        memcpy(w, second, sizeof mirror), w += 3;
+    }
+    ck_assert_ptr_eq(w, m->indices + 3 * total);
+
+    resurf_simplify_options o = resurf_simplify_options_default();
+    o.target_ratio = 0.25;
+    resurf_simplify_report r;
+    resurf_mesh *out = simplify_ok(m, &o, &r);
+    ck_assert_int_eq(r.attached_sheets_used, RESURF_SHEETS_KEEP);
+    ck_assert_uint_eq(r.dropped_fins, 0);
+    ck_assert_int_eq(r.stop, RESURF_STOP_TARGET);
+    ck_assert_uint_le(r.triangles, total / 4);
+    /* every triangle off the cap has its mirror: the same three positions, running the other way */
+    size_t twins = 0;
+    for (size_t t = 0; t < out->triangle_count; ++t) {
+        const uint32_t *f = out->indices + 3 * t;
+        vec3 a = resurfi_position(out, f[0]), b = resurfi_position(out, f[1]), c = resurfi_position(out, f[2]);
+        for (size_t u = 0; u < out->triangle_count; ++u) {
+            const uint32_t *g = out->indices + 3 * u;
+            for (int k = 0; k < 3; ++k)
+                twins += v3_dist2(a, resurfi_position(out, g[k])) == 0 &&
+                         v3_dist2(b, resurfi_position(out, g[(k + 2) % 3])) == 0 &&
+                         v3_dist2(c, resurfi_position(out, g[(k + 1) % 3])) == 0;
+        }
+    }
+    ck_assert_uint_ge(twins, out->triangle_count - SIDES);
+    /* on the tube: its sides are straight along its length, so a quarter of its triangles still hold it exactly */
+    resurf_compare_report d = tu_compare(m, out, 20000);
+    ck_assert_msg(d.hausdorff <= 1e-9 * d.diagonal, "the level is %g of the diagonal from the tube",
+                  d.hausdorff / d.diagonal);
+    resurf_mesh_free(out);
+    resurf_mesh_free(m);
+    resurf_mesh_free(body);
+}
+END_TEST
+
 /* A pencil: a thin closed hexagonal tube (radius 0.01, length 1) with short cone tips, 100 times longer than wide:
  * a thin feature must keep its length at 10% (its tips' cone planes pin them) whether or not it is restored. The
  * tip guard's own case, a scan's spike whose tip quadrics let shrink over many collapses, is the next test: no
@@ -1544,6 +1610,7 @@ Suite *make_suite(void)
     tcase_add_test(guards, simplify_drops_fins);
     tcase_add_test(guards, simplify_keeps_double_sided_sheets);
     tcase_add_test(guards, simplify_chooses_attached_sheets_by_measure);
+    tcase_add_test(guards, simplify_sheet_side_follows_the_surface);
     tcase_add_test(guards, simplify_keeps_a_pencils_length);
     tcase_add_test(guards, simplify_welds_copies_a_rounding_apart);
     tcase_add_test(guards, simplify_keeps_a_scanned_spike);

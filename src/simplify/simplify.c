@@ -369,13 +369,21 @@ static int plain_is_better(const resurf_simplify_report *plain, const resurf_sim
 }
 
 /* A level that keeps the attached sheets replaces the one that drops them only where it is at least as near the
- * input in both the maximum and the mean (and within the same counts): dropping is what a scan's stray fins need,
- * and keeping holds a line still. */
+ * input in both the maximum and the mean: dropping is what a scan's stray fins need, and keeping holds a line
+ * still. As for plain_is_better, within the level's target, but here with SHEETS_SLACK more triangles: the line
+ * held can stop a level a few triangles short of its target, while dropping takes surface the input shows (the
+ * handbag of Sweet Home 3D's furniture, a panel written double-sided and attached to the body along 434
+ * positions: kept, its 25% level stops blocked 4 triangles above the target at 6.4% of the diagonal; dropped,
+ * it reaches the target at 17.3%). */
+#define SHEETS_SLACK 1.05
+
 static int kept_sheets_are_better(const resurf_simplify_report *kept, const resurf_simplify_report *dropped,
                                   size_t target, size_t before)
 {
-    return plain_is_better(kept, dropped, target, before) && kept->max_distance <= dropped->max_distance &&
-           kept->mean_distance <= dropped->mean_distance;
+    size_t within = (size_t)(SHEETS_SLACK * (double)target);
+    return (kept->triangles <= within || dropped->triangles > target) && kept->triangles < before &&
+           !(dropped->max_distance <= kept->max_distance && dropped->mean_distance <= kept->mean_distance) &&
+           kept->max_distance <= dropped->max_distance && kept->mean_distance <= dropped->mean_distance;
 }
 
 /* The plain run's progress: the inline run has reported every stage to its end, so the plain one only asks the
