@@ -1087,6 +1087,52 @@ START_TEST(simplify_sheet_side_follows_the_surface)
 }
 END_TEST
 
+/* The same tube and fin at 10%. The fin meets the tube along a line of 16 positions where three triangles share
+ * each edge (the tube's two and the fin's kept side). Holding that line kept all 16 positions, and the level took
+ * its 10% from the rest: 0.53% of the diagonal from the input. Inside a junction line a position now moves along
+ * the line: both the tube's sides and the fin's line are straight, so the level reaches its target with the fin
+ * kept, as close to the input as rounding. */
+START_TEST(simplify_collapses_along_a_junction)
+{
+    enum { SIDES = 24, RINGS = 20, FIRST = 2, COLUMNS = 16, ROWS = 4 };
+    resurf_mesh *body = tube(SIDES, RINGS, 0.5, 2, 0.5, 0), *m = NULL;
+    size_t nv = body->vertex_count, nt = body->triangle_count, fin = 2 * 2 * (COLUMNS - 1) * ROWS;
+    ck_assert_int_eq(resurf_mesh_create(nv + COLUMNS * ROWS, nt + fin, 0, &m, NULL), RESURF_OK);
+    memcpy(m->positions, body->positions, 3 * nv * sizeof(double));
+    memcpy(m->indices, body->indices, 3 * nt * sizeof(uint32_t));
+#define FIN_V(c, j) ((j) == 0 ? (uint32_t)((FIRST + (c)) * SIDES) : (uint32_t)(nv + (size_t)(c) * ROWS + (j) - 1))
+    for (int c = 0; c < COLUMNS; ++c)
+        for (int j = 1; j <= ROWS; ++j) {
+            vec3 base = resurfi_position(body, FIN_V(c, 0));
+            v3_store(m->positions + 3 * FIN_V(c, j), v3(base.x + (double)j / ROWS, 0, base.z));
+        }
+    uint32_t *t = m->indices + 3 * nt;
+    for (int side = 0; side < 2; ++side)
+        for (int c = 0; c + 1 < COLUMNS; ++c)
+            for (int j = 0; j < ROWS; ++j) {
+                uint32_t q[4] = {FIN_V(c, j), FIN_V(c + 1, j), FIN_V(c + 1, j + 1), FIN_V(c, j + 1)};
+                uint32_t tri[2][3] = {{q[0], q[1], q[2]}, {q[0], q[2], q[3]}};
+                for (int h = 0; h < 2; ++h)
+                    for (int k = 0; k < 3; ++k)
+                        *t++ = tri[h][side ? 2 - k : k];
+            }
+#undef FIN_V
+    resurf_simplify_options o = resurf_simplify_options_default();
+    o.target_ratio = 0.1;
+    resurf_simplify_report r;
+    resurf_mesh *out = simplify_ok(m, &o, &r);
+    ck_assert_int_eq(r.attached_sheets_used, RESURF_SHEETS_KEEP);
+    ck_assert_int_eq(r.stop, RESURF_STOP_TARGET);
+    ck_assert_uint_le(r.triangles, m->triangle_count / 10);
+    resurf_compare_report d = tu_compare(m, out, 20000);
+    ck_assert_msg(d.hausdorff <= 1e-9 * d.diagonal, "the level is %g of the diagonal from the input",
+                  d.hausdorff / d.diagonal);
+    resurf_mesh_free(out);
+    resurf_mesh_free(m);
+    resurf_mesh_free(body);
+}
+END_TEST
+
 /* A pencil: a thin closed hexagonal tube (radius 0.01, length 1) with short cone tips, 100 times longer than wide:
  * a thin feature must keep its length at 10% (its tips' cone planes pin them) whether or not it is restored. The
  * tip guard's own case, a scan's spike whose tip quadrics let shrink over many collapses, is the next test: no
@@ -1611,6 +1657,7 @@ Suite *make_suite(void)
     tcase_add_test(guards, simplify_keeps_double_sided_sheets);
     tcase_add_test(guards, simplify_chooses_attached_sheets_by_measure);
     tcase_add_test(guards, simplify_sheet_side_follows_the_surface);
+    tcase_add_test(guards, simplify_collapses_along_a_junction);
     tcase_add_test(guards, simplify_keeps_a_pencils_length);
     tcase_add_test(guards, simplify_welds_copies_a_rounding_apart);
     tcase_add_test(guards, simplify_keeps_a_scanned_spike);

@@ -69,6 +69,8 @@ static vec3 free_placement(const simplifier *s, const resurfi_quadric *q, vec3 p
  *   x a seam vertex (two wedges)              only along one of its seam edges
  *   x on a CREASE                             anywhere: the quadric keeps it on its crease (holding it to the
  *                                             crease's edges was measured worse, docs/restoring.md §8)
+ *   x inside a JUNCTION line                  only along the line (an edge of three triangles: the sheet's and
+ *                                             the surface's two), to a point of that edge
  * and the wedge map decides the rest (map_ok): a seam vertex's two wedges need two distinct images (the edge's
  * triangles differ at y too), a single-wedge vertex a single one (the edge's triangles share y's wedge).
  * If both ends may go, the position is free (quadric or midpoint); if only x may go and y is held (y cannot leave
@@ -80,23 +82,24 @@ static vec3 free_placement(const simplifier *s, const resurfi_quadric *q, vec3 p
  * seam but not off it; the other end enters through the wedge map and the placement only. */
 enum {
     KIND_MANIFOLD, KIND_CREASE, KIND_SEAM, KIND_COMPLEX, KIND_BORDER, KIND_BORDER_WEDGES, KIND_LOCKED_BORDER,
-    KIND_CORNER, KIND_LOCKED, KINDS
+    KIND_CORNER, KIND_LOCKED, KIND_JUNCTION, KINDS
 };
-/* The edge as seen from x: EDGE_SEAM when its wedges differ at x, EDGE_FEATURE a crease (feature_edge, only asked
- * for a crease vertex), else interior. */
-enum { EDGE_INTERIOR, EDGE_SEAM, EDGE_BORDER, EDGE_FEATURE, EDGE_KINDS };
+/* The edge as seen from x: EDGE_JUNCTION when it has three triangles, EDGE_BORDER one, EDGE_SEAM when its wedges
+ * differ at x, EDGE_FEATURE a crease (feature_edge, only asked for a crease vertex), else interior. */
+enum { EDGE_INTERIOR, EDGE_SEAM, EDGE_BORDER, EDGE_FEATURE, EDGE_JUNCTION, EDGE_KINDS };
 
 static const uint8_t kHeld[KINDS][EDGE_KINDS] = {
-    /*                       interior           seam at x          border edge        feature edge */
-    [KIND_MANIFOLD]      = {BLOCK_NONE,        BLOCK_NONE,        BLOCK_NONE,        BLOCK_NONE},
-    [KIND_CREASE]        = {BLOCK_NONE,        BLOCK_NONE,        BLOCK_NONE,        BLOCK_NONE},
-    [KIND_SEAM]          = {BLOCK_SEAM,        BLOCK_NONE,        BLOCK_SEAM,        BLOCK_SEAM},
-    [KIND_COMPLEX]       = {BLOCK_SEAM,        BLOCK_SEAM,        BLOCK_SEAM,        BLOCK_SEAM},
-    [KIND_BORDER]        = {BLOCK_BORDER,      BLOCK_BORDER,      BLOCK_NONE,        BLOCK_BORDER},
-    [KIND_BORDER_WEDGES] = {BLOCK_BORDER,      BLOCK_BORDER,      BLOCK_SEAM,        BLOCK_BORDER},
-    [KIND_LOCKED_BORDER] = {BLOCK_BORDER,      BLOCK_BORDER,      BLOCK_BORDER,      BLOCK_BORDER},
-    [KIND_CORNER]        = {BLOCK_FEATURE,     BLOCK_FEATURE,     BLOCK_FEATURE,     BLOCK_FEATURE},
-    [KIND_LOCKED]        = {BLOCK_NONMANIFOLD, BLOCK_NONMANIFOLD, BLOCK_NONMANIFOLD, BLOCK_NONMANIFOLD},
+    /*                       interior           seam at x          border edge        feature edge       junction */
+    [KIND_MANIFOLD]      = {BLOCK_NONE,        BLOCK_NONE,        BLOCK_NONE,        BLOCK_NONE,        BLOCK_NONMANIFOLD},
+    [KIND_CREASE]        = {BLOCK_NONE,        BLOCK_NONE,        BLOCK_NONE,        BLOCK_NONE,        BLOCK_NONMANIFOLD},
+    [KIND_SEAM]          = {BLOCK_SEAM,        BLOCK_NONE,        BLOCK_SEAM,        BLOCK_SEAM,        BLOCK_NONMANIFOLD},
+    [KIND_COMPLEX]       = {BLOCK_SEAM,        BLOCK_SEAM,        BLOCK_SEAM,        BLOCK_SEAM,        BLOCK_NONMANIFOLD},
+    [KIND_BORDER]        = {BLOCK_BORDER,      BLOCK_BORDER,      BLOCK_NONE,        BLOCK_BORDER,      BLOCK_NONMANIFOLD},
+    [KIND_BORDER_WEDGES] = {BLOCK_BORDER,      BLOCK_BORDER,      BLOCK_SEAM,        BLOCK_BORDER,      BLOCK_NONMANIFOLD},
+    [KIND_LOCKED_BORDER] = {BLOCK_BORDER,      BLOCK_BORDER,      BLOCK_BORDER,      BLOCK_BORDER,      BLOCK_BORDER},
+    [KIND_CORNER]        = {BLOCK_FEATURE,     BLOCK_FEATURE,     BLOCK_FEATURE,     BLOCK_FEATURE,     BLOCK_FEATURE},
+    [KIND_LOCKED]        = {BLOCK_NONMANIFOLD, BLOCK_NONMANIFOLD, BLOCK_NONMANIFOLD, BLOCK_NONMANIFOLD, BLOCK_NONMANIFOLD},
+    [KIND_JUNCTION]      = {BLOCK_NONMANIFOLD, BLOCK_NONMANIFOLD, BLOCK_NONMANIFOLD, BLOCK_NONMANIFOLD, BLOCK_NONE},
 };
 
 /* A position's kind: the first of its flags that applies. A seam vertex on a crease (a normal seam, or a crease
@@ -115,12 +118,16 @@ static int end_kind(pos_flags f)
         return KIND_COMPLEX;
     if (f & POS_SEAM)
         return KIND_SEAM;
+    if (f & POS_JUNCTION)
+        return KIND_JUNCTION;
     return f & POS_CREASE ? KIND_CREASE : KIND_MANIFOLD;
 }
 
 /* How the edge meets x, of kind `kind`, seam_x: its wedges differ at x. */
 static int edge_kind(const simplifier *s, const plan *pl, int kind, int seam_x, uint32_t x, uint32_t y)
 {
+    if (pl->shared_count == 3)
+        return EDGE_JUNCTION;
     if (pl->shared_count == 1)
         return EDGE_BORDER;
     if (seam_x)
@@ -143,7 +150,7 @@ void plan_collapse(const simplifier *s, uint32_t a, uint32_t b, const u32vec *fa
         uint32_t c = fan_a->data[i];
         const uint32_t *v = s->tri[c / 3].v; /* a is one corner, so b is one of the others */
         if (v[0] == b || v[1] == b || v[2] == b) {
-            if (n < 2)
+            if (n < 3)
                 pl->shared[n] = c / 3;
             ++n;
         }
@@ -153,16 +160,22 @@ void plan_collapse(const simplifier *s, uint32_t a, uint32_t b, const u32vec *fa
         pl->block = BLOCK_STALE;
         return;
     }
-    if (n > 2) {
+    pos_flags fa = s->P[a].flags, fb = s->P[b].flags;
+    /* An edge of three triangles goes only inside a junction line, and only where each end has one wedge on them
+       (the wedge map below has one image) */
+    if (n > 3 || (n == 3 && !((fa | fb) & POS_JUNCTION))) {
         pl->block = BLOCK_NONMANIFOLD;
         return;
     }
     int seam_a = 0, seam_b = 0;
-    if (n == 2) {
-        seam_a = TW(corner_at(s, pl->shared[0], a)) != TW(corner_at(s, pl->shared[1], a));
-        seam_b = TW(corner_at(s, pl->shared[0], b)) != TW(corner_at(s, pl->shared[1], b));
+    for (int k = 1; k < n; ++k) {
+        seam_a |= TW(corner_at(s, pl->shared[0], a)) != TW(corner_at(s, pl->shared[k], a));
+        seam_b |= TW(corner_at(s, pl->shared[0], b)) != TW(corner_at(s, pl->shared[k], b));
     }
-    pos_flags fa = s->P[a].flags, fb = s->P[b].flags;
+    if (n == 3 && (seam_a || seam_b)) {
+        pl->block = BLOCK_SEAM;
+        return;
+    }
     int kind_a = end_kind(fa), kind_b = end_kind(fb);
     int edge_a = edge_kind(s, pl, kind_a, seam_a, a, b), edge_b = edge_kind(s, pl, kind_b, seam_b, b, a);
     int reason_a = kHeld[kind_a][edge_a];
@@ -178,9 +191,10 @@ void plan_collapse(const simplifier *s, uint32_t a, uint32_t b, const u32vec *fa
     resurfi_quadric q = s->P[a].q;
     resurfi_quadric_add(&q, &s->P[b].q);
     vec3 pa = s->P[a].p, pb = s->P[b].p;
-    int along_crease = edge_a == EDGE_FEATURE || edge_b == EDGE_FEATURE;
-    int seam_edge = seam_a || seam_b || along_crease;
-    pl->feature = along_crease || ((fa | fb) & (POS_CREASE | POS_CORNER | POS_TOUCHES_FEATURE)) != 0;
+    int along_crease = edge_a == EDGE_FEATURE || edge_b == EDGE_FEATURE, along_junction = n == 3;
+    int seam_edge = seam_a || seam_b || along_crease || along_junction;
+    pl->feature = along_crease || along_junction ||
+                  ((fa | fb) & (POS_CREASE | POS_CORNER | POS_TOUCHES_FEATURE | POS_JUNCTION)) != 0;
     if (pl->a_removable && pl->b_removable) {
         pl->p = free_placement(s, &q, pa, pb, seam_edge);
     } else if (pl->a_removable) {
@@ -304,13 +318,13 @@ resurf_status seed_candidates(simplifier *s, scratch *scratch)
 static int apply_collapse(simplifier *s, lane *L, uint32_t keep, uint32_t gone, vec3 p, const plan *pl,
                           const u32vec *fan_keep, const u32vec *fan_gone, int *refresh_keep)
 {
-    uint32_t from[2], to[2];
+    uint32_t from[3], to[3];
     int maps = pl->shared_count;
     for (int k = 0; k < maps; ++k) {
         from[k] = TW(corner_at(s, pl->shared[k], gone));
         to[k] = TW(corner_at(s, pl->shared[k], keep));
     }
-    uint32_t opposite[2] = {NONE, NONE};
+    uint32_t opposite[3] = {NONE, NONE, NONE};
     for (int k = 0; k < maps; ++k) {
         uint32_t t = pl->shared[k];
         for (int i = 0; i < 3; ++i)
@@ -320,8 +334,8 @@ static int apply_collapse(simplifier *s, lane *L, uint32_t keep, uint32_t gone, 
         s->tri[t].dead = 1;
         L->dead_tris += 1 + (s->mirror && s->mirror[s->src[t]] != NONE); /* a sheet's mirror goes with it */
     }
-    for (int k = 0; k < maps; ++k) /* each wedge of gone into its image (once: both maps may be the same) */
-        if (k == 0 || from[k] != from[0]) {
+    for (int k = 0; k < maps; ++k) /* each wedge of gone into its image (once: the maps may be the same) */
+        if (k == 0 || (from[k] != from[0] && (k == 1 || from[k] != from[1]))) {
             attribute_merge(s, to[k], from[k]);
             if (s->wedge_root)
                 s->wedge_root[from[k]] = to[k];
@@ -376,7 +390,8 @@ static int apply_collapse(simplifier *s, lane *L, uint32_t keep, uint32_t gone, 
                 continue;
             L->mark[x] = st;
             int again = (s->P[x].flags & POS_BLOCKED) != 0;
-            if ((x == opposite[0] || x == opposite[1]) && (s->P[x].flags & (POS_SEAM | POS_COMPLEX)))
+            if ((x == opposite[0] || x == opposite[1] || x == opposite[2]) &&
+                (s->P[x].flags & (POS_SEAM | POS_COMPLEX)))
                 again = 1;
             if (again && !vec_push(s->alloc, &L->touched, x))
                 return 0;

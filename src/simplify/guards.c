@@ -116,7 +116,8 @@ static double min_angle_deg(vec3 p0, vec3 p1, vec3 p2)
 static int moved_triangle(const simplifier *s, uint32_t t, uint32_t a, uint32_t b, vec3 p, const plan *pl,
                           vec3 old[3], vec3 neu[3])
 {
-    if (t == pl->shared[0] || (pl->shared_count == 2 && t == pl->shared[1]))
+    if (t == pl->shared[0] || (pl->shared_count >= 2 && t == pl->shared[1]) ||
+        (pl->shared_count == 3 && t == pl->shared[2]))
         return 0;
     for (int k = 0; k < 3; ++k) {
         uint32_t v = TV(3 * t + k);
@@ -239,7 +240,8 @@ static double bridge_excess(const simplifier *s, lane *L, const u32vec *fan_a, c
     for (int side = 0; side < 2; ++side)
         for (size_t i = 0; i < fans[side]->count; ++i) {
             uint32_t c = fans[side]->data[i], t = c / 3;
-            if (t == pl->shared[0] || (pl->shared_count == 2 && t == pl->shared[1]))
+            if (t == pl->shared[0] || (pl->shared_count >= 2 && t == pl->shared[1]) ||
+                (pl->shared_count == 3 && t == pl->shared[2]))
                 continue;
             uint32_t xs[2];
             corner_others(s, c, xs);

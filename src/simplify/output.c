@@ -525,7 +525,7 @@ static resurf_status place_output(simplifier *s, output *o)
         o->base[u] = s->P[o->upos[u]].p;
         pos_flags f = s->P[o->upos[u]].flags;
         o->held[u] = f & (POS_LOCKED | POS_CORNER) ? HELD_PLACE
-                     : f & (POS_CREASE | POS_TOUCHES_FEATURE) ? HELD_OFFSET : 0;
+                     : f & (POS_CREASE | POS_TOUCHES_FEATURE | POS_JUNCTION) ? HELD_OFFSET : 0;
     }
     if (s->last_level) { /* no more collapses: the working mesh goes before the output's arrays come */
         resurfi_free(s->alloc, s->P_mem);

@@ -449,7 +449,7 @@ int analyse_position(simplifier *s, uint32_t a, scratch *sc, pos_flags *out_flag
         }
     vec3 pa = s->P[a].p;
     uint32_t up = 0;
-    int features = 0, borders = 0, rough = 0;
+    int features = 0, borders = 0, rough = 0, junction_edges = 0;
     uint32_t border_end[2] = {NONE, NONE};
     for (size_t i = 0; i < n;) {
         size_t j = i + 1;
@@ -504,15 +504,29 @@ int analyse_position(simplifier *s, uint32_t a, scratch *sc, pos_flags *out_flag
                     resurfi_quadric_add(&q, &eq);
                 }
             }
+        } else if (j - i == 3) {
+            /* A junction edge: a sheet meets a surface (a panel written double-sided, one side kept by fins.c,
+               joined to a single-sided body). Its three triangles are one fan here. */
+            ++junction_edges;
+            resurfi_uf_union(sc->uf, sc->pairs[i].slot / 2, sc->pairs[i + 1].slot / 2);
+            resurfi_uf_union(sc->uf, sc->pairs[i].slot / 2, sc->pairs[i + 2].slot / 2);
         } else {
             f |= POS_LOCKED;
         }
         i = j;
     }
+    /* Inside a junction line, a position may move along it (collapse.c); where the line ends, branches or meets a
+       border it holds still. */
+    if (junction_edges == 2 && !(f & POS_BORDER))
+        f |= POS_JUNCTION;
+    else if (junction_edges)
+        f |= POS_LOCKED;
     /* More than one fan of triangles around a (a bow tie): non-manifold. */
     for (size_t i = 1; i < fan->count; ++i)
         if (resurfi_uf_find(sc->uf, (uint32_t)i) != resurfi_uf_find(sc->uf, 0))
             f |= POS_LOCKED;
+    if (f & POS_LOCKED)
+        f &= (pos_flags)~POS_JUNCTION;
     if (wedge_count == 2 && seam_edges == 2 && !(f & POS_BORDER))
         f |= POS_SEAM;
     else if (wedge_count >= 2)

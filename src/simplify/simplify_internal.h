@@ -45,6 +45,8 @@ enum {
     POS_TOUCHES_FEATURE = 1024, /* has a feature edge, or absorbed a position that had: neither restored nor
                               offset (the smooth-surface model does not hold there) */
     POS_RELEASED = 2048,   /* a corner of a feature smaller than the level's error: no longer held (curves.c) */
+    POS_JUNCTION = 4096,   /* inside a junction line, where a sheet meets a surface: exactly two edges of three
+                              triangles, one fan: moves only along the line (collapse.c) */
 };
 
 /* The normals of two triangles on an edge differ by more than this (cosine of 150°, see reliable_normal in
@@ -108,7 +110,7 @@ typedef struct plan {
     int feature;             /* 1: along a crease, on the segment: not restored (it would leave the crease) */
     int curve;               /* 1: along a crease or border edge, or a crease vertex at an end: with inline
                                 restoration the vertex goes onto M's curve there (curves.c), never across it */
-    uint32_t shared[2];      /* the triangles on the edge */
+    uint32_t shared[3];      /* the triangles on the edge: 3 along a junction line */
     int shared_count;
     vec3 p;
     double cost;             /* the quadric's at p, plus attr_cost */
