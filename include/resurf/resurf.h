@@ -778,8 +778,8 @@ typedef enum resurf_attached_sheets {
                                  level is made both ways and the one measured nearer the input in maximum and mean
                                  is kept (as RESURF_RESTORE_MEASURED keeps INLINE or NONE); otherwise DROP */
     RESURF_SHEETS_DROP,       /* left out with the fins: the sheet is gone from every level */
-    RESURF_SHEETS_KEEP,       /* kept like a free-standing sheet (one side simplified, written twice); the line it
-                                 is attached along is non-manifold and holds still */
+    RESURF_SHEETS_KEEP,       /* kept like a free-standing sheet (one side simplified, written twice); where it
+                                 meets the surface, the line's positions move only along the line */
     RESURF_SHEETS_COUNT
 } resurf_attached_sheets;
 
@@ -893,16 +893,17 @@ typedef struct resurf_simplify_options {
                                      Only triangles of one group pair up: two sides in two materials stay. A
                                      double-sided sheet is pairs throughout (a leaf card, a flag): where the
                                      dropped pairs sharing positions would take 4 or more positions no other
-                                     triangle uses, and share at most 2 with other triangles, one side (the
-                                     first written) is simplified and every level writes it twice: as simplified
+                                     triangle uses, and share at most 2 with other triangles, one side (the one
+                                     whose orientation continues the triangles around it, else the first
+                                     written) is simplified and every level writes it twice: as simplified
                                      and mirrored (reversed triangles over the same positions, normals reversed,
                                      the other side's texture coordinates and attributes), so the sheet is neither
                                      lost nor one-sided, and its triangles count twice towards the targets */
     resurf_attached_sheets attached_sheets; /* a sheet as above (4 or more positions of its own) attached along more
-                                     than 2 positions: held by its line, or dropped. XGL_Wuson's dewlap (assimp's
-                                     test models), 15 positions of its own hanging from 15 of the belly: kept, its
-                                     25% level is 0.70% of the diagonal from the input, dropped 1.66%; at 10% the
-                                     held line costs the body's shape (6.5% against 4.4%). Default CHOOSE */
+                                     than 2 positions: kept, its line moving only along itself, or dropped.
+                                     XGL_Wuson's dewlap (assimp's test models), 15 positions of its own hanging
+                                     from 15 of the belly: kept, its 25% level is 0.70% of the diagonal from the
+                                     input, dropped 1.66%. Default CHOOSE */
 
     /* Attributes in the cost (attribute quadrics, Hoppe 1999): each collapse also pays for how far the attributes of
      * the triangles merged into each of its wedges are from one linear field over them, so that collapses keep
@@ -1031,7 +1032,8 @@ typedef struct resurf_simplify_report {
     size_t blocked_border;           /* a border vertex would leave its border, or lock_border */
     size_t blocked_seam;             /* a seam vertex would leave its seam */
     size_t blocked_feature;          /* a crease vertex would leave its crease, or a corner would move */
-    size_t blocked_nonmanifold;      /* an end is a non-manifold vertex of the input, or the edge has > 2 triangles */
+    size_t blocked_nonmanifold;      /* an end is a non-manifold vertex of the input, or the edge has > 2 triangles
+                                        (3 along a junction line, where a sheet meets a surface, may go) */
     size_t skipped_error;            /* candidates over max_error / max_error_rel */
 
     size_t restored;                 /* points restored onto S (INLINE: one per collapse; POST: one per position) */
