@@ -947,31 +947,29 @@ static resurf_mesh *tube(unsigned sides, unsigned rings, double radius, double l
     return m;
 }
 
-/* A double-sided sheet attached along a line: a closed tube (radius 0.5, length 2) with a fin, a flat panel written
- * twice with opposite windings, hanging from 16 of the tube's vertices along a line and reaching 1 outward, in the
- * plane y = 0 (a crest, a dewlap). Dropped with the fins, the level loses the fin, whose far edge lies 1 from the
- * tube; kept, its line holds still and the fin, a flat rectangle, stays whole. The measured default makes both and
- * keeps the nearer: at 50% that is the fin kept, its level within a tenth of the dropped one's distance. A single
- * restoring mode drops it unless attached_sheets says KEEP. */
-START_TEST(simplify_chooses_attached_sheets_by_measure)
+/* A closed tube (radius 0.5, length 2) with a fin: a flat panel written twice with opposite windings, hanging
+ * from FIN_COLUMNS of the tube's vertices along a line and reaching 1 outward, in the plane y = 0 (a crest, a
+ * dewlap). *fin: the fin's triangles, written after the tube's. */
+enum { FIN_SIDES = 24, FIN_RINGS = 20, FIN_FIRST = 2, FIN_COLUMNS = 16, FIN_ROWS = 4 };
+static resurf_mesh *tube_with_fin(size_t *fin_triangles)
 {
-    enum { SIDES = 24, RINGS = 20, FIRST = 2, COLUMNS = 16, ROWS = 4 };
-    resurf_mesh *body = tube(SIDES, RINGS, 0.5, 2, 0.5, 0), *m = NULL;
-    size_t nv = body->vertex_count, nt = body->triangle_count, fin = 2 * 2 * (COLUMNS - 1) * ROWS;
-    ck_assert_int_eq(resurf_mesh_create(nv + COLUMNS * ROWS, nt + fin, 0, &m, NULL), RESURF_OK);
+    resurf_mesh *body = tube(FIN_SIDES, FIN_RINGS, 0.5, 2, 0.5, 0), *m = NULL;
+    size_t nv = body->vertex_count, nt = body->triangle_count, fin = 2 * 2 * (FIN_COLUMNS - 1) * FIN_ROWS;
+    ck_assert_int_eq(resurf_mesh_create(nv + FIN_COLUMNS * FIN_ROWS, nt + fin, 0, &m, NULL), RESURF_OK);
     memcpy(m->positions, body->positions, 3 * nv * sizeof(double));
     memcpy(m->indices, body->indices, 3 * nt * sizeof(uint32_t));
-    /* fin vertex (column c, row j): row 0 is the tube's vertex of side 0 on ring FIRST + c, rows 1..ROWS new */
-#define FIN_V(c, j) ((j) == 0 ? (uint32_t)((FIRST + (c)) * SIDES) : (uint32_t)(nv + (size_t)(c) * ROWS + (j) - 1))
-    for (int c = 0; c < COLUMNS; ++c)
-        for (int j = 1; j <= ROWS; ++j) {
+    /* fin vertex (column c, row j): row 0 the tube's vertex of side 0 on ring FIN_FIRST + c, rows 1..FIN_ROWS new */
+#define FIN_V(c, j)                                                                                                \
+    ((j) == 0 ? (uint32_t)((FIN_FIRST + (c)) * FIN_SIDES) : (uint32_t)(nv + (size_t)(c) * FIN_ROWS + (j) - 1))
+    for (int c = 0; c < FIN_COLUMNS; ++c)
+        for (int j = 1; j <= FIN_ROWS; ++j) {
             vec3 base = resurfi_position(body, FIN_V(c, 0));
-            v3_store(m->positions + 3 * FIN_V(c, j), v3(base.x + (double)j / ROWS, 0, base.z));
+            v3_store(m->positions + 3 * FIN_V(c, j), v3(base.x + (double)j / FIN_ROWS, 0, base.z));
         }
     uint32_t *t = m->indices + 3 * nt;
     for (int side = 0; side < 2; ++side)
-        for (int c = 0; c + 1 < COLUMNS; ++c)
-            for (int j = 0; j < ROWS; ++j) {
+        for (int c = 0; c + 1 < FIN_COLUMNS; ++c)
+            for (int j = 0; j < FIN_ROWS; ++j) {
                 uint32_t q[4] = {FIN_V(c, j), FIN_V(c + 1, j), FIN_V(c + 1, j + 1), FIN_V(c, j + 1)};
                 uint32_t tri[2][3] = {{q[0], q[1], q[2]}, {q[0], q[2], q[3]}};
                 for (int h = 0; h < 2; ++h)
@@ -980,6 +978,19 @@ START_TEST(simplify_chooses_attached_sheets_by_measure)
             }
 #undef FIN_V
     ck_assert_ptr_eq(t, m->indices + 3 * (nt + fin));
+    resurf_mesh_free(body);
+    *fin_triangles = fin;
+    return m;
+}
+
+/* A double-sided sheet attached along a line: the tube with its fin (tube_with_fin). Dropped with the fins, the
+ * level loses the fin, whose far edge lies 1 from the tube; kept, the fin, a flat rectangle, stays whole. The measured default makes both and
+ * keeps the nearer: at 50% that is the fin kept, its level within a tenth of the dropped one's distance. A single
+ * restoring mode drops it unless attached_sheets says KEEP. */
+START_TEST(simplify_chooses_attached_sheets_by_measure)
+{
+    size_t fin;
+    resurf_mesh *m = tube_with_fin(&fin);
 
     resurf_simplify_options o = resurf_simplify_options_default();
     o.target_ratio = 0.5;
@@ -995,7 +1006,8 @@ START_TEST(simplify_chooses_attached_sheets_by_measure)
     ck_assert_double_le(chosen.max_distance, 0.1 * dropped.max_distance);
     ck_assert_uint_le(chosen.triangles, m->triangle_count / 2);
     /* the fin's far corners are still there: border corners hold */
-    vec3 ends[2] = {v3(1.5, 0, 2.0 * FIRST / (RINGS - 1)), v3(1.5, 0, 2.0 * (FIRST + COLUMNS - 1) / (RINGS - 1))};
+    vec3 ends[2] = {v3(1.5, 0, 2.0 * FIN_FIRST / (FIN_RINGS - 1)),
+                    v3(1.5, 0, 2.0 * (FIN_FIRST + FIN_COLUMNS - 1) / (FIN_RINGS - 1))};
     for (int e = 0; e < 2; ++e) {
         int found = 0;
         for (size_t v = 0; v < out->vertex_count; ++v)
@@ -1017,7 +1029,6 @@ START_TEST(simplify_chooses_attached_sheets_by_measure)
     resurf_mesh_free(out_dropped);
     resurf_mesh_free(out);
     resurf_mesh_free(m);
-    resurf_mesh_free(body);
 }
 END_TEST
 
@@ -1094,29 +1105,8 @@ END_TEST
  * kept, as close to the input as rounding. */
 START_TEST(simplify_collapses_along_a_junction)
 {
-    enum { SIDES = 24, RINGS = 20, FIRST = 2, COLUMNS = 16, ROWS = 4 };
-    resurf_mesh *body = tube(SIDES, RINGS, 0.5, 2, 0.5, 0), *m = NULL;
-    size_t nv = body->vertex_count, nt = body->triangle_count, fin = 2 * 2 * (COLUMNS - 1) * ROWS;
-    ck_assert_int_eq(resurf_mesh_create(nv + COLUMNS * ROWS, nt + fin, 0, &m, NULL), RESURF_OK);
-    memcpy(m->positions, body->positions, 3 * nv * sizeof(double));
-    memcpy(m->indices, body->indices, 3 * nt * sizeof(uint32_t));
-#define FIN_V(c, j) ((j) == 0 ? (uint32_t)((FIRST + (c)) * SIDES) : (uint32_t)(nv + (size_t)(c) * ROWS + (j) - 1))
-    for (int c = 0; c < COLUMNS; ++c)
-        for (int j = 1; j <= ROWS; ++j) {
-            vec3 base = resurfi_position(body, FIN_V(c, 0));
-            v3_store(m->positions + 3 * FIN_V(c, j), v3(base.x + (double)j / ROWS, 0, base.z));
-        }
-    uint32_t *t = m->indices + 3 * nt;
-    for (int side = 0; side < 2; ++side)
-        for (int c = 0; c + 1 < COLUMNS; ++c)
-            for (int j = 0; j < ROWS; ++j) {
-                uint32_t q[4] = {FIN_V(c, j), FIN_V(c + 1, j), FIN_V(c + 1, j + 1), FIN_V(c, j + 1)};
-                uint32_t tri[2][3] = {{q[0], q[1], q[2]}, {q[0], q[2], q[3]}};
-                for (int h = 0; h < 2; ++h)
-                    for (int k = 0; k < 3; ++k)
-                        *t++ = tri[h][side ? 2 - k : k];
-            }
-#undef FIN_V
+    size_t fin;
+    resurf_mesh *m = tube_with_fin(&fin);
     resurf_simplify_options o = resurf_simplify_options_default();
     o.target_ratio = 0.1;
     resurf_simplify_report r;
@@ -1129,7 +1119,6 @@ START_TEST(simplify_collapses_along_a_junction)
                   d.hausdorff / d.diagonal);
     resurf_mesh_free(out);
     resurf_mesh_free(m);
-    resurf_mesh_free(body);
 }
 END_TEST
 
