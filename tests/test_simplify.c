@@ -984,9 +984,9 @@ static resurf_mesh *tube_with_fin(size_t *fin_triangles)
 }
 
 /* A double-sided sheet attached along a line: the tube with its fin (tube_with_fin). Dropped with the fins, the
- * level loses the fin, whose far edge lies 1 from the tube; kept, the fin, a flat rectangle, stays whole. The measured default makes both and
- * keeps the nearer: at 50% that is the fin kept, its level within a tenth of the dropped one's distance. A single
- * restoring mode drops it unless attached_sheets says KEEP. */
+ * level loses the fin, whose far edge lies 1 from the tube; kept, the fin, a flat rectangle, stays whole. The
+ * measured default makes both and keeps the nearer: at 50% that is the fin kept, its level within a tenth of the
+ * dropped one's distance. A single restoring mode drops it unless attached_sheets says KEEP. */
 START_TEST(simplify_chooses_attached_sheets_by_measure)
 {
     size_t fin;
