@@ -198,7 +198,8 @@ static int stall_block(void *ctx, size_t begin, size_t end, unsigned worker)
         atomic_fetch_add(&c->visits[i], 1);
     if (worker != 0) {
         atomic_fetch_add(&c->worker_blocks, 1);
-        usleep(20000); /* off its core for 20 ms: the caller's share is done long before */
+        usleep(200000); /* off its core for 200 ms: the caller's share (16 × 0.5 ms) is done long before, even
+                           on a loaded machine, where each of its sleeps may last a few ms (20 ms was once not) */
     } else {
         usleep(500);
     }
