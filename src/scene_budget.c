@@ -234,8 +234,9 @@ static int keeps_parts(const resurfi_budget_prim *b, const resurf_mesh *m)
     return 1;
 }
 
-/* The levels of each mesh simplified together, joined as its chain: made[k] keeps level k as first joined, so
- * that units_close splits back only the levels the budget made again. */
+/* The levels of each mesh simplified together, joined as its chain: made[k] keeps level k as first joined (alive
+ * until units_close, so that no later mesh can take its address), and units_close splits back only the levels the
+ * budget made again. */
 static resurf_status units_open(resurfi_budget_prim *prims, size_t n, size_t count, const resurf_allocator *alloc,
                                 resurf_error *e)
 {
@@ -292,6 +293,8 @@ static resurf_status units_close(resurfi_budget_prim *prims, size_t n, size_t co
                     own->triangles = level[q]->triangle_count;
                     own->vertices = level[q]->vertex_count;
                 }
+            if (b->chain[k] != b->made[k])
+                resurf_mesh_free(b->made[k]);
             resurf_mesh_free(b->chain[k]);
         }
         for (size_t q = 0; b->parts && st == RESURF_OK && q < b->parts; ++q)
@@ -466,8 +469,13 @@ static int step(resurfi_budget_prim *prims, size_t n, size_t k, size_t count, co
         undo(prims, k, changes, used);
         return 0;
     }
-    for (size_t i = 0; i < used; ++i)
-        resurf_mesh_free(changes[i].old);
+    for (size_t i = 0; i < used; ++i) {
+        const resurfi_budget_prim *b = &prims[changes[i].prim];
+        /* A unit's level as first joined stays until units_close tells the levels made again by it: freed here, its
+           address could come back to a later run's mesh, which would then pass for it. */
+        if (!(b->parts && changes[i].old == b->made[k]))
+            resurf_mesh_free(changes[i].old);
+    }
     return 1;
 }
 
