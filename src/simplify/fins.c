@@ -26,6 +26,16 @@ static int same_group(const resurf_mesh *in, uint32_t t, uint32_t u)
     return !in->triangle_groups || in->triangle_groups[t] == in->triangle_groups[u];
 }
 
+/* Is triangle m, filed under position p as t is, over t's three positions and of t's group? 0 when not, else the
+ * way m runs (fin_key). */
+static int same_set(const resurf_mesh *in, const uint32_t *remap, uint32_t p, uint32_t t, uint32_t m)
+{
+    uint32_t lo, hi, lo2, hi2;
+    fin_key(in, remap, t, p, &lo, &hi);
+    int run = fin_key(in, remap, m, p, &lo2, &hi2);
+    return lo2 == lo && hi2 == hi && same_group(in, t, m) ? run : 0;
+}
+
 /* A double-sided sheet (a leaf card, a flag, a sign modelled as two sheets over the same positions) is fins
  * throughout, and dropping its pairs would drop the sheet: the positions only its triangles use would leave the
  * result, and with them the whole card. A scan's fins are strays among surface triangles (the dragon-48k scan:
@@ -99,14 +109,12 @@ static int in_sheet(sheet_sides *ss, uint32_t t)
 static int side_taken(const sheet_sides *ss, uint32_t t)
 {
     const resurf_mesh *in = ss->s->in;
-    uint32_t c[3], lo, hi;
+    uint32_t c[3];
     corners_of(ss, t, c);
     uint32_t p = c[0] < c[1] ? (c[0] < c[2] ? c[0] : c[2]) : (c[1] < c[2] ? c[1] : c[2]);
-    fin_key(in, ss->remap, t, p, &lo, &hi);
     for (uint32_t y = ss->offset[p]; y < ss->offset[p + 1]; ++y) {
-        uint32_t lo2, hi2, m = ss->filed[y];
-        fin_key(in, ss->remap, m, p, &lo2, &hi2);
-        if (lo2 == lo && hi2 == hi && same_group(in, t, m) && (ss->drop[m] == FIN_KEEP || ss->drop[m] == FIN_SHEET))
+        uint32_t m = ss->filed[y];
+        if ((ss->drop[m] == FIN_KEEP || ss->drop[m] == FIN_SHEET) && same_set(in, ss->remap, p, t, m))
             return 1;
     }
     return 0;
@@ -196,13 +204,10 @@ static resurf_status choose_sides(sheet_sides *ss, size_t *dropped)
             uint32_t t = ss->filed[x];
             if (!in_sheet(ss, t) || side_taken(ss, t))
                 continue;
-            uint32_t lo, hi;
-            fin_key(in, ss->remap, t, (uint32_t)p, &lo, &hi);
             int first = 1;
             for (uint32_t y = ss->offset[p]; y < ss->offset[p + 1] && first; ++y) {
-                uint32_t lo2, hi2, m = ss->filed[y];
-                fin_key(in, ss->remap, m, (uint32_t)p, &lo2, &hi2);
-                first = !(m < t && lo2 == lo && hi2 == hi && same_group(in, t, m));
+                uint32_t m = ss->filed[y];
+                first = !(m < t && same_set(in, ss->remap, (uint32_t)p, t, m));
             }
             if (!first)
                 continue;
@@ -257,14 +262,13 @@ static resurf_status keep_sheets(simplifier *s, const uint32_t *remap, const uin
     /* each kept side's mirror: an opposite triangle over its three positions, left out and not yet taken */
     for (size_t p = 0; p < pc; ++p)
         for (uint32_t x = offset[p]; x < offset[p + 1]; ++x) {
-            uint32_t t = filed[x], lo, hi;
+            uint32_t t = filed[x];
             if (drop[t] != FIN_SHEET)
                 continue;
-            int side = fin_key(in, remap, t, (uint32_t)p, &lo, &hi);
+            int opposite = -same_set(in, remap, (uint32_t)p, t, t);
             for (uint32_t y = offset[p]; y < offset[p + 1]; ++y) {
-                uint32_t lo2, hi2, m = filed[y];
-                if (drop[m] != FIN_DROP || fin_key(in, remap, m, (uint32_t)p, &lo2, &hi2) == side || lo2 != lo ||
-                    hi2 != hi || !same_group(in, t, m))
+                uint32_t m = filed[y];
+                if (drop[m] != FIN_DROP || same_set(in, remap, (uint32_t)p, t, m) != opposite)
                     continue;
                 if (!s->mirror) {
                     if (!(s->mirror = resurfi_alloc(s->alloc, nt, sizeof *s->mirror)))
@@ -320,27 +324,25 @@ resurf_status resurfi_find_fins(simplifier *s, const uint32_t *remap, uint8_t **
     offset[0] = 0;
     for (size_t p = 0; p < pc; ++p) {
         for (uint32_t x = offset[p]; x < offset[p + 1]; ++x) {
-            uint32_t t = filed[x], lo, hi;
+            uint32_t t = filed[x];
             if (drop[t])
                 continue; /* decided with an earlier member of its group */
-            int side = fin_key(in, remap, t, (uint32_t)p, &lo, &hi), balance = side;
+            int balance = same_set(in, remap, (uint32_t)p, t, t);
             size_t members = 1;
             for (uint32_t y = x + 1; y < offset[p + 1]; ++y) {
-                uint32_t lo2, hi2;
-                int side2 = fin_key(in, remap, filed[y], (uint32_t)p, &lo2, &hi2);
-                if (!drop[filed[y]] && lo2 == lo && hi2 == hi && same_group(in, t, filed[y]))
-                    balance += side2, ++members;
+                int run = drop[filed[y]] ? 0 : same_set(in, remap, (uint32_t)p, t, filed[y]);
+                balance += run, members += run != 0;
             }
             if (members == 1)
                 continue;
             /* the first member on the side with more members stays (none when the sides balance) */
             int keep = balance > 0 ? 1 : balance < 0 ? -1 : 0;
             for (uint32_t y = x; y < offset[p + 1]; ++y) {
-                uint32_t lo2, hi2, m = filed[y];
-                int side2 = fin_key(in, remap, m, (uint32_t)p, &lo2, &hi2);
-                if (drop[m] || lo2 != lo || hi2 != hi || !same_group(in, t, m))
+                uint32_t m = filed[y];
+                int run = drop[m] ? 0 : same_set(in, remap, (uint32_t)p, t, m);
+                if (!run)
                     continue;
-                if (side2 == keep)
+                if (run == keep)
                     drop[m] = FIN_KEEP, keep = 0;
                 else
                     drop[m] = FIN_DROP, ++dropped;

@@ -360,12 +360,25 @@ static resurf_status simplify_levels(const resurf_mesh *in, const resurf_simplif
  * 463 triangles against 451 restored, is 4.22% of the diagonal from the input where the restored one is 4.43%;
  * XGL_wuson_dxf's at 25%, 1,426 against 1,424, 0.069 against 0.165), and below the level before, so the chain's
  * counts never rise. */
+/* May level alt replace level cur? Only within slack × the target (or anywhere where cur missed the target too),
+ * and below the level before. */
+static int within_target(const resurf_simplify_report *alt, const resurf_simplify_report *cur, size_t target,
+                         double slack, size_t before)
+{
+    size_t within = (size_t)(slack * (double)target);
+    return (alt->triangles <= within || cur->triangles > target) && alt->triangles < before;
+}
+
+/* Is a nearer to the input than b in the two-sided maximum or in the mean? */
+static int nearer_somewhere(const resurf_simplify_report *a, const resurf_simplify_report *b)
+{
+    return !(b->max_distance <= a->max_distance && b->mean_distance <= a->mean_distance);
+}
+
 static int plain_is_better(const resurf_simplify_report *plain, const resurf_simplify_report *restored,
                            size_t target, size_t before)
 {
-    if (!((plain->triangles <= target || restored->triangles > target) && plain->triangles < before))
-        return 0;
-    return !(restored->max_distance <= plain->max_distance && restored->mean_distance <= plain->mean_distance);
+    return within_target(plain, restored, target, 1.0, before) && nearer_somewhere(plain, restored);
 }
 
 /* A level that keeps the attached sheets replaces the one that drops them only where it is at least as near the
@@ -380,10 +393,8 @@ static int plain_is_better(const resurf_simplify_report *plain, const resurf_sim
 static int kept_sheets_are_better(const resurf_simplify_report *kept, const resurf_simplify_report *dropped,
                                   size_t target, size_t before)
 {
-    size_t within = (size_t)(SHEETS_SLACK * (double)target);
-    return (kept->triangles <= within || dropped->triangles > target) && kept->triangles < before &&
-           !(dropped->max_distance <= kept->max_distance && dropped->mean_distance <= kept->mean_distance) &&
-           kept->max_distance <= dropped->max_distance && kept->mean_distance <= dropped->mean_distance;
+    return within_target(kept, dropped, target, SHEETS_SLACK, before) && nearer_somewhere(kept, dropped) &&
+           !nearer_somewhere(dropped, kept);
 }
 
 /* The plain run's progress: the inline run has reported every stage to its end, so the plain one only asks the
