@@ -85,20 +85,26 @@ static int measure_points(void *ctx, size_t begin, size_t end, unsigned worker)
     (void)worker;
     const side *s = ctx;
     size_t vertices_end = s->samples + s->from->vertex_count;
+    /* Each search starts from the triangle the point before ended at: neighbouring vertices and facet points are
+     * mostly near each other, and the answer is the same from any start. */
+    uint32_t hint = UINT32_MAX;
     for (size_t i = begin; i < end; ++i) {
         if (i >= vertices_end) {
             vec3 p;
             double d2;
-            s->distance[i] = !resurfi_facet_point(s->from, i - vertices_end, &p) ? 0
-                             : resurfi_bvh_closest(s->to, p, INFINITY, NULL, NULL, &d2) == UINT32_MAX ? INFINITY
-                                                                                                       : sqrt(d2);
+            if (!resurfi_facet_point(s->from, i - vertices_end, &p)) {
+                s->distance[i] = 0;
+                continue;
+            }
+            hint = resurfi_bvh_closest_near(s->to, p, hint, NULL, NULL, &d2);
+            s->distance[i] = hint == UINT32_MAX ? INFINITY : sqrt(d2);
             continue;
         }
         if (i >= s->samples) {
             vec3 p = resurfi_position(s->from, (uint32_t)(i - s->samples));
             double d2;
-            s->distance[i] = resurfi_bvh_closest(s->to, p, INFINITY, NULL, NULL, &d2) == UINT32_MAX ? INFINITY
-                                                                                                   : sqrt(d2);
+            hint = resurfi_bvh_closest_near(s->to, p, hint, NULL, NULL, &d2);
+            s->distance[i] = hint == UINT32_MAX ? INFINITY : sqrt(d2);
             continue;
         }
         uint32_t t;

@@ -84,7 +84,7 @@ static vec3 sample_point(const side *sd, size_t i, uint32_t *out_t, double b[3])
  * its distance to the triangles its corners are closest to, and that to the triangle of corner c is at most
  * |p - c| + c's own distance (the triangle inequality): that bound costs no search and settles most points; the
  * few it does not are tried on the three triangles (a corner not measured gives no bound). */
-static int facet_within(const side *sd, uint32_t t, vec3 p, double floor)
+static int facet_within(const side *sd, uint32_t t, vec3 p, double floor, uint32_t *hint)
 {
     const uint32_t *f = sd->from->indices + 3 * (size_t)t;
     uint32_t near[3];
@@ -94,7 +94,7 @@ static int facet_within(const side *sd, uint32_t t, vec3 p, double floor)
         if (near[k] != NONE && v3_dist(p, resurfi_position(sd->from, v)) + sd->nearest_d[v] <= floor)
             return 1;
     }
-    double floor2 = floor * floor;
+    double floor2 = floor * floor, best = INFINITY;
     for (int k = 0; k < 3; ++k) {
         if (near[k] == NONE)
             continue;
@@ -102,8 +102,11 @@ static int facet_within(const side *sd, uint32_t t, vec3 p, double floor)
         vec3 q = resurfi_closest_on_triangle(p, resurfi_position(sd->to_mesh, g[0]),
                                              resurfi_position(sd->to_mesh, g[1]), resurfi_position(sd->to_mesh, g[2]),
                                              NULL);
-        if (v3_dist2(p, q) <= floor2)
+        double d2 = v3_dist2(p, q);
+        if (d2 <= floor2)
             return 1;
+        if (d2 < best)
+            best = d2, *hint = near[k];
     }
     return 0;
 }
@@ -128,6 +131,7 @@ static int measure_block(void *ctx, size_t begin, size_t end, unsigned worker)
     double mx = 0, sum = 0, vertex_sum = 0;
     resurfi_max_starts *starts = &sd->block_starts[begin / BLOCK_SAMPLES];
     starts->count = 0;
+    uint32_t hint = NONE; /* a triangle of `to` near the point, where the search starts (the answer is the same) */
     for (size_t i = sd->first + begin; i < sd->first + end; ++i) {
         if (atomic_load_explicit(sd->rejected, memory_order_relaxed))
             break;
@@ -142,7 +146,7 @@ static int measure_block(void *ctx, size_t begin, size_t end, unsigned worker)
             if (!resurfi_facet_point(sd->from, k, &p))
                 continue;
             resurfi_facet_point_place(k, &t, b);
-            if (facet_within(sd, t, p, sd->facet_floor))
+            if (facet_within(sd, t, p, sd->facet_floor, &hint))
                 continue;
         } else {
             size_t k = i - sd->samples;
@@ -157,7 +161,8 @@ static int measure_block(void *ctx, size_t begin, size_t end, unsigned worker)
             c = hit.t, d2 = hit.d2;
         }
         if (c == NONE)
-            c = resurfi_bvh_closest(sd->to, p, INFINITY, NULL, uv ? cb : NULL, &d2);
+            c = resurfi_bvh_closest_near(sd->to, p, hint, NULL, uv ? cb : NULL, &d2);
+        hint = c; /* the next sample lies in the next stretch of the cumulative area: mostly a neighbour */
         double d = c == NONE ? INFINITY : sqrt(d2);
         if (sd->reject_scale * d > sd->reject_bound) {
             atomic_store_explicit(sd->rejected, 1, memory_order_relaxed);
