@@ -37,16 +37,16 @@ typedef struct pos_slot {
 
 /* The positions that primitives of different owners use, bit for bit (prims[i] has owner[i], in 0..n-1). With
  * locks, the vertices of each rewritten primitive at such a position are locked: added to locks[p], which is
- * allocated when NULL. With connected, whether shared positions link all owners into one set. Only vertices that
- * triangles use count. */
+ * allocated when NULL. With linked (n entries), linked[i] becomes the first of prims that shared positions link
+ * prims[i]'s owner to (itself when they link it to none). Only vertices that triangles use count. */
 static resurf_status lock_shared(const resurf_scene *scene, const size_t *prims, const size_t *owner, size_t n,
-                                 const resurf_allocator *alloc, uint8_t **locks, bool *connected)
+                                 const resurf_allocator *alloc, uint8_t **locks, size_t *linked)
 {
     size_t total = 0;
     for (size_t i = 0; i < n; ++i)
         total += scene->prims[prims[i]].mesh->vertex_count;
-    if (connected)
-        *connected = false;
+    for (size_t i = 0; linked && i < n; ++i)
+        linked[i] = prims[i];
     if (n < 2 || total == 0)
         return RESURF_OK;
     size_t cap = 16;
@@ -101,34 +101,52 @@ static resurf_status lock_shared(const resurf_scene *scene, const size_t *prims,
                 resurfi_free(alloc, made);
         }
     }
-    if (connected) {
-        *connected = true;
-        for (size_t x = 0; x < n; ++x)
-            if (resurfi_uf_find(set, (uint32_t)owner[x]) != resurfi_uf_find(set, 0))
-                *connected = false;
-    }
+    for (size_t x = 0; linked && x < n; ++x)
+        for (size_t y = 0; y <= x; ++y)
+            if (resurfi_uf_find(set, (uint32_t)owner[y]) == resurfi_uf_find(set, (uint32_t)owner[x])) {
+                linked[x] = prims[y];
+                break;
+            }
     resurfi_free(alloc, table);
     resurfi_free(alloc, set);
     return st;
 }
 
-/* Mesh m's primitives (those with a mesh) for lock_shared, each its own owner: locks the positions they share (a
- * morphed one included), so that no level opens a crack between them; or, with locks NULL, only *connected. */
+/* Which primitives of mesh m shared positions link (see resurfi_scene_lock_shared for the other use): linked[p],
+ * for every primitive p of m, becomes the first primitive of p's linked set (p itself when it shares no position
+ * with another; so for one without a mesh). */
 resurf_status resurfi_scene_shared_positions(const resurf_scene *scene, size_t m, const resurf_allocator *alloc,
-                                             uint8_t **locks, bool *connected)
+                                             size_t *linked)
 {
     size_t first = scene->mesh_first[m], last = scene->mesh_first[m + 1], n = 0;
     size_t *prims = resurfi_alloc(alloc, last - first + 1, sizeof *prims);
     size_t *owner = resurfi_alloc(alloc, last - first + 1, sizeof *owner);
-    resurf_status st = prims && owner ? RESURF_OK : RESURF_ERR_OUT_OF_MEMORY;
+    size_t *found = resurfi_alloc(alloc, last - first + 1, sizeof *found);
+    resurf_status st = prims && owner && found ? RESURF_OK : RESURF_ERR_OUT_OF_MEMORY;
+    for (size_t p = first; p < last; ++p)
+        linked[p] = p;
     for (size_t p = first; st == RESURF_OK && p < last; ++p)
         if (scene->prims[p].mesh)
             prims[n] = p, owner[n] = n, n++;
     if (st == RESURF_OK)
-        st = lock_shared(scene, prims, owner, n, alloc, locks, connected);
-    else if (connected)
-        *connected = false;
+        st = lock_shared(scene, prims, owner, n, alloc, NULL, found);
+    for (size_t x = 0; st == RESURF_OK && x < n; ++x)
+        linked[prims[x]] = found[x];
     resurfi_free(alloc, prims);
+    resurfi_free(alloc, owner);
+    resurfi_free(alloc, found);
+    return st;
+}
+
+resurf_status resurfi_scene_lock_shared(const resurf_scene *scene, const size_t *prims, size_t n,
+                                        const resurf_allocator *alloc, uint8_t **locks)
+{
+    size_t *owner = resurfi_alloc(alloc, n + 1, sizeof *owner);
+    if (!owner)
+        return RESURF_ERR_OUT_OF_MEMORY;
+    for (size_t x = 0; x < n; ++x)
+        owner[x] = x;
+    resurf_status st = lock_shared(scene, prims, owner, n, alloc, locks, NULL);
     resurfi_free(alloc, owner);
     return st;
 }

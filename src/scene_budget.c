@@ -251,12 +251,12 @@ static resurf_status units_open(resurfi_budget_prim *prims, size_t n, size_t cou
         if (!b->chain || !b->reports || !in)
             return resurfi_error(e, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
         b->made = b->chain + count;
-        b->joined_kept = b->part_kept[0], b->kept = &b->joined_kept;
+        b->joined_kept = b->part_kept[b->members[0]], b->kept = &b->joined_kept;
         for (size_t k = 0; k < count; ++k) {
-            b->reports[k] = b->part_reports[k]; /* the distances are the mesh's */
+            b->reports[k] = b->part_reports[b->members[0] * count + k]; /* the distances are the unit's */
             int whole = 1;
             for (size_t q = 0; q < b->parts; ++q)
-                whole &= (in[q] = b->part_chains[q][k]) != NULL;
+                whole &= (in[q] = b->part_chains[b->members[q]][k]) != NULL;
             resurf_status st = whole ? resurfi_mesh_join_parts(in, b->parts, alloc, &b->chain[k], e) : RESURF_OK;
             if (st != RESURF_OK) {
                 if (in != parts)
@@ -285,11 +285,12 @@ static resurf_status units_close(resurfi_budget_prim *prims, size_t n, size_t co
             if (st == RESURF_OK && b->chain[k] != b->made[k] &&
                 (st = resurfi_mesh_split_parts(b->chain[k], b->parts, alloc, level, e)) == RESURF_OK)
                 for (size_t q = 0; q < b->parts; ++q) {
-                    resurf_simplify_report *own = &b->part_reports[q * count + k];
-                    resurf_mesh_free(b->part_chains[q][k]);
-                    b->part_chains[q][k] = level[q];
+                    size_t part = b->members[q];
+                    resurf_simplify_report *own = &b->part_reports[part * count + k];
+                    resurf_mesh_free(b->part_chains[part][k]);
+                    b->part_chains[part][k] = level[q];
                     *own = b->reports[k];
-                    own->input_triangles = b->part_reports[q * count].input_triangles;
+                    own->input_triangles = b->part_reports[part * count].input_triangles;
                     own->triangles = level[q]->triangle_count;
                     own->vertices = level[q]->vertex_count;
                 }
@@ -298,7 +299,7 @@ static resurf_status units_close(resurfi_budget_prim *prims, size_t n, size_t co
             resurf_mesh_free(b->chain[k]);
         }
         for (size_t q = 0; b->parts && st == RESURF_OK && q < b->parts; ++q)
-            b->part_kept[q] = b->joined_kept;
+            b->part_kept[b->members[q]] = b->joined_kept;
         if (level != split)
             resurfi_free(alloc, level);
         if (b->parts)

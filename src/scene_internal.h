@@ -102,9 +102,9 @@ typedef struct resurfi_scene_levels {
 
 /* One primitive as the scene's triangle budget sees it (scene_budget.c): its input and chain (levels kept: *kept),
  * its reports, the options and per-level error bounds (its units) of one more run, and its mesh's world scale.
- * A mesh whose primitives are simplified together is one entry (parts > 0): input is its primitives joined (the
- * caller's), chain, kept and reports are the budget's own joined levels, and part_chains[q], part_kept[q],
- * part_reports + q * levels are its primitives', which the budget writes back. */
+ * A unit of primitives simplified together is one entry (parts > 0): input is its primitives joined (the caller's),
+ * chain, kept and reports are the budget's own joined levels, and for its primitives p = members[q],
+ * part_chains[p], part_kept[p] and part_reports + p * levels are theirs, which the budget writes back. */
 typedef struct resurfi_budget_prim {
     const resurf_mesh *input;
     resurf_mesh **chain;              /* NULL: no levels */
@@ -114,6 +114,7 @@ typedef struct resurfi_budget_prim {
     double bounds[RESURF_SCENE_MAX_LEVELS - 1];
     double scale;
     size_t parts;
+    const size_t *members;
     resurf_mesh ***part_chains;
     size_t *part_kept;
     resurf_simplify_report *part_reports;

@@ -1,43 +1,87 @@
-/* The chains of a mesh whose primitives are simplified together (resurf_scene_build_lods): the primitives joined
- * as groups of one mesh, one chain, each level split back. Kept apart from the per-primitive chains of scene_lods.c
- * because it is its own idea (which meshes qualify, the joined input the scene budget reuses, the fallback to
- * locked borders). */
+/* The chains of primitives of a mesh simplified together (resurf_scene_build_lods): the units (primitives that
+ * shared positions link), each joined as groups of one mesh, one chain, each level split back. Kept apart from the
+ * per-primitive chains of scene_lods.c because it is its own idea (which primitives qualify, the joined input the
+ * scene budget reuses, the fallback to locked borders). */
 #include <string.h>
 
 #include "scene_lods_internal.h"
 
-/* May mesh m's primitives be simplified as one surface, each primitive a group whose border is a crease
- * (src/mesh_parts.c)? When it has two or more, all of them triangles of one attribute layout; they are when, also,
- * shared positions link them all (resurfi_scene_shared_positions): primitives that share nothing cannot crack, and
- * each keeps its own ratio (joined, the cost moves triangles between them: an assimp export of two separate parts lost
- * 4x in Hausdorff at 25%). Measured by
- * tools/bench-borders on the dragon-48k cut into 4 parts, against locking the shared positions at the same triangle
- * count: 1.00x Hausdorff and 0.90x mean at 10%, 0.21x and 0.24x at 2% (the locked parts also stopped at twice
- * their target). Other meshes lock the positions their primitives share (resurfi_scene_shared_positions). */
-bool resurfi_scene_simplified_together(const resurf_scene *scene, size_t m)
+/* May these primitives of one mesh, which shared positions link, be simplified as one surface, each primitive a
+ * group whose border is a crease (src/mesh_parts.c)? When there are two or more, all triangles of one attribute
+ * layout. Only linked primitives go together: primitives that share nothing cannot crack, and each keeps its own
+ * ratio (joined, the cost moves triangles between them: an assimp export of two separate parts lost 4x in
+ * Hausdorff at 25%). Measured by tools/bench-borders on the dragon-48k cut into 4 parts, against locking the shared
+ * positions at the same triangle count: 1.00x Hausdorff and 0.90x mean at 10%, 0.21x and 0.24x at 2% (the locked
+ * parts also stopped at twice their target). */
+bool resurfi_scene_simplified_together(const resurf_scene *scene, const size_t *members, size_t n)
 {
-    size_t first = scene->mesh_first[m], last = scene->mesh_first[m + 1];
-    if (last - first < 2)
+    if (n < 2)
         return false;
-    for (size_t p = first; p < last; ++p) {
-        const resurfi_scene_prim *prim = &scene->prims[p];
+    for (size_t q = 0; q < n; ++q) {
+        const resurfi_scene_prim *prim = &scene->prims[members[q]];
         if (prim->info.kind != RESURF_PRIMITIVE_TRIANGLES || !prim->mesh ||
-            !resurfi_mesh_same_attributes(scene->prims[first].mesh, prim->mesh))
+            !resurfi_mesh_same_attributes(scene->prims[members[0]].mesh, prim->mesh))
             return false;
     }
     return true;
 }
 
-/* Mesh m's primitives joined as groups of one mesh (*joined), the options of its runs (*lock: the positions its
+/* The units of every mesh (w->unit, unit_members, unit_at, unit_size; allocated by the caller): each set of
+ * primitives that shared positions link, where resurfi_scene_simplified_together allows. The other primitives of a
+ * set lock the positions they share (w->locks). Before units, a mesh went together only when shared positions
+ * linked all of its primitives, else all of them were locked: Sweet Home 3D's smart car, whose body is eight linked
+ * primitives and two apart, kept 2,548 of 3,730 triangles at 25%, its body blocked by the locks (docs/restoring.md
+ * §8). */
+resurf_status resurfi_scene_find_units(const resurf_scene *scene, resurfi_lod_work *w)
+{
+    size_t *linked = resurfi_alloc(w->alloc, scene->prim_count + 1, sizeof *linked);
+    size_t *locked = resurfi_alloc(w->alloc, scene->prim_count + 1, sizeof *locked);
+    resurf_status st = linked && locked ? RESURF_OK : RESURF_ERR_OUT_OF_MEMORY;
+    for (size_t p = 0; p < scene->prim_count; ++p)
+        w->unit[p] = SIZE_MAX;
+    size_t listed = 0;
+    for (size_t m = 0; st == RESURF_OK && m < scene->mesh_count; ++m) {
+        size_t first = scene->mesh_first[m], last = scene->mesh_first[m + 1], n_locked = 0;
+        if ((st = resurfi_scene_shared_positions(scene, m, w->alloc, linked)) != RESURF_OK)
+            break;
+        for (size_t leader = first; leader < last; ++leader) {
+            if (linked[leader] != leader)
+                continue;
+            size_t at = listed, n = 0;
+            for (size_t p = leader; p < last; ++p)
+                if (linked[p] == leader)
+                    w->unit_members[listed + n++] = p;
+            if (n < 2)
+                continue; /* shares nothing */
+            if (resurfi_scene_simplified_together(scene, w->unit_members + at, n)) {
+                w->unit_at[leader] = at, w->unit_size[leader] = n;
+                for (size_t q = 0; q < n; ++q)
+                    w->unit[w->unit_members[at + q]] = leader;
+                listed += n;
+            } else {
+                memcpy(locked + n_locked, w->unit_members + at, n * sizeof *locked);
+                n_locked += n;
+            }
+        }
+        if (n_locked) /* sets share no positions with each other: one call locks each set's own */
+            st = resurfi_scene_lock_shared(scene, locked, n_locked, w->alloc, w->locks);
+    }
+    resurfi_free(w->alloc, linked);
+    resurfi_free(w->alloc, locked);
+    return st;
+}
+
+/* The unit's primitives joined as groups of one mesh (*joined), the options of its runs (*lock: the positions its
  * primitives share with other meshes, over the joined vertices, or NULL; its share of the samples) and its levels'
  * bounds in its units; returns its scale. For its chain and the scene budget's runs of it. */
-double resurfi_joint_input(const resurfi_chain_job *job, size_t m, const resurf_simplify_options *base,
+double resurfi_joint_input(const resurfi_chain_job *job, size_t leader, const resurf_simplify_options *base,
                            resurf_mesh **joined, uint8_t **lock, resurf_simplify_options *sim, double *bounds,
                            resurf_status *st, resurf_error *e)
 {
     const resurf_scene *scene = job->scene;
     const resurfi_lod_work *w = job->w;
-    size_t first = scene->mesh_first[m], n = scene->mesh_first[m + 1] - first;
+    size_t m = scene->prims[leader].info.mesh, n;
+    const size_t *members = resurfi_unit_members(w, leader, &n);
     const resurf_mesh *parts[64];
     const resurf_mesh **in = n <= 64 ? parts : resurfi_alloc(w->alloc, n, sizeof *in);
     double area = 0, scale = w->mesh_scale[m] > 0 ? w->mesh_scale[m] : 1;
@@ -45,64 +89,104 @@ double resurfi_joint_input(const resurfi_chain_job *job, size_t m, const resurf_
     *joined = NULL, *lock = NULL;
     *st = in ? RESURF_OK : resurfi_error(e, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
     for (size_t q = 0; *st == RESURF_OK && q < n; ++q)
-        area += resurfi_mesh_area(in[q] = scene->prims[first + q].mesh), any |= w->locks[first + q] != NULL;
+        area += resurfi_mesh_area(in[q] = scene->prims[members[q]].mesh),
+            any |= w->locks[members[q]] != NULL || w->held[members[q]];
     if (*st == RESURF_OK)
         *st = resurfi_mesh_join_parts(in, n, &in[0]->allocator, joined, e);
     if (*st == RESURF_OK && any && !(*lock = resurfi_calloc(w->alloc, (*joined)->vertex_count + 1, 1)))
         *st = resurfi_error(e, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
     for (size_t q = 0, v0 = 0; *st == RESURF_OK && any && q < n; v0 += in[q++]->vertex_count)
-        if (w->locks[first + q]) /* in the order resurfi_mesh_join_parts puts the vertices */
-            memcpy(*lock + v0, w->locks[first + q], in[q]->vertex_count);
+        if (w->held[members[q]])
+            memset(*lock + v0, 1, in[q]->vertex_count);
+        else if (w->locks[members[q]]) /* in the order resurfi_mesh_join_parts puts the vertices */
+            memcpy(*lock + v0, w->locks[members[q]], in[q]->vertex_count);
     resurfi_run_options(job, base, m, scale, area, *lock, sim, bounds);
     if (in != parts)
         resurfi_free(w->alloc, in);
     return scale;
 }
 
-/* The chains of mesh m's primitives, simplified together: the primitives joined as groups of one mesh, its chain,
- * and each level split back into the primitives. Every primitive of m gets the mesh's reports, and one count of
- * levels that help, so that no level mixes one primitive's borders with another's. A level that would leave a
- * primitive without triangles makes the mesh lock its shared borders instead (which cannot). */
-resurf_status resurfi_make_joint_chain(resurfi_chain_job *job, size_t m, const resurf_simplify_options *base)
+/* Tries at holding the primitives a unit's level left without triangles (HOLD_TRIES runs of its chain at most). */
+#define HOLD_TRIES 3
+
+/* Frees the unit's chain, its split levels and its joined input: the state before a run of it. */
+static void joint_free(resurfi_lod_work *w, const size_t *members, size_t n, size_t count, resurf_mesh **chain,
+                       resurf_mesh **joined, uint8_t **joint_lock)
+{
+    for (size_t k = 0; k < count; ++k) {
+        resurf_mesh_free(chain[k]);
+        chain[k] = NULL;
+    }
+    for (size_t q = 0; q < n; ++q) {
+        for (size_t k = 0; w->chains[members[q]] && k < count; ++k)
+            resurf_mesh_free(w->chains[members[q]][k]);
+        resurfi_free(w->alloc, w->chains[members[q]]);
+        w->chains[members[q]] = NULL;
+    }
+    resurf_mesh_free(*joined);
+    resurfi_free(w->alloc, *joint_lock);
+    *joined = NULL, *joint_lock = NULL;
+}
+
+/* The chains of a unit's primitives, simplified together: the primitives joined as groups of one mesh, its chain,
+ * and each level split back into the primitives. Every primitive of the unit gets the unit's reports, and one count
+ * of levels that help, so that no level mixes one primitive's borders with another's. A level may not leave a
+ * primitive without triangles: the chain is made again with the vertices of each primitive it emptied held still
+ * (w->held, which the scene budget's runs of the unit hold too; Q3D_E-AT-AT's body of 10,526 triangles carries a
+ * primitive of 2, which its 10% level took: the chain ended at 25%, 0.26 of the triangles at 10%). Should one
+ * still empty one, the chain ends before that level; when that is the first level, the primitives lock their
+ * shared borders instead (which cannot empty one) and are simplified apart. */
+resurf_status resurfi_make_joint_chain(resurfi_chain_job *job, size_t leader, const resurf_simplify_options *base)
 {
     const resurf_scene *scene = job->scene;
     resurfi_lod_work *w = job->w;
-    size_t first = scene->mesh_first[m], n = scene->mesh_first[m + 1] - first, count = job->count;
-    resurf_error *e = &job->errors[first];
+    size_t n, count = job->count;
+    const size_t *members = resurfi_unit_members(w, leader, &n);
+    resurf_error *e = &job->errors[leader];
     resurf_mesh *joined = NULL, **chain = resurfi_calloc(w->alloc, count, sizeof *chain);
     resurf_simplify_report *reports = resurfi_calloc(w->alloc, count, sizeof *reports);
-    resurf_status st = chain && reports ? RESURF_OK : resurfi_error(e, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
-    size_t kept = 0;
-    int why = 0;
-    uint8_t *joint_lock = NULL;
-    resurf_simplify_options sim;
-    double bounds[RESURF_SCENE_MAX_LEVELS - 1];
-    if (st == RESURF_OK)
-        resurfi_joint_input(job, m, base, &joined, &joint_lock, &sim, bounds, &st, e);
-    resurfi_plain_half *keep = st == RESURF_OK ? resurfi_half_to_keep(job, first, true, &st, e) : NULL;
-    if (st == RESURF_OK)
-        st = resurfi_make_chain(joined, job->ratios, count, bounds, &sim, chain, reports, keep,
-                                resurfi_half_to_use(job, first, true), e);
-    if (st == RESURF_OK)
-        kept = resurfi_levels_that_help(joined, reports, job->ratios, count, &why);
-    /* Split every level into the primitives: w->chains[first + q][k]. */
-    for (size_t q = 0; st == RESURF_OK && q < n; ++q)
-        if (!(w->chains[first + q] = resurfi_calloc(w->alloc, count, sizeof **w->chains)))
-            st = resurfi_error(e, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
     resurf_mesh *split[64];
     resurf_mesh **level = n <= 64 ? split : resurfi_alloc(w->alloc, n, sizeof *level);
-    int emptied = 0;
-    for (size_t k = 0; st == RESURF_OK && k < count && chain[k]; ++k) { /* levels after the chain's end are unmade */
-        if (!level) {
-            st = resurfi_error(e, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
+    resurf_status st =
+        chain && reports && level ? RESURF_OK : resurfi_error(e, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
+    size_t kept = 0, emptied = count; /* emptied: the first level that leaves a primitive without triangles */
+    int why = 0;
+    uint8_t *joint_lock = NULL;
+    for (int tries = 0; st == RESURF_OK; ++tries) {
+        resurf_simplify_options sim;
+        double bounds[RESURF_SCENE_MAX_LEVELS - 1];
+        resurfi_joint_input(job, leader, base, &joined, &joint_lock, &sim, bounds, &st, e);
+        resurfi_plain_half *keep = st == RESURF_OK ? resurfi_half_to_keep(job, leader, true, &st, e) : NULL;
+        if (st == RESURF_OK)
+            st = resurfi_make_chain(joined, job->ratios, count, bounds, &sim, chain, reports, keep,
+                                    resurfi_half_to_use(job, leader, true), e);
+        if (st == RESURF_OK)
+            kept = resurfi_levels_that_help(joined, reports, job->ratios, count, &why);
+        /* Split every level into the primitives: w->chains[members[q]][k]. */
+        for (size_t q = 0; st == RESURF_OK && q < n; ++q)
+            if (!(w->chains[members[q]] = resurfi_calloc(w->alloc, count, sizeof **w->chains)))
+                st = resurfi_error(e, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
+        emptied = count;
+        int hold = 0;
+        for (size_t k = 0; st == RESURF_OK && k < count && chain[k]; ++k) { /* levels after its end are unmade */
+            st = resurfi_mesh_split_parts(chain[k], n, &chain[k]->allocator, level, e);
+            for (size_t q = 0; st == RESURF_OK && q < n; ++q) {
+                size_t p = members[q];
+                w->chains[p][k] = level[q];
+                if (k < kept && level[q]->triangle_count == 0 && scene->prims[p].mesh->triangle_count > 0 &&
+                    !w->held[p]) {
+                    emptied = k < emptied ? k : emptied;
+                    w->held[p] = 1, hold = 1;
+                }
+            }
+        }
+        if (st != RESURF_OK || !hold || tries + 1 == HOLD_TRIES)
             break;
-        }
-        st = resurfi_mesh_split_parts(chain[k], n, &chain[k]->allocator, level, e);
-        for (size_t q = 0; st == RESURF_OK && q < n; ++q) {
-            w->chains[first + q][k] = level[q];
-            emptied |= k < kept && level[q]->triangle_count == 0 && scene->prims[first + q].mesh->triangle_count > 0;
-        }
+        joint_free(w, members, n, count, chain, &joined, &joint_lock);
     }
+    bool apart = emptied == 0 && kept > 0;
+    if (emptied < kept)
+        kept = emptied, why = 3;
     for (size_t k = 0; k < count && chain; ++k)
         resurf_mesh_free(chain[k]);
     resurfi_free(w->alloc, chain);
@@ -111,33 +195,35 @@ resurf_status resurfi_make_joint_chain(resurfi_chain_job *job, size_t m, const r
     if (level != split)
         resurfi_free(w->alloc, level);
     for (size_t q = 0; q < n; ++q) {
-        if (st == RESURF_OK && !emptied) {
-            /* The mesh's report, with the primitive's own counts (the distances are the mesh's). */
-            resurf_simplify_report *own = job->reports + (first + q) * count;
+        size_t p = members[q];
+        if (st == RESURF_OK && !apart) {
+            /* The unit's report, with the primitive's own counts (the distances are the unit's). */
+            resurf_simplify_report *own = job->reports + p * count;
             memcpy(own, reports, count * sizeof *reports);
-            for (size_t k = 0; k < count && w->chains[first + q][k]; ++k) {
-                own[k].input_triangles = scene->prims[first + q].mesh->triangle_count;
-                own[k].triangles = w->chains[first + q][k]->triangle_count;
-                own[k].vertices = w->chains[first + q][k]->vertex_count;
+            for (size_t k = 0; k < count && w->chains[p][k]; ++k) {
+                own[k].input_triangles = scene->prims[p].mesh->triangle_count;
+                own[k].triangles = w->chains[p][k]->triangle_count;
+                own[k].vertices = w->chains[p][k]->vertex_count;
             }
-            w->joint_kept[first + q] = kept + 1;
-            w->joint_why[first + q] = why;
-        } else if (w->chains[first + q]) {
+            w->joint_kept[p] = kept + 1;
+            w->joint_why[p] = why;
+        } else if (w->chains[p]) {
             for (size_t k = 0; k < count; ++k)
-                resurf_mesh_free(w->chains[first + q][k]);
-            resurfi_free(w->alloc, w->chains[first + q]);
-            w->chains[first + q] = NULL;
+                resurf_mesh_free(w->chains[p][k]);
+            resurfi_free(w->alloc, w->chains[p]);
+            w->chains[p] = NULL;
         }
-        job->status[first + q] = st;
+        job->status[p] = st;
     }
     resurfi_free(w->alloc, reports);
-    if (st == RESURF_OK && emptied) {
+    if (st == RESURF_OK && apart) {
         /* Lock the shared borders instead, primitive by primitive. */
-        w->together[m] = false;
-        if (resurfi_scene_shared_positions(scene, m, w->alloc, w->locks, NULL) != RESURF_OK)
-            return job->status[first] = resurfi_error(e, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
+        for (size_t q = 0; q < n; ++q)
+            w->unit[members[q]] = SIZE_MAX, w->held[members[q]] = 0;
+        if (resurfi_scene_lock_shared(scene, members, n, w->alloc, w->locks) != RESURF_OK)
+            return job->status[leader] = resurfi_error(e, RESURF_ERR_OUT_OF_MEMORY, "out of memory");
         for (size_t q = 0; q < n && st == RESURF_OK; ++q)
-            st = resurfi_make_primitive_chain(job, first + q, base);
+            st = resurfi_make_primitive_chain(job, members[q], base);
     }
     return st;
 }

@@ -28,16 +28,28 @@ typedef struct resurfi_lod_work {
     double *errors;               /* per mesh and level: the mesh's own relative world error */
     double **coverage;            /* per mesh */
     uint8_t **locks;              /* per primitive: its vertices shared with other primitives of its mesh, or NULL */
-    bool *together;               /* per mesh: its primitives are simplified as one surface
-                                     (resurfi_scene_simplified_together) */
+    size_t *unit;                 /* per primitive simplified with others of its mesh as one surface (a unit:
+                                     resurfi_scene_find_units), the unit's first primitive (its leader); else
+                                     SIZE_MAX */
+    size_t *unit_members;         /* the primitives of each unit, in order, the units in their leaders' order */
+    size_t *unit_at, *unit_size;  /* per leader: where its members start in unit_members, and how many */
     size_t *joint_kept;           /* per primitive of such a mesh: 1 + the levels of the mesh that help, 0 = not yet */
     int *joint_why;               /* and why the chain ended there (resurfi_levels_that_help); then every primitive's */
+    uint8_t *held;                /* per primitive of a unit: its vertices are held still in the unit's runs (a level
+                                     left it without triangles; resurfi_make_joint_chain) */
     resurfi_chain_half *halves;   /* per primitive, in the default pass that a plain pass follows, else NULL */
     size_t budget_units;          /* the units the scene budget spent triangles between (0: no budget) */
     /* The plain pass: its levels that are the default's (every primitive shows the same surface with the same report
        there), left unmeasured by resurfi_level_errors and their figures copied by resurfi_keep_nearer_levels. */
     bool twin_levels[RESURF_SCENE_MAX_LEVELS];
 } resurfi_lod_work;
+
+/* The primitives of the unit led by `leader` (resurfi_lod_work.unit), *n of them. */
+static inline const size_t *resurfi_unit_members(const resurfi_lod_work *w, size_t leader, size_t *n)
+{
+    *n = w->unit_size[leader];
+    return w->unit_members + w->unit_at[leader];
+}
 
 /* What every primitive's chain needs, and where it goes (indexed by primitive). */
 typedef struct resurfi_chain_job {
@@ -116,17 +128,22 @@ resurf_status resurfi_keep_nearer_levels(const resurf_scene *scene, size_t count
 /* ---- shared borders (scene_borders.c) ---- */
 
 resurf_status resurfi_scene_shared_positions(const resurf_scene *scene, size_t m, const resurf_allocator *alloc,
-                                             uint8_t **locks, bool *connected);
+                                             size_t *linked);
+/* The positions that prims[0 .. n) use two or more of, bit for bit: locked in each rewritten one (added to
+ * locks[p], allocated when NULL), so that no level opens a crack between them. */
+resurf_status resurfi_scene_lock_shared(const resurf_scene *scene, const size_t *prims, size_t n,
+                                        const resurf_allocator *alloc, uint8_t **locks);
 resurf_status resurfi_scene_shared_between_meshes(const resurf_scene *scene, const resurfi_scene_instances *list,
                                                   const resurf_allocator *alloc, uint8_t **locks);
 
 /* ---- a mesh's primitives simplified together (scene_joint.c) ---- */
 
-bool resurfi_scene_simplified_together(const resurf_scene *scene, size_t m);
-double resurfi_joint_input(const resurfi_chain_job *job, size_t m, const resurf_simplify_options *base,
+bool resurfi_scene_simplified_together(const resurf_scene *scene, const size_t *members, size_t n);
+resurf_status resurfi_scene_find_units(const resurf_scene *scene, resurfi_lod_work *w);
+double resurfi_joint_input(const resurfi_chain_job *job, size_t leader, const resurf_simplify_options *base,
                            resurf_mesh **joined, uint8_t **lock, resurf_simplify_options *sim, double *bounds,
                            resurf_status *st, resurf_error *e);
-resurf_status resurfi_make_joint_chain(resurfi_chain_job *job, size_t m, const resurf_simplify_options *base);
+resurf_status resurfi_make_joint_chain(resurfi_chain_job *job, size_t leader, const resurf_simplify_options *base);
 
 /* ---- the world errors of the levels (scene_lod_errors.c) ---- */
 

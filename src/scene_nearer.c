@@ -119,6 +119,7 @@ static void take_level(resurf_scene_lod_report *r, const resurf_scene_lod_report
     copy_measured(r, from, k);
     r->level_unreduced[k] = from->level_unreduced[k];
     r->level_missed[k] = from->level_missed[k];
+    r->level_emptied[k] = from->level_emptied[k];
     r->level_plain[k] = plain;
 }
 

@@ -557,6 +557,139 @@ START_TEST(lod_primitives_of_a_mesh_simplified_together)
 }
 END_TEST
 
+/* The triangles of m whose centroid's z is at least z0 (above) or below it. */
+static resurf_mesh *cut_at(const resurf_mesh *m, double z0, int above)
+{
+    resurf_mesh *part = NULL;
+    uint32_t *map = malloc(m->vertex_count * sizeof *map);
+    size_t nv = 0, nt = 0;
+    for (int pass = 0; pass < 2; ++pass) {
+        for (size_t v = 0; v < m->vertex_count; ++v)
+            map[v] = UINT32_MAX;
+        nv = nt = 0;
+        for (size_t t = 0; t < m->triangle_count; ++t) {
+            const uint32_t *c = m->indices + 3 * t;
+            double z = (m->positions[3 * c[0] + 2] + m->positions[3 * c[1] + 2] + m->positions[3 * c[2] + 2]) / 3;
+            if ((z >= z0) != above)
+                continue;
+            for (int i = 0; i < 3; ++i) {
+                if (map[c[i]] == UINT32_MAX) {
+                    if (pass)
+                        memcpy(part->positions + 3 * nv, m->positions + 3 * c[i], 3 * sizeof(double));
+                    map[c[i]] = (uint32_t)nv++;
+                }
+                if (pass)
+                    part->indices[3 * nt + i] = map[c[i]];
+            }
+            nt++;
+        }
+        if (!pass)
+            ck_assert_int_eq(resurf_mesh_create(nv, nt, 0, &part, NULL), RESURF_OK);
+    }
+    free(map);
+    return part;
+}
+
+/* A sphere as one mesh of two primitives that share positions: the body, and its few triangles nearest a pole. At
+ * 1% the unit's run takes the small one's triangles; made again with its vertices held, every level of both keeps
+ * some, and the scene still reaches its target. */
+START_TEST(lod_unit_level_keeps_every_primitive)
+{
+    resurf_mesh *sphere = shape_mesh(SHAPE_SPHERE, tu_light() ? 3000 : 8000, 0.2, 7, 0);
+    double top = -INFINITY; /* the highest centroid: the small part is the triangles within a little of it */
+    for (size_t t = 0; t < sphere->triangle_count; ++t) {
+        const uint32_t *c = sphere->indices + 3 * t;
+        double z = (sphere->positions[3 * c[0] + 2] + sphere->positions[3 * c[1] + 2] + sphere->positions[3 * c[2] + 2]) / 3;
+        top = z > top ? z : top;
+    }
+    resurf_mesh *parts[2] = {cut_at(sphere, top - 1e-3, 0), cut_at(sphere, top - 1e-3, 1)};
+    int prim_mesh[] = {0, 0};
+    char *dir = tu_tempdir();
+    char *path = write_scene(dir, "tip", parts, prim_mesh, 2, "[{\"mesh\":0}]", "0");
+    resurf_scene *s = tu_load_scene_ok(path);
+    const double ratios[] = {0.1, 0.01};
+    resurf_simplify_options so = fast_options();
+    resurf_simplify_report pr[4];
+    resurf_scene_lod_report r = build_with(s, ratios, 2, NULL, pr, so);
+    ck_assert_msg(r.levels == 3, "levels %zu; small part %zu -> %zu, %zu (emptied %zu)", r.levels,
+                  parts[1]->triangle_count, pr[2].triangles, pr[3].triangles, r.level_emptied[2]);
+    for (size_t k = 1; k < 3; ++k)
+        for (int p = 0; p < 2; ++p)
+            ck_assert_uint_gt(resurfi_scene_level_mesh(&s->prims[p], k)->triangle_count, 0);
+    size_t target = (size_t)(0.01 * (double)r.level_triangles[0]);
+    ck_assert_msg(r.level_triangles[2] <= target + target / 2 + 4, "1%%: %zu for %zu", r.level_triangles[2], target);
+    resurf_scene_free(s);
+    resurf_mesh_free(parts[0]);
+    resurf_mesh_free(parts[1]);
+    resurf_mesh_free(sphere);
+    free(path);
+    tu_rmtree(dir);
+    free(dir);
+}
+END_TEST
+
+/* One mesh of seven primitives: six slabs of a sphere, which shared positions link, and a second sphere beside it
+ * that shares none. The slabs go together as one unit (before units, the one primitive apart made the whole mesh
+ * lock its shared positions instead, and locked, the slabs stop at 2,954 of 8,112 triangles at 10%); the sphere
+ * apart keeps its own ratio. At 10% and 2% the slabs together stay closed (every edge of their joined level has
+ * its twin, coordinates exact), and the scene reaches its 2% target. */
+START_TEST(lod_linked_primitives_go_together_beside_one_apart)
+{
+    resurf_mesh *sphere = shape_mesh(SHAPE_SPHERE, tu_light() ? 3000 : 8000, 0.2, 7, 0);
+    resurf_mesh *other = shape_mesh(SHAPE_SPHERE, tu_light() ? 1000 : 2000, 0.2, 8, 0);
+    for (size_t v = 0; v < other->vertex_count; ++v)
+        other->positions[3 * v] += 3; /* apart: no position shared */
+    enum { PARTS = 6 };
+    resurf_mesh *parts[PARTS + 1];
+    int prim_mesh[PARTS + 1];
+    for (int k = 0; k < PARTS; ++k)
+        parts[k] = slab(sphere, k, PARTS), prim_mesh[k] = 0;
+    parts[PARTS] = other, prim_mesh[PARTS] = 0;
+    char *dir = tu_tempdir();
+    char *path = write_scene(dir, "beside", parts, prim_mesh, PARTS + 1, "[{\"mesh\":0}]", "0");
+    resurf_scene *s = tu_load_scene_ok(path);
+    const double ratios[] = {0.1, 0.02};
+    resurf_simplify_options so = fast_options();
+    so.corner_angle_deg = 180; /* the slabs' zigzag borders would be corners, as in the tests above */
+    resurf_scene_lod_report r = build_with(s, ratios, 2, NULL, NULL, so);
+    ck_assert_uint_eq(r.levels, 3);
+    for (size_t k = 1; k < 3; ++k) {
+        size_t nt = 0, nv = 0;
+        for (int p = 0; p < PARTS; ++p) {
+            const resurf_mesh *m = resurfi_scene_level_mesh(&s->prims[p], k);
+            nt += m->triangle_count, nv += m->vertex_count;
+        }
+        resurf_mesh *joined = NULL;
+        ck_assert_int_eq(resurf_mesh_create(nv, nt, 0, &joined, NULL), RESURF_OK);
+        nt = nv = 0;
+        for (int p = 0; p < PARTS; ++p) {
+            const resurf_mesh *m = resurfi_scene_level_mesh(&s->prims[p], k);
+            memcpy(joined->positions + 3 * nv, m->positions, 3 * m->vertex_count * sizeof(double));
+            for (size_t i = 0; i < 3 * m->triangle_count; ++i)
+                joined->indices[3 * nt + i] = m->indices[i] + (uint32_t)nv;
+            nt += m->triangle_count, nv += m->vertex_count;
+        }
+        double *edges = malloc(3 * joined->triangle_count * 6 * sizeof(double));
+        ck_assert_msg(border_edges(joined, edges) == 0, "level %zu has a crack between its slabs", k);
+        free(edges);
+        ck_assert_uint_gt(nt, 0);
+        ck_assert_uint_gt(resurfi_scene_level_mesh(&s->prims[PARTS], k)->triangle_count, 0);
+        resurf_mesh_free(joined);
+    }
+    /* the scene's budget may move triangles between the two, not add any */
+    size_t target = (size_t)(0.02 * (double)r.level_triangles[0]);
+    ck_assert_msg(r.level_triangles[2] <= target + target / 2 + 2 * (PARTS + 1), "2%%: %zu triangles for %zu",
+                  r.level_triangles[2], target);
+    resurf_scene_free(s);
+    for (int k = 0; k <= PARTS; ++k)
+        resurf_mesh_free(parts[k]);
+    resurf_mesh_free(sphere);
+    free(path);
+    tu_rmtree(dir);
+    free(dir);
+}
+END_TEST
+
 /* A box of 12 triangles whose faces each have their own normals (every vertex on a normal seam): nothing can be
  * collapsed, so no level is kept (no moved copy), the report says why, and the CLI warns naming the guard. */
 START_TEST(lod_unreducible_box_gets_no_levels)
@@ -715,6 +848,8 @@ Suite *make_suite(void)
     tcase_add_test(lod, lod_two_primitives_keep_their_shared_border);
     tcase_add_test(lod, lod_two_meshes_of_one_transform_keep_their_shared_border);
     tcase_add_test(lod, lod_primitives_of_a_mesh_simplified_together);
+    tcase_add_test(lod, lod_linked_primitives_go_together_beside_one_apart);
+    tcase_add_test(lod, lod_unit_level_keeps_every_primitive);
     tcase_add_test(lod, lod_unreducible_box_gets_no_levels);
     tcase_add_test(lod, lod_chain_by_errors_alone);
     tcase_add_test(lod, lod_missed_target_is_reported);

@@ -197,16 +197,18 @@ typedef struct resurf_scene_lod_options {
                                  matrices); 0 = no error bound for that level */
     const double *level_max_error; /* the same in world units; NULL (default) or `count` values >= 0. With both,
                                  the smaller bound of a level counts */
-    bool keep_shared_borders; /* true (default): no level opens a crack between the primitives of one mesh. When
-                                 they are all triangles of one attribute layout, linked by shared positions (ones
-                                 that share nothing cannot crack and keep their own ratios), they are simplified
-                                 together as
-                                 one surface, each primitive a triangle group whose border is a crease that slides
-                                 along itself (resurf_simplify_options.feature_angle_deg), and each level is split
-                                 back into them: each primitive's report then has its own triangles and vertices
-                                 and the mesh's distances and stop, and one level that does not help ends the
-                                 chain of all of them. Otherwise (or should a level leave a primitive empty) a
-                                 position that several primitives use (bit for bit) is locked in each of them
+    bool keep_shared_borders; /* true (default): no level opens a crack between the primitives of one mesh. Each
+                                 set of a mesh's primitives that shared positions link (a unit; ones that share
+                                 nothing cannot crack and keep their own ratios, so a mesh may hold several units
+                                 and primitives alone), when all triangles of one attribute layout, is simplified
+                                 together as one surface, each primitive a triangle group whose border is a crease
+                                 that slides along itself (resurf_simplify_options.feature_angle_deg), and each
+                                 level is split back into them: each primitive's report then has its own
+                                 triangles and vertices and the unit's distances and stop, and one level that does
+                                 not help, or that leaves one of them without triangles (level_emptied), ends the
+                                 chain of all of them. Otherwise (a set with a morphed primitive or another
+                                 layout, or whose first level leaves a primitive empty) a position that several
+                                 primitives use (bit for bit) is locked in each of them
                                  (resurf_simplify_options.vertex_lock). tools/bench-borders measured both on the
                                  dragon-48k cut into 4 parts, at equal triangles: together is 1.00x locked's
                                  Hausdorff and 0.90x its mean at 10%, 0.21x and 0.24x at 2%, where locked stops at
@@ -264,6 +266,9 @@ typedef struct resurf_scene_lod_report {
                                                          had no fewer triangles than the one before */
     size_t level_missed[RESURF_SCENE_MAX_LEVELS];     /* primitives whose chain ended at this level because it
                                                          missed its ratio (see resurf_scene_build_lods) */
+    size_t level_emptied[RESURF_SCENE_MAX_LEVELS];    /* primitives whose chain ended at this level because their
+                                                         mesh's level (its primitives simplified together) left
+                                                         one of them without triangles */
     bool level_plain[RESURF_SCENE_MAX_LEVELS];        /* with RESURF_RESTORE_MEASURED: this level is the one
                                                          restore none makes, which lay nearer the input in the
                                                          two-sided maximum or the mean (see below) */
@@ -282,7 +287,9 @@ typedef struct resurf_scene_lod_report {
  * Levels that help: a primitive's chain ends before the first level that has no fewer triangles than the level
  * before it (a level where nothing could be collapsed is never kept as a moved copy; level_unreduced), or that
  * missed its ratio by more than the slack, with more than 1.5 × ratio × the primitive's triangles + 2 (level_missed;
- * a level stopped by its error bound, RESURF_STOP_ERROR, has reached its target). A primitive with fewer levels
+ * a level stopped by its error bound, RESURF_STOP_ERROR, has reached its target), or, for a mesh whose primitives
+ * are simplified together, that left one of them without triangles (level_emptied; when that is the first level,
+ * the mesh's primitives are simplified apart instead, their shared positions locked). A primitive with fewer levels
  * shows its last one in the levels above; a mesh has 1 + the most levels of its primitives, so MSFT_lod's ids are
  * shorter where levels did not help, and a mesh none of whose primitives could be reduced gets none.
  * Errors: the report's are measured in world space over the whole scene (see resurf_scene_lod_report); each
@@ -308,8 +315,8 @@ typedef struct resurf_scene_lod_report {
  * maximum, 1% in the mean); else the plain level (level_plain[k]). A primitive whose levels from the two would not
  * form a chain takes its plain level in place of the default's before the break, and the levels are then measured
  * again; where one is still farther than the plain one, the plain levels are taken whole. The plain pass is skipped
- * where it cannot change a level: every kept level is the plain one, or there is one unit and no budget and every
- * restored level is over 10% nearer than its plain one by the primitive's own measure.
+ * where it cannot change a level: with no budget between units (whose runs come after), every kept level is the
+ * plain one, or every restored level is over 10% nearer than its plain one by the primitive's own measure.
  * - scene: modified only when the call succeeds; on error or cancel it is exactly as it was.
  * - simplify: NULL = resurf_simplify_options_default(); target_triangles and target_ratio are ignored, its
  *   progress and vertex_lock are not used (options->progress and keep_shared_borders are); its max_error / max_error_rel, in each primitive's own units,

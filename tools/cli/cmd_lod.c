@@ -105,6 +105,23 @@ static void blocked_text(const resurf_simplify_report *r, char *dst, size_t size
         snprintf(dst, size, "none");
 }
 
+/* The primitive of p's mesh that level k (0-based) of the mesh left without triangles (its primitives simplified
+ * together), or SIZE_MAX. */
+static size_t emptied_sibling(const resurf_scene *scene, const resurf_simplify_report *reports, size_t count,
+                              size_t p, size_t k)
+{
+    resurf_scene_primitive info, other;
+    resurf_scene_primitive_info(scene, p, &info, NULL);
+    for (size_t q = 0; q < resurf_scene_primitive_count(scene); ++q) {
+        resurf_scene_primitive_info(scene, q, &other, NULL);
+        const resurf_mesh *m = resurf_scene_primitive_mesh(scene, q);
+        if (other.mesh == info.mesh && m && m->triangle_count > 0 && reports[q * count + k].triangles == 0 &&
+            reports[q * count + k].input_triangles == m->triangle_count)
+            return q;
+    }
+    return SIZE_MAX;
+}
+
 static void json_blocked(const resurf_simplify_report *r)
 {
     printf("{\"link\": %zu, \"flip\": %zu, \"min_angle\": %zu, \"distance\": %zu, \"border\": %zu, \"seam\": %zu, "
@@ -360,6 +377,25 @@ int cmd_lod(int argc, char **argv)
          * its own part made its ratio (the stop and the guards are the mesh's). */
         /* A level its mesh did not make keeps the mesh's counts (the primitives go together): say so. */
         int mesh_counts = r->input_triangles != m->triangle_count;
+        /* A level with no report of its own was never made (a later choice, the scene budget's or the plain
+         * pass's, ended the chain before it): say no more than that. */
+        if (r->input_triangles == 0) {
+            fprintf(stderr, "resurf: warning: %s: level %zu%s was not made; its chain ends at level %zu\n", info.name,
+                    k + 1, target, k);
+            continue;
+        }
+        /* Or the mesh's level left one of its primitives without triangles. */
+        size_t empty = lod_report.level_emptied[k + 1] ? emptied_sibling(scene, prim_reports, ratio_count, p, k)
+                                                        : SIZE_MAX;
+        if (!mesh_counts && empty != SIZE_MAX) {
+            resurf_scene_primitive other;
+            resurf_scene_primitive_info(scene, empty, &other, NULL);
+            fprintf(stderr,
+                    "resurf: warning: %s: level %zu%s was not made: its mesh's level (the primitives go together) "
+                    "left %s without triangles; its chain ends at level %zu\n",
+                    info.name, k + 1, target, other.name, k);
+            continue;
+        }
         const char *what = mesh_counts ? "was not made: its mesh's level (the primitives go together) stopped at"
                            : r->triangles >= before ? "could not reduce, keeping"
                            : level_ratios && (double)r->triangles <= 1.5 * level_ratios[k] * (double)m->triangle_count + 2
@@ -411,8 +447,8 @@ int cmd_lod(int argc, char **argv)
                 cli_json_number(stdout, lod_report.level_to_full_rel[k]);
                 printf(", \"from_full_rel\": ");
                 cli_json_number(stdout, lod_report.level_from_full_rel[k]);
-                printf(", \"unreduced\": %zu, \"missed\": %zu, \"plain\": %s, \"bytes\": %zu}",
-                       lod_report.level_unreduced[k], lod_report.level_missed[k],
+                printf(", \"unreduced\": %zu, \"missed\": %zu, \"emptied\": %zu, \"plain\": %s, \"bytes\": %zu}",
+                       lod_report.level_unreduced[k], lod_report.level_missed[k], lod_report.level_emptied[k],
                        lod_report.level_plain[k] ? "true" : "false", report.level_bytes[k]);
             }
             printf("], \"diagonal\": ");
