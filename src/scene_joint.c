@@ -6,7 +6,7 @@
 
 #include "scene_lods_internal.h"
 
-/* May these primitives of one mesh, which shared positions link, be simplified as one surface, each primitive a
+/* May these primitives, which shared positions link, be simplified as one surface, each primitive a
  * group whose border is a crease (src/mesh_parts.c)? When there are two or more, all triangles of one attribute
  * layout. Only linked primitives go together: primitives that share nothing cannot crack, and each keeps its own
  * ratio (joined, the cost moves triangles between them: an assimp export of two separate parts lost 4x in
@@ -26,48 +26,54 @@ bool resurfi_scene_simplified_together(const resurf_scene *scene, const size_t *
     return true;
 }
 
-/* The units of every mesh (w->unit, unit_members, unit_at, unit_size; allocated by the caller): each set of
- * primitives that shared positions link, where resurfi_scene_simplified_together allows. The other primitives of a
- * set lock the positions they share (w->locks). Before units, a mesh went together only when shared positions
- * linked all of its primitives, else all of them were locked: Sweet Home 3D's smart car, whose body is eight linked
- * primitives and two apart, kept 2,548 of 3,730 triangles at 25%, its body blocked by the locks (docs/restoring.md
- * §8). */
+/* The units (w->unit, unit_members, unit_at, unit_size; allocated by the caller): each set of triangle primitives
+ * of one attribute layout that shared positions link (resurfi_scene_linked: within a mesh, or across meshes shown
+ * once side by side). The positions that primitives of different units share (a morphed primitive's, another
+ * layout's, a primitive alone's) are locked (w->locks). Before units, a mesh went together only when shared
+ * positions linked all of its primitives, else all of them were locked, and meshes side by side always locked
+ * what they shared: Sweet Home 3D's smart car, whose body is eight linked primitives and two apart, kept 2,548 of
+ * 3,730 triangles at 25%, its body blocked by the locks. */
 resurf_status resurfi_scene_find_units(const resurf_scene *scene, resurfi_lod_work *w)
 {
-    size_t *linked = resurfi_alloc(w->alloc, scene->prim_count + 1, sizeof *linked);
-    size_t *locked = resurfi_alloc(w->alloc, scene->prim_count + 1, sizeof *locked);
-    resurf_status st = linked && locked ? RESURF_OK : RESURF_ERR_OUT_OF_MEMORY;
-    for (size_t p = 0; p < scene->prim_count; ++p)
+    size_t pc = scene->prim_count;
+    size_t *group = resurfi_alloc(w->alloc, scene->mesh_count + 1, sizeof *group);
+    size_t *linked = resurfi_alloc(w->alloc, pc + 1, sizeof *linked);
+    size_t *size = resurfi_calloc(w->alloc, pc + 1, sizeof *size);  /* per set's first primitive: its primitives */
+    size_t *at = resurfi_alloc(w->alloc, pc + 1, sizeof *at);       /* and where they start in `sets` */
+    size_t *sets = resurfi_alloc(w->alloc, pc + 1, sizeof *sets);   /* the primitives, set by set, in order */
+    resurf_status st = group && linked && size && at && sets ? RESURF_OK : RESURF_ERR_OUT_OF_MEMORY;
+    for (size_t p = 0; p < pc; ++p)
         w->unit[p] = SIZE_MAX;
-    size_t listed = 0;
-    for (size_t m = 0; st == RESURF_OK && m < scene->mesh_count; ++m) {
-        size_t first = scene->mesh_first[m], last = scene->mesh_first[m + 1], n_locked = 0;
-        if ((st = resurfi_scene_shared_positions(scene, m, w->alloc, linked)) != RESURF_OK)
-            break;
-        for (size_t leader = first; leader < last; ++leader) {
-            if (linked[leader] != leader)
-                continue;
-            size_t at = listed, n = 0;
-            for (size_t p = leader; p < last; ++p)
-                if (linked[p] == leader)
-                    w->unit_members[listed + n++] = p;
-            if (n < 2)
-                continue; /* shares nothing */
-            if (resurfi_scene_simplified_together(scene, w->unit_members + at, n)) {
-                w->unit_at[leader] = at, w->unit_size[leader] = n;
-                for (size_t q = 0; q < n; ++q)
-                    w->unit[w->unit_members[at + q]] = leader;
-                listed += n;
-            } else {
-                memcpy(locked + n_locked, w->unit_members + at, n * sizeof *locked);
-                n_locked += n;
-            }
+    if (st == RESURF_OK)
+        st = resurfi_scene_mesh_groups(scene, &w->list, w->alloc, group);
+    if (st == RESURF_OK)
+        st = resurfi_scene_linked(scene, group, w->alloc, linked);
+    for (size_t p = 0; st == RESURF_OK && p < pc; ++p)
+        size[linked[p]]++;
+    for (size_t p = 0, n = 0; st == RESURF_OK && p < pc; n += size[p++])
+        at[p] = n;
+    for (size_t p = 0, *fill = at; st == RESURF_OK && p < pc; ++p)
+        sets[fill[linked[p]]++] = p; /* at[] now holds each set's end */
+    for (size_t leader = 0, listed = 0; st == RESURF_OK && leader < pc; ++leader) {
+        size_t n = size[leader];
+        const size_t *members = sets + at[leader] - n;
+        if (linked[leader] != leader || n < 2)
+            continue; /* inside a set, or shares nothing */
+        if (resurfi_scene_simplified_together(scene, members, n)) {
+            memcpy(w->unit_members + listed, members, n * sizeof *members);
+            w->unit_at[leader] = listed, w->unit_size[leader] = n;
+            for (size_t q = 0; q < n; ++q)
+                w->unit[members[q]] = leader;
+            listed += n;
         }
-        if (n_locked) /* sets share no positions with each other: one call locks each set's own */
-            st = resurfi_scene_lock_shared(scene, locked, n_locked, w->alloc, w->locks);
     }
+    if (st == RESURF_OK) /* what primitives of different units share (a morphed one's, another layout's) */
+        st = resurfi_scene_lock_between_units(scene, group, w->unit, w->alloc, w->locks);
+    resurfi_free(w->alloc, group);
     resurfi_free(w->alloc, linked);
-    resurfi_free(w->alloc, locked);
+    resurfi_free(w->alloc, size);
+    resurfi_free(w->alloc, at);
+    resurfi_free(w->alloc, sets);
     return st;
 }
 

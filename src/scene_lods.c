@@ -747,7 +747,7 @@ static resurf_status make_levels(resurf_scene *scene, const double *ratios, size
             x->input = x->joined;
             x->members = resurfi_unit_members(&w, p, &x->parts);
             x->part_chains = w.chains, x->part_kept = w.kept, x->part_reports = job.reports;
-        } else if (budget && w.chains[p] && w.unit[p] == SIZE_MAX) { /* the scene's triangles spent where the error is */
+        } else if (budget && w.chains[p] && w.unit[p] == SIZE_MAX) { /* triangles spent where the error is */
             resurfi_budget_prim *x = &budget[budgeted++];
             x->scale = primitive_options(&job, p, &sim, &x->sim, x->bounds);
             x->input = prim->mesh, x->chain = w.chains[p], x->kept = &w.kept[p];

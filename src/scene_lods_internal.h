@@ -127,8 +127,16 @@ resurf_status resurfi_keep_nearer_levels(const resurf_scene *scene, size_t count
 
 /* ---- shared borders (scene_borders.c) ---- */
 
-resurf_status resurfi_scene_shared_positions(const resurf_scene *scene, size_t m, const resurf_allocator *alloc,
-                                             size_t *linked);
+resurf_status resurfi_scene_mesh_groups(const resurf_scene *scene, const resurfi_scene_instances *list,
+                                        const resurf_allocator *alloc, size_t *group);
+/* Which triangle primitives of one attribute layout shared positions link within a group of meshes: linked[p]
+ * becomes the first primitive of p's linked set (p itself when it is linked to none). */
+resurf_status resurfi_scene_linked(const resurf_scene *scene, const size_t *group, const resurf_allocator *alloc,
+                                   size_t *linked);
+/* Within each group of meshes, the positions that primitives of different units (a primitive alone is its own)
+ * use, bit for bit: locked in each, so that no level opens a crack between them. */
+resurf_status resurfi_scene_lock_between_units(const resurf_scene *scene, const size_t *group, const size_t *unit,
+                                               const resurf_allocator *alloc, uint8_t **locks);
 /* The positions that prims[0 .. n) use two or more of, bit for bit: locked in each rewritten one (added to
  * locks[p], allocated when NULL), so that no level opens a crack between them. */
 resurf_status resurfi_scene_lock_shared(const resurf_scene *scene, const size_t *prims, size_t n,

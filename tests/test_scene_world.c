@@ -486,6 +486,32 @@ START_TEST(lod_two_meshes_of_one_transform_keep_their_shared_border)
 }
 END_TEST
 
+/* Level k of primitives 0 .. parts - 1 as one mesh has no edge without its twin (coordinates exact): no crack
+ * between them. Returns its triangles. */
+static size_t closed_level(const resurf_scene *s, int parts, size_t k)
+{
+    size_t nt = 0, nv = 0;
+    for (int p = 0; p < parts; ++p) {
+        const resurf_mesh *m = resurfi_scene_level_mesh(&s->prims[p], k);
+        nt += m->triangle_count, nv += m->vertex_count;
+    }
+    resurf_mesh *joined = NULL;
+    ck_assert_int_eq(resurf_mesh_create(nv, nt, 0, &joined, NULL), RESURF_OK);
+    nt = nv = 0;
+    for (int p = 0; p < parts; ++p) {
+        const resurf_mesh *m = resurfi_scene_level_mesh(&s->prims[p], k);
+        memcpy(joined->positions + 3 * nv, m->positions, 3 * m->vertex_count * sizeof(double));
+        for (size_t i = 0; i < 3 * m->triangle_count; ++i)
+            joined->indices[3 * nt + i] = m->indices[i] + (uint32_t)nv;
+        nt += m->triangle_count, nv += m->vertex_count;
+    }
+    double *edges = malloc(3 * joined->triangle_count * 6 * sizeof(double));
+    ck_assert_msg(border_edges(joined, edges) == 0, "level %zu has a crack between its parts", k);
+    free(edges);
+    resurf_mesh_free(joined);
+    return nt;
+}
+
 /* A sphere as six primitives of one mesh (slabs of z) is simplified as one surface whose part borders are creases:
  * at 10% and 2% the parts together stay closed (every edge of the joined level has its twin, coordinates exact),
  * the 2% level reaches its target, and its two-sided error is within 2x of the whole sphere's as one primitive at
@@ -513,28 +539,8 @@ START_TEST(lod_primitives_of_a_mesh_simplified_together)
     resurf_scene_lod_report r = build_with(s, ratios, 2, NULL, pr, so);
     ck_assert_msg(r.levels == 3, "levels %zu: %zu %zu %zu triangles, stop %d, %zu", r.levels, r.level_triangles[0],
                   r.level_triangles[1], r.level_triangles[2], (int)pr[1].stop, pr[1].triangles);
-    for (size_t k = 1; k < 3; ++k) {
-        /* the level's parts as one mesh: no edge without its twin */
-        size_t nt = 0, nv = 0;
-        for (int p = 0; p < PARTS; ++p) {
-            const resurf_mesh *m = resurfi_scene_level_mesh(&s->prims[p], k);
-            nt += m->triangle_count, nv += m->vertex_count;
-        }
-        resurf_mesh *joined = NULL;
-        ck_assert_int_eq(resurf_mesh_create(nv, nt, 0, &joined, NULL), RESURF_OK);
-        nt = nv = 0;
-        for (int p = 0; p < PARTS; ++p) {
-            const resurf_mesh *m = resurfi_scene_level_mesh(&s->prims[p], k);
-            memcpy(joined->positions + 3 * nv, m->positions, 3 * m->vertex_count * sizeof(double));
-            for (size_t i = 0; i < 3 * m->triangle_count; ++i)
-                joined->indices[3 * nt + i] = m->indices[i] + (uint32_t)nv;
-            nt += m->triangle_count, nv += m->vertex_count;
-        }
-        double *edges = malloc(3 * joined->triangle_count * 6 * sizeof(double));
-        ck_assert_msg(border_edges(joined, edges) == 0, "level %zu has a crack between its parts", k);
-        free(edges);
-        resurf_mesh_free(joined);
-    }
+    for (size_t k = 1; k < 3; ++k)
+        closed_level(s, PARTS, k);
     size_t target = (size_t)(0.02 * (double)sphere->triangle_count);
     ck_assert_msg(r.level_triangles[2] <= target + target / 2 + 2 * PARTS, "2%%: %zu triangles for %zu",
                   r.level_triangles[2], target);
@@ -599,7 +605,8 @@ START_TEST(lod_unit_level_keeps_every_primitive)
     double top = -INFINITY; /* the highest centroid: the small part is the triangles within a little of it */
     for (size_t t = 0; t < sphere->triangle_count; ++t) {
         const uint32_t *c = sphere->indices + 3 * t;
-        double z = (sphere->positions[3 * c[0] + 2] + sphere->positions[3 * c[1] + 2] + sphere->positions[3 * c[2] + 2]) / 3;
+        const double *q = sphere->positions;
+        double z = (q[3 * c[0] + 2] + q[3 * c[1] + 2] + q[3 * c[2] + 2]) / 3;
         top = z > top ? z : top;
     }
     resurf_mesh *parts[2] = {cut_at(sphere, top - 1e-3, 0), cut_at(sphere, top - 1e-3, 1)};
@@ -654,27 +661,8 @@ START_TEST(lod_linked_primitives_go_together_beside_one_apart)
     resurf_scene_lod_report r = build_with(s, ratios, 2, NULL, NULL, so);
     ck_assert_uint_eq(r.levels, 3);
     for (size_t k = 1; k < 3; ++k) {
-        size_t nt = 0, nv = 0;
-        for (int p = 0; p < PARTS; ++p) {
-            const resurf_mesh *m = resurfi_scene_level_mesh(&s->prims[p], k);
-            nt += m->triangle_count, nv += m->vertex_count;
-        }
-        resurf_mesh *joined = NULL;
-        ck_assert_int_eq(resurf_mesh_create(nv, nt, 0, &joined, NULL), RESURF_OK);
-        nt = nv = 0;
-        for (int p = 0; p < PARTS; ++p) {
-            const resurf_mesh *m = resurfi_scene_level_mesh(&s->prims[p], k);
-            memcpy(joined->positions + 3 * nv, m->positions, 3 * m->vertex_count * sizeof(double));
-            for (size_t i = 0; i < 3 * m->triangle_count; ++i)
-                joined->indices[3 * nt + i] = m->indices[i] + (uint32_t)nv;
-            nt += m->triangle_count, nv += m->vertex_count;
-        }
-        double *edges = malloc(3 * joined->triangle_count * 6 * sizeof(double));
-        ck_assert_msg(border_edges(joined, edges) == 0, "level %zu has a crack between its slabs", k);
-        free(edges);
-        ck_assert_uint_gt(nt, 0);
+        ck_assert_uint_gt(closed_level(s, PARTS, k), 0);
         ck_assert_uint_gt(resurfi_scene_level_mesh(&s->prims[PARTS], k)->triangle_count, 0);
-        resurf_mesh_free(joined);
     }
     /* the scene's budget may move triangles between the two, not add any */
     size_t target = (size_t)(0.02 * (double)r.level_triangles[0]);

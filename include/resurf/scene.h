@@ -197,27 +197,28 @@ typedef struct resurf_scene_lod_options {
                                  matrices); 0 = no error bound for that level */
     const double *level_max_error; /* the same in world units; NULL (default) or `count` values >= 0. With both,
                                  the smaller bound of a level counts */
-    bool keep_shared_borders; /* true (default): no level opens a crack between the primitives of one mesh. Each
-                                 set of a mesh's primitives that shared positions link (a unit; ones that share
-                                 nothing cannot crack and keep their own ratios, so a mesh may hold several units
-                                 and primitives alone), when all triangles of one attribute layout, is simplified
-                                 together as one surface, each primitive a triangle group whose border is a crease
+    bool keep_shared_borders; /* true (default): no level opens a crack between the primitives of one mesh, or of
+                                 meshes side by side. Each set of a mesh's triangle primitives of one attribute
+                                 layout that shared positions link (a unit; ones that share nothing cannot crack
+                                 and keep their own ratios, so a mesh may hold several units and primitives alone)
+                                 is simplified together as one surface, each primitive a triangle group whose
+                                 border is a crease
                                  that slides along itself (resurf_simplify_options.feature_angle_deg), and each
                                  level is split back into them: each primitive's report then has its own
                                  triangles and vertices and the unit's distances and stop, and one level that does
                                  not help, or that leaves one of them without triangles (level_emptied), ends the
-                                 chain of all of them. Otherwise (a set with a morphed primitive or another
-                                 layout, or whose first level leaves a primitive empty) a position that several
-                                 primitives use (bit for bit) is locked in each of them
-                                 (resurf_simplify_options.vertex_lock). tools/bench-borders measured both on the
-                                 dragon-48k cut into 4 parts, at equal triangles: together is 1.00x locked's
-                                 Hausdorff and 0.90x its mean at 10%, 0.21x and 0.24x at 2%, where locked stops at
-                                 twice its target; on real assets the scene's Hausdorff is 1.09x / 1.00x locked's at
-                                 25% / 10% (2CylinderEngine) and 1.14x / 0.65x (an assimp export of
-                                 HUMAN.blend): the joined cost moves triangles between the primitives. Meshes shown
-                                 by nodes of one world matrix (an exporter's parts of one object side by side)
-                                 lock the positions they share with each other, so no crack opens between them
-                                 either. false: each primitive is simplified alone */
+                                 chain of all of them. A position that primitives of different units use (bit for
+                                 bit: a morphed primitive's, another layout's) is locked in each of them
+                                 (resurf_simplify_options.vertex_lock), as are a unit's shared positions when its
+                                 first level leaves a primitive empty. Meshes shown by nodes of one world matrix
+                                 (an exporter's parts of one object side by side) lock the positions they share
+                                 with each other.
+                                 tools/bench-borders measured both on the dragon-48k cut into 4 parts, at equal
+                                 triangles: together is 1.00x locked's Hausdorff and 0.90x its mean at 10%, 0.21x
+                                 and 0.24x at 2%, where locked stops at twice its target; on real assets the
+                                 scene's Hausdorff is 1.09x / 1.00x locked's at 25% / 10% (2CylinderEngine) and
+                                 1.14x / 0.65x (an assimp export of HUMAN.blend): the joined cost moves triangles
+                                 between the primitives. false: each primitive is simplified alone */
     resurf_progress progress; /* the stages of resurf_simplify (RESURF_STAGE_PREPARE, _SIMPLIFY, _FINISH) with a
                                  fraction of the whole scene's work that never decreases (primitives weighted by
                                  their triangles) and ends at 1; a cancel returns RESURF_ERR_CANCELLED and leaves

@@ -105,21 +105,28 @@ static void blocked_text(const resurf_simplify_report *r, char *dst, size_t size
         snprintf(dst, size, "none");
 }
 
-/* The primitive of p's mesh that level k (0-based) of the mesh left without triangles (its primitives simplified
- * together), or SIZE_MAX. */
+/* How a warning names the level of the primitives simplified together with one (resurf_scene_build_lods). */
+#define UNIT_LEVEL "its unit's level (primitives that share positions go together)"
+
+/* A primitive that level k (0-based) left without triangles, its unit's level (its primitives simplified together),
+ * or SIZE_MAX: first of p's mesh, else of any (a unit may span meshes side by side). */
 static size_t emptied_sibling(const resurf_scene *scene, const resurf_simplify_report *reports, size_t count,
                               size_t p, size_t k)
 {
     resurf_scene_primitive info, other;
     resurf_scene_primitive_info(scene, p, &info, NULL);
+    size_t any = SIZE_MAX;
     for (size_t q = 0; q < resurf_scene_primitive_count(scene); ++q) {
         resurf_scene_primitive_info(scene, q, &other, NULL);
         const resurf_mesh *m = resurf_scene_primitive_mesh(scene, q);
-        if (other.mesh == info.mesh && m && m->triangle_count > 0 && reports[q * count + k].triangles == 0 &&
-            reports[q * count + k].input_triangles == m->triangle_count)
-            return q;
+        if (m && m->triangle_count > 0 && reports[q * count + k].triangles == 0 &&
+            reports[q * count + k].input_triangles == m->triangle_count) {
+            if (other.mesh == info.mesh)
+                return q;
+            any = any == SIZE_MAX ? q : any;
+        }
     }
-    return SIZE_MAX;
+    return any;
 }
 
 static void json_blocked(const resurf_simplify_report *r)
@@ -373,9 +380,9 @@ int cmd_lod(int argc, char **argv)
         if (level_ratios)
             snprintf(target, sizeof target, " (ratio %g, target %zu triangles)", level_ratios[k],
                      (size_t)floor(level_ratios[k] * (double)m->triangle_count));
-        /* A primitive simplified together with the others of its mesh ends where the mesh's chain ends, even when
-         * its own part made its ratio (the stop and the guards are the mesh's). */
-        /* A level its mesh did not make keeps the mesh's counts (the primitives go together): say so. */
+        /* A primitive simplified together with others (a unit) ends where the unit's chain ends, even when its own
+         * part made its ratio (the stop and the guards are the unit's); a level its unit did not make keeps the
+         * unit's counts. */
         int mesh_counts = r->input_triangles != m->triangle_count;
         /* A level with no report of its own was never made (a later choice, the scene budget's or the plain
          * pass's, ended the chain before it): say no more than that. */
@@ -384,22 +391,22 @@ int cmd_lod(int argc, char **argv)
                     k + 1, target, k);
             continue;
         }
-        /* Or the mesh's level left one of its primitives without triangles. */
+        /* Or the unit's level left one of its primitives without triangles. */
         size_t empty = lod_report.level_emptied[k + 1] ? emptied_sibling(scene, prim_reports, ratio_count, p, k)
                                                         : SIZE_MAX;
         if (!mesh_counts && empty != SIZE_MAX) {
             resurf_scene_primitive other;
             resurf_scene_primitive_info(scene, empty, &other, NULL);
             fprintf(stderr,
-                    "resurf: warning: %s: level %zu%s was not made: its mesh's level (the primitives go together) "
-                    "left %s without triangles; its chain ends at level %zu\n",
+                    "resurf: warning: %s: level %zu%s was not made: " UNIT_LEVEL " left %s without triangles; its "
+                    "chain ends at level %zu\n",
                     info.name, k + 1, target, other.name, k);
             continue;
         }
-        const char *what = mesh_counts ? "was not made: its mesh's level (the primitives go together) stopped at"
+        const char *what = mesh_counts ? "was not made: " UNIT_LEVEL " stopped at"
                            : r->triangles >= before ? "could not reduce, keeping"
                            : level_ratios && (double)r->triangles <= 1.5 * level_ratios[k] * (double)m->triangle_count + 2
-                               ? "reached its ratio, but its mesh's level (the primitives go together) did not, at"
+                               ? "reached its ratio, but " UNIT_LEVEL " did not, at"
                                : "missed its ratio at";
         fprintf(stderr,
                 "resurf: warning: %s: level %zu%s %s %zu of %zu triangles (stopped: %s; blocked: %s); its chain "
