@@ -27,12 +27,11 @@ bool resurfi_scene_simplified_together(const resurf_scene *scene, const size_t *
 }
 
 /* The units (w->unit, unit_members, unit_at, unit_size; allocated by the caller): each set of triangle primitives
- * of one attribute layout that shared positions link (resurfi_scene_linked: within a mesh, or across meshes shown
- * once side by side). The positions that primitives of different units share (a morphed primitive's, another
- * layout's, a primitive alone's) are locked (w->locks). Before units, a mesh went together only when shared
- * positions linked all of its primitives, else all of them were locked, and meshes side by side always locked
- * what they shared: Sweet Home 3D's smart car, whose body is eight linked primitives and two apart, kept 2,548 of
- * 3,730 triangles at 25%, its body blocked by the locks. */
+ * of one attribute layout that shared positions link within a group of meshes (resurfi_scene_mesh_groups: a mesh
+ * alone). The positions that primitives of different units share (a morphed primitive's, another layout's, a
+ * primitive alone's) are locked (w->locks). Before units, a mesh went together only when shared positions linked
+ * all of its primitives, else all of them were locked: Sweet Home 3D's smart car, whose body is eight linked
+ * primitives and two apart, kept 2,548 of 3,730 triangles at 25%, its body blocked by the locks. */
 resurf_status resurfi_scene_find_units(const resurf_scene *scene, resurfi_lod_work *w)
 {
     size_t pc = scene->prim_count;
