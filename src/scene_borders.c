@@ -142,8 +142,8 @@ resurf_status resurfi_scene_mesh_groups(const resurf_scene *scene, const resurfi
     return RESURF_OK;
 }
 
-/* The primitives of group g (those with a mesh; with `joinable`, only triangle primitives of mesh `layout`'s
- * attribute layout) into prims, in order; returns how many. */
+/* The primitives of group g (those with a mesh; with `layout` not NULL, only its triangle primitives of that
+ * mesh's attribute layout) into prims, in order; returns how many. */
 static size_t group_prims(const resurf_scene *scene, const size_t *group, size_t g, const resurf_mesh *layout,
                           size_t *prims)
 {
